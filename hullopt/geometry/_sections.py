@@ -1,0 +1,137 @@
+"""The geometry kernel: a hull as a stack of half-sections, and exact integrals over them.
+
+Conventions (DESIGN.md §2): x forward from the aft perpendicular (AP), y to port (half-breadths ≥ 0),
+z up from the baseline. Units are metres.
+
+A half-section is a polyline in the (y, z) plane running from the keel (on the centreline, y = 0) around
+the bilge to the deck edge. It is closed implicitly by the deck (a horizontal segment back to y = 0) and by
+the centreline (y = 0) down to the keel. Disjoint parts (a bulb below the forefoot) are joined by segments on
+the centreline, and a section that starts above the baseline simply repeats points on the centreline: such
+segments add nothing to any integral here (they have y = 0), so every hull keeps a fixed (n, m) size.
+
+Every integral of the part below a waterline z = T is a sum over polygon edges of a closed-form integral
+restricted to z ≤ T (Green's theorem): the waterline itself and the centreline contribute nothing. This is
+exact for the polyline and differentiable in the vertices and in T.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+
+class Sections(eqx.Module):
+    """A hull as ``n`` stations of half-section polylines with ``m`` points each.
+
+    Attributes
+    ----------
+    x : (n,) float
+        Station positions [m], strictly increasing, from the AP, forward positive.
+    yz : (n, m, 2) float
+        Half-section polylines, ``yz[i, j] = (y, z)`` [m], from the keel (``y = 0``) to the deck edge.
+    lpp : () float
+        Length between perpendiculars [m]; the FP is at ``x = lpp``.
+    """
+
+    x: Float[Array, " n"]
+    yz: Float[Array, "n m 2"]
+    lpp: Float[Array, ""]
+
+    @property
+    def n(self) -> int:
+        return self.yz.shape[-3]
+
+    @property
+    def m(self) -> int:
+        return self.yz.shape[-2]
+
+    @property
+    def depth(self) -> Float[Array, ""]:
+        """Highest point of the hull above the baseline [m]."""
+        return jnp.max(self.yz[..., 1])
+
+    @property
+    def keel(self) -> Float[Array, ""]:
+        """Lowest point of the hull [m] (below 0 for a sonar dome or a bulb under the baseline)."""
+        return jnp.min(self.yz[..., 1])
+
+    @property
+    def max_half_breadth(self) -> Float[Array, ""]:
+        return jnp.max(self.yz[..., 0])
+
+
+def closed_half_polygon(yz: Float[Array, "... m 2"]) -> Float[Array, "... m+1 2"]:
+    """Close half-sections: append the deck's centreline point ``(0, z_deck_edge)``.
+
+    The closing edge from that point back to the keel runs down the centreline.
+    """
+    deck_centre = jnp.stack([jnp.zeros_like(yz[..., -1, 1]), yz[..., -1, 1]], axis=-1)
+    return jnp.concatenate([yz, deck_centre[..., None, :]], axis=-2)
+
+
+def _safe_div(num, den, ok):
+    """``num / den`` where ``ok``, else 0, with finite gradients on both branches (double where)."""
+    safe = jnp.where(ok, den, 1.0)
+    return jnp.where(ok, num / safe, 0.0)
+
+
+class EdgeIntegrals(eqx.Module):
+    """Per-edge line integrals over the part of each edge at or below the level (Green's theorem forms).
+
+    ``area = ∮ y dz``, ``moment_z = ∮ y z dz``, ``moment_y = ∮ y²/2 dz``, and ``width``, the signed
+    crossing of the level (+y going up, −y going down); summed over a closed polygon ordered
+    counter-clockwise in (y, z) these give the area below the level, its first moments about z = 0 and
+    y = 0, and the width of the region at the level.
+    """
+
+    area: Array
+    moment_z: Array
+    moment_y: Array
+    width: Array
+
+
+def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:
+    """Closed-form integrals of edges ``p0 → p1`` (``(..., 2)`` arrays of (y, z)) clipped to ``z ≤ level``."""
+    y0, z0 = p0[..., 0], p0[..., 1]
+    y1, z1 = p1[..., 0], p1[..., 1]
+    dz = z1 - z0
+    crosses = (z0 - level) * (z1 - level) < 0.0
+    s = _safe_div(level - z0, dz, crosses)  # crossing parameter along the edge
+    yc = y0 + s * (y1 - y0)
+    # Each end is either kept (below the level) or moved to the crossing point; an edge wholly above
+    # collapses to a point and contributes nothing.
+    below0, below1 = z0 <= level, z1 <= level
+    a_y = jnp.where(below0, y0, yc)
+    a_z = jnp.where(below0, z0, level)
+    b_y = jnp.where(below1, y1, yc)
+    b_z = jnp.where(below1, z1, level)
+    both_above = ~below0 & ~below1
+    a_y, b_y = jnp.where(both_above, 0.0, a_y), jnp.where(both_above, 0.0, b_y)
+    a_z, b_z = jnp.where(both_above, level, a_z), jnp.where(both_above, level, b_z)
+    h = b_z - a_z
+    area = 0.5 * h * (a_y + b_y)
+    moment_z = h / 6.0 * (2 * a_y * a_z + a_y * b_z + b_y * a_z + 2 * b_y * b_z)
+    moment_y = h / 6.0 * (a_y**2 + a_y * b_y + b_y**2)
+    width = jnp.where(crosses, jnp.sign(dz) * yc, 0.0)
+    # An end exactly on the level counts half, so a vertex on the waterline is not lost or doubled.
+    on0 = (z0 == level) & (dz != 0)
+    on1 = (z1 == level) & (dz != 0)
+    width = width + 0.5 * jnp.sign(dz) * (jnp.where(on0, y0, 0.0) + jnp.where(on1, y1, 0.0))
+    return EdgeIntegrals(area, moment_z, moment_y, width)
+
+
+def polygon_integrals(poly: Float[Array, "... k 2"], level) -> EdgeIntegrals:
+    """Sum of :func:`clipped_edge_integrals` over the edges of closed polygons (last point joins the first)."""
+    p1 = jnp.roll(poly, -1, axis=-2)
+    e = clipped_edge_integrals(poly, p1, jnp.asarray(level)[..., None])
+    return EdgeIntegrals(*(jnp.sum(v, axis=-1) for v in (e.area, e.moment_z, e.moment_y, e.width)))
+
+
+def section_integrals(sections: Sections, draft) -> EdgeIntegrals:
+    """Half-section integrals below the waterline ``z = draft`` at every station, each ``(n,)``.
+
+    ``area`` [m²] (one side), ``moment_z`` = ∫ z dA [m³], ``moment_y`` = ∫ y dA [m³], ``width`` = the
+    waterline half-breadth [m] (summed over every crossing, so bulbs and tumblehome come out right).
+    """
+    return polygon_integrals(closed_half_polygon(sections.yz), draft)

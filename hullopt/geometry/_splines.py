@@ -1,0 +1,78 @@
+"""Natural cubic splines (seed 003 §3.1), in JAX, differentiable in the values and the knots."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+
+class CubicSpline(eqx.Module):
+    """Piecewise cubic ``s(t) = a + b·u + c·u² + d·u³``, ``u = t − knots[i]`` on interval ``i``.
+
+    ``knots (k,)``; coefficients ``(k−1, ...)`` so several curves on the same knots are one spline
+    (trailing axes of the values).
+    """
+
+    knots: Float[Array, " k"]
+    a: Array
+    b: Array
+    c: Array
+    d: Array
+
+    def __call__(self, t, nu: int = 0):
+        """Value (``nu = 0``) or ``nu``-th derivative at ``t`` (any shape); linear extrapolation is not
+        applied: the end cubics continue beyond the knots."""
+        t = jnp.asarray(t)
+        i = jnp.clip(jnp.searchsorted(self.knots, t, side="right") - 1, 0, self.knots.shape[0] - 2)
+        u = (t - self.knots[i]).reshape(t.shape + (1,) * (self.a.ndim - 1))
+        a, b, c, d = self.a[i], self.b[i], self.c[i], self.d[i]
+        if nu == 0:
+            return a + u * (b + u * (c + u * d))
+        if nu == 1:
+            return b + u * (2 * c + 3 * u * d)
+        if nu == 2:
+            return 2 * c + 6 * u * d
+        raise ValueError(f"derivative order nu must be 0, 1 or 2, got {nu}")
+
+
+def natural_cubic_spline(knots: Float[Array, " k"], values: Float[Array, "k ..."]) -> CubicSpline:
+    """The natural cubic spline (zero second derivative at both ends) through ``(knots, values)``.
+
+    ``knots`` strictly increasing, ``k ≥ 2``. Solves the tridiagonal system for the second
+    derivatives (a dense solve: k is a handful of stations or waterlines).
+    """
+    knots = jnp.asarray(knots)
+    y = jnp.asarray(values)
+    k = knots.shape[0]
+    if k < 2:
+        raise ValueError(f"a spline needs at least 2 knots, got {k}")
+    h = jnp.diff(knots)
+    dy = jnp.diff(y, axis=0) / h.reshape((-1,) + (1,) * (y.ndim - 1))
+    if k == 2:
+        c = jnp.zeros((k,) + y.shape[1:], y.dtype)
+    else:
+        main = 2.0 * (h[:-1] + h[1:])
+        mat = jnp.diag(main) + jnp.diag(h[1:-1], 1) + jnp.diag(h[1:-1], -1)
+        rhs = 3.0 * (dy[1:] - dy[:-1])
+        inner = jnp.linalg.solve(mat, rhs.reshape(k - 2, -1)).reshape(rhs.shape)
+        zero = jnp.zeros((1,) + y.shape[1:], y.dtype)
+        c = jnp.concatenate([zero, inner, zero], axis=0)
+    hh = h.reshape((-1,) + (1,) * (y.ndim - 1))
+    b = dy - hh * (2.0 * c[:-1] + c[1:]) / 3.0
+    d = (c[1:] - c[:-1]) / (3.0 * hh)
+    return CubicSpline(knots, y[:-1], b, c[:-1], d)
+
+
+def spline_matrix(knots, at) -> np.ndarray:
+    """Matrix ``W (len(at), len(knots))`` with ``s(at) = W @ values`` for the natural spline on ``knots``.
+
+    A natural spline is linear in its values, so with fixed knots (static preprocessing, numpy) the
+    interpolation on the hot path is one matrix product.
+    """
+    from scipy.interpolate import CubicSpline as _ScipySpline  # static preprocessing only
+
+    knots = np.asarray(knots, dtype=np.float64)
+    eye = np.eye(knots.shape[0])
+    return _ScipySpline(knots, eye, bc_type="natural")(np.asarray(at, dtype=np.float64))

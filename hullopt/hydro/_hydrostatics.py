@@ -1,0 +1,155 @@
+"""Upright, even-keel hydrostatics from :class:`~hullopt.geometry.Sections` (DESIGN.md §4).
+
+All functions are pure JAX, differentiable in the geometry and the draft, and ``vmap``-able over drafts.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+from jaxtyping import Array, Float
+
+from ..geometry import Sections, section_integrals, simpson_weights, wetted_surface
+
+RHO_SEA = 1025.0  # kg/m³
+
+
+class Hydrostatics(eqx.Module):
+    """Hydrostatic particulars at one draft. SI units unless stated; x positions from the AP.
+
+    ``lcb``/``lcf`` in m from the AP; ``lcb_pct``/``lcf_pct`` in % Lpp from midship, forward positive.
+    ``tpc`` in t/cm and ``mct`` (moment to change trim 1 cm, with GM_L ≈ BM_L) in t·m/cm by their
+    definitions; ``displacement`` in kg. Coefficients use Lpp and the waterline breadth ``bwl``.
+    """
+
+    draft: Array
+    volume: Array
+    displacement: Array
+    wetted_surface: Array
+    cb: Array
+    cp: Array
+    cm: Array
+    cwp: Array
+    lcb: Array
+    lcb_pct: Array
+    kb: Array
+    awp: Array
+    lcf: Array
+    lcf_pct: Array
+    bmt: Array
+    bml: Array
+    kmt: Array
+    tpc: Array
+    mct: Array
+    lwl: Array
+    bwl: Array
+
+    def to_dict(self) -> dict[str, float | list[float]]:
+        """Plain floats (or lists for a table), keyed as in ``hullopt hydro --json``."""
+        return {k: jnp.asarray(v).tolist() for k, v in vars(self).items()}
+
+
+def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
+    """Immersed area of each full section (both sides) [m²]: the sectional-area curve A(x)."""
+    return 2.0 * section_integrals(sections, draft).area
+
+
+def waterline_half_breadths(sections: Sections, draft) -> Float[Array, " n"]:
+    """Waterline half-breadth at each station [m] (sum over every crossing of the waterline)."""
+    return section_integrals(sections, draft).width
+
+
+def _waterline_length(x: Array, bw: Array) -> Array:
+    """From the first to the last station with a waterline, each extended to its dry neighbour (where
+    the ruled surface between the two stations ends); exact when the stations include both ends."""
+    wet = bw > 0.0
+    n = x.shape[0]
+    first = jnp.argmax(wet)
+    last = n - 1 - jnp.argmax(wet[::-1])
+    return jnp.where(jnp.any(wet), x[jnp.minimum(last + 1, n - 1)] - x[jnp.maximum(first - 1, 0)], 0.0)
+
+
+def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatics:
+    """Hydrostatics at ``draft`` [m above the baseline]; see :class:`Hydrostatics`.
+
+    Exact for the polyline sections; along x, Simpson's rule on the station positions.
+    The draft must lie above the keel and below the deck (the caller checks: see :func:`check_draft`).
+    """
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
+    x, lpp = sections.x, sections.lpp
+    s = section_integrals(sections, t)
+    w = simpson_weights(x)
+    area = 2.0 * s.area
+    volume = w @ area
+    lcb = (w @ (x * area)) / volume
+    kb = (w @ (2.0 * s.moment_z)) / volume
+    bw = s.width
+    awp = 2.0 * (w @ bw)
+    lcf = 2.0 * (w @ (x * bw)) / awp
+    i_t = (2.0 / 3.0) * (w @ bw**3)
+    i_l = 2.0 * (w @ (x**2 * bw)) - awp * lcf**2
+    bmt, bml = i_t / volume, i_l / volume
+    bwl = 2.0 * jnp.max(bw)
+    cb = volume / (lpp * bwl * t)
+    cm = jnp.interp(lpp / 2.0, x, area) / (bwl * t)
+    displacement = rho * volume
+    return Hydrostatics(
+        draft=t,
+        volume=volume,
+        displacement=displacement,
+        wetted_surface=wetted_surface(sections, t),
+        cb=cb,
+        cp=cb / cm,
+        cm=cm,
+        cwp=awp / (lpp * bwl),
+        lcb=lcb,
+        lcb_pct=100.0 * (lcb - lpp / 2.0) / lpp,
+        kb=kb,
+        awp=awp,
+        lcf=lcf,
+        lcf_pct=100.0 * (lcf - lpp / 2.0) / lpp,
+        bmt=bmt,
+        bml=bml,
+        kmt=kb + bmt,
+        tpc=rho * awp / 100.0 / 1000.0,
+        mct=displacement / 1000.0 * bml / (100.0 * lpp),
+        lwl=_waterline_length(x, bw),
+        bwl=bwl,
+    )
+
+
+def hydrostatic_table(sections: Sections, drafts, rho: float = RHO_SEA) -> Hydrostatics:
+    """:func:`hydrostatics` at every draft of ``drafts (k,)``: each field becomes ``(k,)`` (one ``vmap``)."""
+    return jax.vmap(hydrostatics, in_axes=(None, 0, None))(sections, jnp.asarray(drafts), rho)
+
+
+def volume_at(sections: Sections, draft) -> Array:
+    """Displaced volume [m³] at ``draft`` (cheaper than the full :func:`hydrostatics`)."""
+    return simpson_weights(sections.x) @ sectional_areas(sections, draft)
+
+
+def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:
+    """The draft [m] at which the hull displaces ``volume`` [m³].
+
+    A bracketed root find (optimistix bisection between keel and deck: the volume curve is monotone but
+    flat above the deck, where Newton would stall); differentiable by the implicit function theorem,
+    so ``d draft / d volume = 1 / Awp``.
+    """
+    lo, hi = sections.keel, sections.depth
+
+    def residual(t, target):
+        return (volume_at(sections, t) - target) / target
+
+    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo), flip="detect")
+    sol = optx.root_find(
+        residual,
+        solver,
+        0.5 * (lo + hi),
+        args=jnp.asarray(volume, dtype=sections.yz.dtype),
+        options={"lower": lo, "upper": hi},
+        max_steps=256,
+        throw=False,
+    )
+    return sol.value
