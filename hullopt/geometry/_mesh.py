@@ -30,12 +30,12 @@ def surface_grid(sections: Sections) -> Float[Array, "n m 3"]:
 def grid_triangles(n: int, m: int) -> np.ndarray:
     """Triangle vertex indices ``(2 (n−1)(m−1), 3)`` into the flattened ``(n·m)`` grid.
 
-    Ordered so that normals point outward (to port) for a port-side grid running keel → deck.
+    Wound so that normals point outward (to port) for a port-side grid running keel → deck.
     """
     i, j = np.meshgrid(np.arange(n - 1), np.arange(m - 1), indexing="ij")
     a = (i * m + j).ravel()
     b, c, d = a + m, a + m + 1, a + 1  # (i+1, j), (i+1, j+1), (i, j+1)
-    return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    return np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
 
 
 def _area_fraction_below(z: Array, level: Array) -> Array:
@@ -70,41 +70,98 @@ def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
     return 2.0 * jnp.sum(jnp.where(in_centreplane, 0.0, frac * _triangle_areas(tri)))
 
 
-def _station_loops(sections: Sections) -> np.ndarray:
-    """Closed full-section loops ``(n, 2m, 3)``: port keel → deck edge, across the deck, starboard back."""
-    g = np.asarray(surface_grid(sections), dtype=np.float64)
-    stbd = g[:, ::-1] * np.array([1.0, -1.0, 1.0])
-    return np.concatenate([g, stbd], axis=1)
+def _cap_faces(y: np.ndarray, yz: np.ndarray, port: int, stbd: int, outward_x: float) -> np.ndarray:
+    """Faces closing one end station (a transom or a flat end); none where the section has no width.
+
+    The half-section is split at its runs of centreline points (a section not started yet, the joint
+    between a bulb and the hull); each part and its mirror image form one polygon, triangulated by
+    manifold3d. ``port``/``stbd`` are the vertex indices of the station's first point on each side.
+    """
+    import manifold3d  # robust ear clipping that keeps the input's vertex order
+
+    faces = []
+    m = len(y)
+    wide = np.flatnonzero(y > 0.0)
+    runs = np.split(wide, np.flatnonzero(np.diff(wide) > 1) + 1) if wide.size else []
+    for run in runs:
+        lo, hi = max(run[0] - 1, 0), min(run[-1] + 1, m - 1)
+        js = np.arange(lo, hi + 1)
+        back = js[::-1][y[js[::-1]] > 0.0]  # the mirror image, skipping points on the centreline
+        idx = np.concatenate([port + js, stbd + back])
+        pts = np.concatenate([yz[js], yz[back] * np.array([-1.0, 1.0])])
+        # Seen from +x (y right, z up) the loop port → deck → starboard runs counter-clockwise: its
+        # triangles face +x.
+        tri = np.asarray(manifold3d.triangulate([np.ascontiguousarray(pts)]), dtype=np.int64)
+        faces.append(idx[tri] if outward_x > 0 else idx[tri][:, ::-1])
+    return np.concatenate(faces) if faces else np.zeros((0, 3), np.int64)
 
 
-def _cap_faces(loop_yz: np.ndarray, offset: int, outward_x: float) -> np.ndarray:
-    """Triangulate one end cap (a closed loop in (y, z)); faces oriented with normal along ``outward_x``."""
-    import manifold3d  # its triangulator is robust to the degenerate, touching loops of end stations
-
-    # Seen from +x (y right, z up) the loop (port keel → deck → starboard) runs counter-clockwise,
-    # which is how the triangulator wants it; its triangles then face +x.
-    faces = np.asarray(manifold3d.triangulate([np.ascontiguousarray(loop_yz)]), dtype=np.int64) + offset
-    return faces if outward_x > 0 else faces[:, ::-1]
+def _pinch_free_triangles(y: np.ndarray, n: int, m: int) -> np.ndarray:
+    """:func:`grid_triangles`, but a cell whose diagonal has both ends on the centreline while the other
+    two corners are off it is split along the other diagonal: otherwise both sides would meet along that
+    diagonal (an edge of four faces, not a 2-manifold)."""
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(m - 1), indexing="ij")
+    a = (i * m + j).ravel()
+    b, c, d = a + m, a + m + 1, a + 1
+    on = y == 0.0
+    flip = (on[a] & on[c] & ~(on[b] & on[d]))[:, None]
+    t1 = np.where(flip, np.stack([a, d, b], 1), np.stack([a, c, b], 1))
+    t2 = np.where(flip, np.stack([b, d, c], 1), np.stack([a, d, c], 1))
+    return np.concatenate([t1, t2])
 
 
 def to_trimesh(sections: Sections) -> trimesh.Trimesh:
-    """The closed, watertight triangle mesh of the whole hull (both sides, deck, end caps).
+    """The closed, watertight triangle mesh of the whole hull (both sides, deck, keel, end caps).
 
-    Coincident points (keel, centre-plane joints, zero-width stations) are merged, and faces that collapse
-    or that pair up back to back in the centre plane are removed, so the mesh is a clean 2-manifold.
+    The starboard side mirrors the port grid face for face, so faces in the centre plane come in
+    back-to-back pairs; those and faces collapsed by merging coincident points are removed, which leaves a
+    clean 2-manifold. Where the surface pinches to zero width between wider neighbours (both sides would
+    touch along an edge), the points are moved off the centreplane by 1e-9 of the hull's size.
     """
-    loops = _station_loops(sections)
-    n, k, _ = loops.shape
-    verts = loops.reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n - 1), np.arange(k), indexing="ij")
-    a = (i * k + j).ravel()
-    b = (i * k + (j + 1) % k).ravel()
-    c, d = b + k, a + k
-    side = np.concatenate([np.stack([a, c, d], 1), np.stack([a, b, c], 1)])
-    aft = _cap_faces(loops[0, :, 1:], 0, -1.0)
-    fwd = _cap_faces(loops[-1, :, 1:], (n - 1) * k, +1.0)
-    mesh = trimesh.Trimesh(verts, np.concatenate([side, aft, fwd]), process=False)
-    return _clean(mesh)
+    g = np.array(surface_grid(sections), dtype=np.float64)
+    scale = max(np.abs(g).max(), 1.0)
+    # Half-breadths below round-off are on the centreline: snap them so both sides' points merge.
+    g[..., 1] = np.where(g[..., 1] < 1e-9 * scale, 0.0, g[..., 1])
+    for _ in range(4):
+        mesh = _closed_mesh(g)
+        pinched = _pinch_points(mesh, g)
+        if not pinched.any():
+            break
+        g[..., 1] = np.where(pinched, 2e-9 * scale, g[..., 1])
+    return mesh
+
+
+def _pinch_points(mesh: trimesh.Trimesh, g: np.ndarray) -> np.ndarray:
+    """Grid points (on the centreline) at the ends of edges shared by more than two faces."""
+    edges = np.sort(mesh.edges, axis=1)
+    uniq, counts = np.unique(edges, axis=0, return_counts=True)
+    bad = mesh.vertices[np.unique(uniq[counts > 2])]
+    if not len(bad):
+        return np.zeros(g.shape[:2], bool)
+    key = lambda p: np.round(p / (1e-9 * max(np.abs(g).max(), 1.0))).astype(np.int64)  # noqa: E731
+    bad_keys = {tuple(k) for k in key(bad)}
+    on = g[..., 1] == 0.0
+    return on & np.array([tuple(k) in bad_keys for k in key(g.reshape(-1, 3))]).reshape(on.shape)
+
+
+def _closed_mesh(g: np.ndarray) -> trimesh.Trimesh:
+    n, m, _ = g.shape
+    port = g.reshape(-1, 3)
+    verts = np.concatenate([port, port * np.array([1.0, -1.0, 1.0])])
+    s0 = n * m
+    grid = _pinch_free_triangles(port[:, 1], n, m)
+    i = np.arange(n - 1)
+    top_p, top_s = i * m + m - 1, s0 + i * m + m - 1
+    bot_p, bot_s = i * m, s0 + i * m
+    deck = [np.stack([top_p, top_s + m, top_p + m], 1), np.stack([top_p, top_s, top_s + m], 1)]
+    keel = [np.stack([bot_p, bot_p + m, bot_s + m], 1), np.stack([bot_p, bot_s + m, bot_s], 1)]
+    yz = g[..., 1:]
+    caps = [
+        _cap_faces(yz[0, :, 0], yz[0], 0, s0, -1.0),
+        _cap_faces(yz[-1, :, 0], yz[-1], (n - 1) * m, s0 + (n - 1) * m, +1.0),
+    ]
+    faces = np.concatenate([grid, (grid + s0)[:, ::-1], *deck, *keel, *caps])
+    return _clean(trimesh.Trimesh(verts, faces, process=False))
 
 
 def _clean(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
