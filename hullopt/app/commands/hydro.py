@@ -1,0 +1,108 @@
+"""``hullopt hydro`` (hydrostatics at a draft, a displacement or over drafts) and ``hullopt export``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import equinox as eqx
+import numpy as np
+import typer
+
+from ...errors import HullError
+from ...geometry import EXPORT_FORMATS, export_mesh, to_trimesh
+from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
+from .._app import app
+from ..hulls import LoadedHull, load_hull
+from ..output import console, parse_range, print_json, table
+
+HULL_HELP = "offsets .csv, a mesh file (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=), or builtin:wigley?L=..&B=..&T=..&D=.."
+
+# (key, label, unit, scale for display)
+ROWS = [
+    ("draft", "Draft T", "m", 1), ("volume", "Volume ∇", "m³", 1), ("displacement", "Displacement Δ", "t", 1e-3),
+    ("wetted_surface", "Wetted surface S", "m²", 1), ("cb", "Cb", "", 1), ("cp", "Cp", "", 1), ("cm", "Cm", "", 1),
+    ("cwp", "Cwp", "", 1), ("lcb", "LCB from AP", "m", 1), ("lcb_pct", "LCB from midship", "% Lpp", 1),
+    ("kb", "KB", "m", 1), ("awp", "Awp", "m²", 1), ("lcf", "LCF from AP", "m", 1),
+    ("lcf_pct", "LCF from midship", "% Lpp", 1), ("bmt", "BM_T", "m", 1), ("bml", "BM_L", "m", 1),
+    ("kmt", "KM_T", "m", 1), ("tpc", "TPC", "t/cm", 1), ("mct", "MCT 1 cm", "t·m/cm", 1),
+    ("lwl", "Lwl", "m", 1), ("bwl", "Bwl", "m", 1),
+]
+
+
+def check_draft(hull: LoadedHull, draft: float, what: str = "--draft") -> float:
+    """A draft must lie above the baseline (and the keel) and at or below the deck."""
+    lo, hi = max(0.0, float(hull.sections.keel)), float(hull.sections.depth)
+    if not (np.isfinite(draft) and lo < draft <= hi):
+        raise HullError(f"{what} {draft:g} m is outside the hull: expected a draft in ({lo:g}, {hi:g}] m")
+    return float(draft)
+
+
+def parse_displacement(text: str) -> float:
+    """Displacement in tonnes (``177700`` or ``177700t``) or kilograms (``1.777e8kg``) → kg."""
+    t = text.strip().lower()
+    try:
+        value = float(t[:-2]) if t.endswith("kg") else 1e3 * float(t.removesuffix("t"))
+    except ValueError:
+        raise HullError(f"--displacement {text!r}: expected a number of tonnes, e.g. 177700 or 1.777e8kg") from None
+    if not (np.isfinite(value) and value > 0):
+        raise HullError(f"--displacement {text!r}: must be positive")
+    return value
+
+
+def resolve_drafts(hull, draft, displacement, drafts, rho) -> np.ndarray:
+    chosen = [o for o, v in (("--draft", draft), ("--displacement", displacement), ("--drafts", drafts)) if v is not None]
+    if len(chosen) > 1:
+        raise HullError(f"give only one of --draft, --displacement, --drafts (got {', '.join(chosen)})")
+    if drafts is not None:
+        return np.array([check_draft(hull, t, "--drafts value") for t in parse_range(drafts, "--drafts")])
+    if displacement is not None:
+        volume = parse_displacement(displacement) / rho
+        full = float(hydrostatic_table(hull.sections, np.array([float(hull.sections.depth)]), rho).volume[0])
+        if volume >= full:
+            raise HullError(f"--displacement {displacement}: more than the hull displaces at its deck ({rho * full / 1e3:,.0f} t)")
+        return np.array([float(draft_for_volume(hull.sections, volume))])
+    if draft is None:
+        if hull.design_draft is None:
+            raise HullError("give --draft, --displacement or --drafts (this hull has no design draft)")
+        draft = hull.design_draft
+    return np.array([check_draft(hull, draft)])
+
+
+@app.command()
+def hydro(
+    hull: Annotated[str, typer.Argument(help=HULL_HELP)],
+    draft: Annotated[float | None, typer.Option(help="Draft above the baseline [m].")] = None,
+    displacement: Annotated[str | None, typer.Option(help="Displacement [t] (or '…kg'); the draft is solved for.")] = None,
+    drafts: Annotated[str | None, typer.Option(help="Hydrostatic table over drafts START:STOP:COUNT [m].")] = None,
+    rho: Annotated[float, typer.Option(help="Water density [kg/m³].")] = RHO_SEA,
+    json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; lcb/lcf in m from AP).")] = False,
+) -> None:
+    """Upright hydrostatics at a draft, at a displacement, or as a table over drafts."""
+    if not (np.isfinite(rho) and rho > 0):
+        raise HullError(f"--rho {rho}: must be a positive density in kg/m³")
+    h = load_hull(hull)
+    ts = resolve_drafts(h, draft, displacement, drafts, rho)
+    res = eqx.filter_jit(hydrostatic_table)(h.sections, ts, rho).to_dict()
+    records = [{k: v[i] for k, v in res.items()} for i in range(len(ts))]
+    if json:
+        print_json(records[0] if len(records) == 1 and drafts is None else records)
+        return
+    rows = [[f"{label} [{unit}]" if unit else label, *(r[key] * s for r in records)] for key, label, unit, s in ROWS]
+    table(f"Hydrostatics — {h.name} (Lpp {float(h.sections.lpp):g} m, ρ {rho:g} kg/m³)",
+          ["quantity", *(f"T = {t:.3f} m" for t in ts)], rows)
+
+
+@app.command()
+def export(
+    hull: Annotated[str, typer.Argument(help=HULL_HELP)],
+    out: Annotated[Path, typer.Argument(help=f"Output mesh: .{', .'.join(EXPORT_FORMATS)}")],
+) -> None:
+    """Export the closed, watertight hull mesh (both sides, deck, transom)."""
+    if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:
+        raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
+    if not out.parent.is_dir():
+        raise HullError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    mesh = to_trimesh(load_hull(hull).sections)
+    export_mesh(mesh, out)
+    console.print(f"wrote {out} ({len(mesh.faces):,} faces, watertight: {mesh.is_watertight}, volume {mesh.volume:,.1f} m³)")

@@ -1,0 +1,101 @@
+"""Hull specs on the command line and in configs: one string names a hull and how to read it.
+
+* ``builtin:wigley?L=100&B=10&T=6.25&D=10`` or ``builtin:box?L=100&B=20&D=10`` (``n``, ``m``: resolution);
+* ``path/to/offsets.csv`` (``?n=121&m=81``: stations and points of the spline surface);
+* ``path/to/hull.stl[.gz]`` or any mesh trimesh reads, with
+  ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from urllib.parse import parse_qsl
+
+import numpy as np
+
+from ..errors import HullError
+from ..geometry import Sections
+from ..models import BUILTINS, MeshTransform, offsets_to_sections, read_mesh, read_offsets, slice_mesh
+
+
+@dataclass(frozen=True)
+class LoadedHull:
+    """A hull read from a spec: its sections, a display name and its design draft when known [m]."""
+
+    sections: Sections
+    name: str
+    design_draft: float | None = None
+
+
+def _split(spec: str) -> tuple[str, dict[str, str]]:
+    base, _, query = spec.partition("?")
+    pairs = parse_qsl(query, keep_blank_values=True, strict_parsing=False)
+    params = {}
+    for k, v in pairs:
+        if k in params:
+            raise HullError(f"hull {spec!r}: parameter {k} given twice")
+        params[k] = v
+    return base, params
+
+
+def _take(params: dict[str, str], key: str, spec: str, kind=float, default=None):
+    if key not in params:
+        if default is None:
+            raise HullError(f"hull {spec!r}: missing parameter {key}")
+        return default
+    text = params.pop(key)
+    try:
+        return kind(text)
+    except ValueError:
+        raise HullError(f"hull {spec!r}: parameter {key}={text!r} is not a valid {kind.__name__}") from None
+
+
+def _done(params: dict[str, str], spec: str, allowed: list[str]) -> None:
+    if params:
+        raise HullError(
+            f"hull {spec!r}: unknown parameter {sorted(params)[0]!r}; expected {', '.join(allowed)}"
+        )
+
+
+def load_hull(spec: str) -> LoadedHull:
+    """Read the hull named by ``spec`` (see the module docstring); :class:`HullError` on any problem."""
+    base, params = _split(spec)
+    if base.startswith("builtin:"):
+        name = base.removeprefix("builtin:")
+        if name not in BUILTINS:
+            raise HullError(f"hull {spec!r}: unknown builtin {name!r}; expected one of {', '.join(BUILTINS)}")
+        fn, required = BUILTINS[name]
+        args = {k: _take(params, k, spec) for k in required}
+        res = {k: _take(params, k, spec, int) for k in ("n", "m") if k in params}
+        _done(params, spec, [*required, "n", "m"])
+        return LoadedHull(fn(**args, **res), f"{name} " + " ".join(f"{k}={v:g}" for k, v in args.items()),
+                          args.get("T"))
+    path = Path(base)
+    if not path.is_file():
+        raise HullError(f"hull {spec!r}: no such file {base!r} (and not a builtin:NAME)")
+    if path.suffix.lower() == ".csv":
+        table = read_offsets(path)
+        res = {k: _take(params, key, spec, int, d) for k, key, d in (("n_stations", "n", 121), ("n_points", "m", 81))}
+        _done(params, spec, ["n", "m"])
+        return LoadedHull(offsets_to_sections(table, **res), path.name)
+    shift = _take(params, "shift", spec, str, "0,0,0")
+    try:
+        shift_xyz = tuple(float(v) for v in shift.split(","))
+        assert len(shift_xyz) == 3
+    except (ValueError, AssertionError):
+        raise HullError(f"hull {spec!r}: shift={shift!r} must be three numbers x,y,z") from None
+    transform = MeshTransform(
+        scale=_take(params, "scale", spec, float, 1.0), axes=_take(params, "axes", spec, str, "x,y,z"),
+        shift=shift_xyz,
+    )
+    lpp = _take(params, "lpp", spec, float, 0.0) or None
+    n = _take(params, "n", spec, int, 201)
+    m = _take(params, "m", spec, int, 96)
+    _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m"])
+    mesh = read_mesh(path, transform)
+    if lpp is None:
+        lpp = float(mesh.bounds[1, 0])  # no Lpp given: take the FP at the forward end
+    if not (np.isfinite(lpp) and lpp > 0):
+        raise HullError(f"hull {spec!r}: lpp must be positive")
+    return LoadedHull(slice_mesh(mesh, lpp, n, m), path.name)

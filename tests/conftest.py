@@ -1,0 +1,19 @@
+"""Test set-up: float64 and strict dtype promotion, as the CLI runs (never a side effect of importing)."""
+
+from pathlib import Path
+
+import jax
+import pytest
+
+jax.config.update("jax_enable_x64", True)
+jax.config.update("jax_numpy_dtype_promotion", "strict")
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+
+
+@pytest.fixture(scope="session")
+def shared() -> Path:
+    """The read-only reference folder ``../shared`` (hulls, data, seeds)."""
+    if not SHARED.is_dir():
+        pytest.fail(f"reference folder {SHARED} is missing")
+    return SHARED
