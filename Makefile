@@ -18,7 +18,7 @@ demo: $(STAMP)
 	$(VENV)/bin/hullopt hydro 'builtin:wigley?L=100&B=10&T=6.25&D=10' --drafts 1:6.25:8
 
 test: $(STAMP)
-	$(VENV)/bin/python -m pytest
+	$(VENV)/bin/python -m pytest -n 2 --dist loadfile
 
 bench: $(STAMP)
 	$(VENV)/bin/python -m pip install -q -e '.[test,bench]'
