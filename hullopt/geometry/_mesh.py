@@ -70,112 +70,50 @@ def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
     return 2.0 * jnp.sum(jnp.where(in_centreplane, 0.0, frac * _triangle_areas(tri)))
 
 
-def _cap_faces(y: np.ndarray, yz: np.ndarray, port: int, stbd: int, outward_x: float) -> np.ndarray:
-    """Faces closing one end station (a transom or a flat end); none where the section has no width.
+def _cap_faces(loop_yz: np.ndarray, offset: int, outward_x: float) -> np.ndarray:
+    """Triangulate one end cap, a closed loop in (y, z), facing ``outward_x`` (±1)."""
+    import manifold3d  # robust ear clipping that keeps the input's vertices and edge directions
 
-    The half-section is split at its runs of centreline points (a section not started yet, the joint
-    between a bulb and the hull); each part and its mirror image form one polygon, triangulated by
-    manifold3d. ``port``/``stbd`` are the vertex indices of the station's first point on each side.
-    """
-    import manifold3d  # robust ear clipping that keeps the input's vertex order
-
-    faces = []
-    m = len(y)
-    wide = np.flatnonzero(y > 0.0)
-    runs = np.split(wide, np.flatnonzero(np.diff(wide) > 1) + 1) if wide.size else []
-    for run in runs:
-        lo, hi = max(run[0] - 1, 0), min(run[-1] + 1, m - 1)
-        js = np.arange(lo, hi + 1)
-        back = js[::-1][y[js[::-1]] > 0.0]  # the mirror image, skipping points on the centreline
-        idx = np.concatenate([port + js, stbd + back])
-        pts = np.concatenate([yz[js], yz[back] * np.array([-1.0, 1.0])])
-        # Seen from +x (y right, z up) the loop port → deck → starboard runs counter-clockwise: its
-        # triangles face +x.
-        tri = np.asarray(manifold3d.triangulate([np.ascontiguousarray(pts)]), dtype=np.int64)
-        faces.append(idx[tri] if outward_x > 0 else idx[tri][:, ::-1])
-    return np.concatenate(faces) if faces else np.zeros((0, 3), np.int64)
-
-
-def _pinch_free_triangles(y: np.ndarray, n: int, m: int) -> np.ndarray:
-    """:func:`grid_triangles`, but a cell whose diagonal has both ends on the centreline while the other
-    two corners are off it is split along the other diagonal: otherwise both sides would meet along that
-    diagonal (an edge of four faces, not a 2-manifold)."""
-    i, j = np.meshgrid(np.arange(n - 1), np.arange(m - 1), indexing="ij")
-    a = (i * m + j).ravel()
-    b, c, d = a + m, a + m + 1, a + 1
-    on = y == 0.0
-    flip = (on[a] & on[c] & ~(on[b] & on[d]))[:, None]
-    t1 = np.where(flip, np.stack([a, d, b], 1), np.stack([a, c, b], 1))
-    t2 = np.where(flip, np.stack([b, d, c], 1), np.stack([a, d, c], 1))
-    return np.concatenate([t1, t2])
+    # Seen from +x (y right, z up) the loop port keel → deck edge → starboard runs counter-clockwise.
+    tri = np.asarray(manifold3d.triangulate([np.ascontiguousarray(loop_yz)]), dtype=np.int64) + offset
+    return tri if outward_x > 0 else tri[:, ::-1]
 
 
 def to_trimesh(sections: Sections) -> trimesh.Trimesh:
     """The closed, watertight triangle mesh of the whole hull (both sides, deck, keel, end caps).
 
-    The starboard side mirrors the port grid face for face, so faces in the centre plane come in
-    back-to-back pairs; those and faces collapsed by merging coincident points are removed, which leaves a
-    clean 2-manifold. Where the surface pinches to zero width between wider neighbours (both sides would
-    touch along an edge), the points are moved off the centreplane by 1e-9 of the hull's size.
+    The port grid and its mirror image are joined along the keel and across the deck and closed by the two
+    end stations, so the mesh is a closed tube by construction. Points on the centreline are moved off it by
+    ``1e-7`` of the hull's size on each side: where sections have not started, or a bulb joins the hull, the
+    two sides then form a thin double wall instead of touching (which would not be a 2-manifold). The
+    volume this adds is negligible (2·1e-7·size × the centre-plane area); exclude faces with
+    ``|y| ≤ 1e-7·size`` when summing areas.
     """
     g = np.array(surface_grid(sections), dtype=np.float64)
-    scale = max(np.abs(g).max(), 1.0)
-    # Half-breadths below round-off are on the centreline: snap them so both sides' points merge.
-    g[..., 1] = np.where(g[..., 1] < 1e-9 * scale, 0.0, g[..., 1])
-    for _ in range(4):
-        mesh = _closed_mesh(g)
-        pinched = _pinch_points(mesh, g)
-        if not pinched.any():
-            break
-        g[..., 1] = np.where(pinched, 2e-9 * scale, g[..., 1])
-    return mesh
-
-
-def _pinch_points(mesh: trimesh.Trimesh, g: np.ndarray) -> np.ndarray:
-    """Grid points (on the centreline) at the ends of edges shared by more than two faces."""
-    edges = np.sort(mesh.edges, axis=1)
-    uniq, counts = np.unique(edges, axis=0, return_counts=True)
-    bad = mesh.vertices[np.unique(uniq[counts > 2])]
-    if not len(bad):
-        return np.zeros(g.shape[:2], bool)
-    key = lambda p: np.round(p / (1e-9 * max(np.abs(g).max(), 1.0))).astype(np.int64)  # noqa: E731
-    bad_keys = {tuple(k) for k in key(bad)}
-    on = g[..., 1] == 0.0
-    return on & np.array([tuple(k) in bad_keys for k in key(g.reshape(-1, 3))]).reshape(on.shape)
-
-
-def _closed_mesh(g: np.ndarray) -> trimesh.Trimesh:
     n, m, _ = g.shape
+    eps = centreline_offset(g)
+    g[..., 1] = np.maximum(g[..., 1], eps)
     port = g.reshape(-1, 3)
     verts = np.concatenate([port, port * np.array([1.0, -1.0, 1.0])])
     s0 = n * m
-    grid = _pinch_free_triangles(port[:, 1], n, m)
+    grid = grid_triangles(n, m)
     i = np.arange(n - 1)
     top_p, top_s = i * m + m - 1, s0 + i * m + m - 1
     bot_p, bot_s = i * m, s0 + i * m
     deck = [np.stack([top_p, top_s + m, top_p + m], 1), np.stack([top_p, top_s, top_s + m], 1)]
     keel = [np.stack([bot_p, bot_p + m, bot_s + m], 1), np.stack([bot_p, bot_s + m, bot_s], 1)]
-    yz = g[..., 1:]
+    loop = np.concatenate([np.arange(m), s0 + np.arange(m)[::-1]])  # port up, starboard down
     caps = [
-        _cap_faces(yz[0, :, 0], yz[0], 0, s0, -1.0),
-        _cap_faces(yz[-1, :, 0], yz[-1], (n - 1) * m, s0 + (n - 1) * m, +1.0),
+        loop[_cap_faces(verts[loop, 1:], 0, -1.0)],
+        loop[_cap_faces(verts[loop + (n - 1) * m, 1:], 0, +1.0)] + (n - 1) * m,
     ]
     faces = np.concatenate([grid, (grid + s0)[:, ::-1], *deck, *keel, *caps])
-    return _clean(trimesh.Trimesh(verts, faces, process=False))
+    return trimesh.Trimesh(verts, faces, process=False)
 
 
-def _clean(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
-    mesh.merge_vertices(digits_vertex=9)
-    f = mesh.faces
-    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
-    f = f[keep]
-    # Back-to-back duplicates (the same triangle with both windings) cancel: both go.
-    key = np.sort(f, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    f = f[counts[inverse.ravel()] == 1]
-    out = trimesh.Trimesh(mesh.vertices, f, process=False)
-    out.remove_unreferenced_vertices()
-    return out
+def centreline_offset(points: np.ndarray) -> float:
+    """Half-thickness [m] given to the centre plane in closed meshes: 1e-7 of the hull's size."""
+    return 1e-7 * max(float(np.abs(points).max()), 1.0)
 
 
 def write_x3d(mesh: trimesh.Trimesh, path: str | os.PathLike) -> None:

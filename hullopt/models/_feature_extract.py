@@ -1,0 +1,207 @@
+"""Extraction of contour lines and feature curves from a parent hull (seed 000 §0011–§0016; numpy, run once).
+
+For each station's half-section (a polyline keel → deck edge, from an offset table or a sliced mesh):
+
+1. **Contour points.** The keel point; the flat of bottom (the run of points from the keel within
+   ``flat_tol`` of the keel height) ends at ``F_b``; the flat of side (the run down from the deck edge within
+   ``flat_tol`` of the deck-edge half-breadth) starts at ``F_s``; the deck edge. Along the length these give
+   the profile (keel line), flat-of-bottom, flat-of-side and deck side lines; the aftmost frame is the
+   transom end line.
+2. **Smoothing.** The curved part ``F_b → F_s`` is cut into *parts* where it runs along the centreline (a
+   bulb below the forefoot joined to the hull above, or a station forward of the stem that cuts the bulb
+   alone); each part is fitted with a smoothing spline in arc length (raw curvature of a faceted mesh is
+   noise), whose curvature sign changes are the candidate inflection points.
+3. **Weak lobes.** A lobe between sign changes whose sagitta (largest distance from its chord) is below
+   ``lobe_tol`` is noise or a flat: it is merged with its neighbours (an interior lobe loses both its
+   inflection points, an end lobe its one).
+4. **Segments.** Between adjacent segment ends (``F_b``, inflection points, ends of centreline runs,
+   ``F_s``): the apex (farthest from the chord) and the two auxiliary apexes (farthest from the chords
+   inflection–apex), stored in the chord frame of :mod:`._feature_frame`. A run along the centreline is a
+   straight segment (apex on its chord).
+5. **Fixed topology.** Every station gets the same number of segments ``S`` (the most any station has).
+   A station with fewer gets *degenerate* segments of zero length at ``F_b`` (the keel end), so the
+   uppermost segment is always the main convex one that ends at the flat of side or deck edge (the bilge in
+   the parallel midbody, the shoulder and flare in the entrance, the bilge of the run); its apex line runs
+   the whole length. Lines of lower segments exist only where the frames have them (bulb, neck, skeg).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import HullError
+
+#: Chord-frame values of a segment with no shape (degenerate or straight): apex at mid-chord on the chord,
+#: auxiliary apexes where a parabola has them (half way, 3/4 of the apex height).
+DEFAULT_APEX = (0.5, 0.0)
+DEFAULT_AUX = (0.5, 0.75, 0.5, 0.75)
+
+
+def _chord_uv(a, b, p):
+    c = b - a
+    cc = float(c @ c)
+    rc = np.array([-c[1], c[0]])
+    d = p - a
+    return d @ c / cc, d @ rc / cc
+
+
+def _farthest(curve: np.ndarray, i: int, j: int) -> int:
+    """Index in ``curve[i..j]`` farthest from the chord ``curve[i] → curve[j]`` (``i`` if none inside)."""
+    if j - i < 2:
+        return i
+    a, b = curve[i], curve[j]
+    c = b - a
+    n = np.hypot(*c)
+    if n == 0:
+        return i
+    d = np.abs((curve[i + 1 : j] - a) @ np.array([-c[1], c[0]])) / n
+    return i + 1 + int(np.argmax(d))
+
+
+def _segment(curve: np.ndarray, i: int, j: int, straight: bool = False) -> tuple:
+    """Chord-frame description of the segment ``curve[i..j]``: ``(a, b, (β, η), (ρ₁, σ₁, ρ₂, σ₂))``."""
+    a, b = curve[i].copy(), curve[j].copy()
+    if straight or np.hypot(*(b - a)) == 0 or j - i < 4:
+        return a, b, DEFAULT_APEX, DEFAULT_AUX
+    k = _farthest(curve, i, j)
+    beta, eta = _chord_uv(a, b, curve[k])
+    if abs(eta) < 1e-9 or k - i < 2 or j - k < 2:
+        return a, b, DEFAULT_APEX, DEFAULT_AUX
+    c1, c2 = _farthest(curve, i, k), _farthest(curve, k, j)
+    u1, v1 = _chord_uv(a, b, curve[c1])
+    u2, v2 = _chord_uv(a, b, curve[c2])
+    aux = (u1 / beta, v1 / eta, (1 - u2) / (1 - beta), v2 / eta)
+    return a, b, (beta, eta), aux
+
+
+def _smooth(part: np.ndarray, dense: int, smoothing: float) -> np.ndarray:
+    """Smoothing spline through a polyline in arc length, sampled at ``dense`` points (ends kept)."""
+    from scipy.interpolate import make_smoothing_spline
+
+    seg = np.hypot(*np.diff(part, axis=0).T)
+    keep = np.concatenate([[True], seg > 1e-12])
+    part = part[keep]
+    if len(part) < 5:
+        t = np.linspace(0, 1, dense)
+        return part[0] + t[:, None] * (part[-1] - part[0]) if len(part) == 2 else np.array(
+            [np.interp(t, np.linspace(0, 1, len(part)), part[:, k]) for k in range(2)]).T
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(part, axis=0).T))])
+    lam = smoothing * s[-1] ** 3 if smoothing > 0 else None
+    spl = make_smoothing_spline(s, part, lam=lam, axis=0)
+    t = np.linspace(0.0, s[-1], dense)
+    out = spl(t)
+    out[0], out[-1] = part[0], part[-1]  # the ends are segment ends: keep them exactly
+    return out
+
+
+def _inflections(curve: np.ndarray, lobe_tol: float) -> list[int]:
+    """Indices of the inflection points of a smooth dense curve, weak lobes merged away."""
+    d1 = np.gradient(curve, axis=0)
+    d2 = np.gradient(d1, axis=0)
+    kappa = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    sign = np.sign(kappa)
+    # Ignore a few points at the ends, where one-sided differences are poor.
+    edge = max(2, len(curve) // 100)
+    idx = [i for i in range(edge, len(curve) - edge) if sign[i] * sign[i - 1] < 0]
+    bounds = [0, *idx, len(curve) - 1]
+    while len(bounds) > 2:
+        sag = []
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            k = _farthest(curve, a, b)
+            c = curve[b] - curve[a]
+            n = np.hypot(*c)
+            sag.append(0.0 if n == 0 or k == a else abs((curve[k] - curve[a]) @ np.array([-c[1], c[0]])) / n)
+        w = int(np.argmin(sag))
+        if sag[w] >= lobe_tol:
+            break
+        if w == 0:
+            del bounds[1]
+        elif w == len(sag) - 1:
+            del bounds[-2]
+        else:
+            del bounds[w : w + 2]
+    return bounds[1:-1]
+
+
+def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: float, dense: int = 600):
+    """Contour points and segments of one half-section ``p (m, 2)``.
+
+    Returns ``(keel, deck, segments)`` with ``segments`` a list of ``(a, b, apex, aux)`` from ``F_b`` up to
+    ``F_s`` (``segments[0][0]`` is ``F_b``, ``segments[-1][1]`` is ``F_s``).
+    """
+    p = np.asarray(p, dtype=np.float64)
+    step = np.hypot(*np.diff(p, axis=0).T)
+    p = p[np.concatenate([[True], step > 1e-9 * max(1.0, np.abs(p).max())])]
+    keel, deck = p[0].copy(), p[-1].copy()
+    if len(p) < 3:
+        return keel, deck, [(keel, deck, DEFAULT_APEX, DEFAULT_AUX)]
+    ib = 0
+    while ib + 1 < len(p) - 1 and p[ib + 1, 1] <= keel[1] + flat_tol and p[ib + 1, 0] >= p[ib, 0]:
+        ib += 1
+    fs = len(p) - 1
+    while fs - 1 > ib and p[fs - 1, 0] >= deck[0] - flat_tol and p[fs - 1, 1] <= p[fs, 1]:
+        fs -= 1
+    curved = p[ib : fs + 1]
+    if len(curved) < 2:
+        return keel, deck, [(curved[0], curved[-1], DEFAULT_APEX, DEFAULT_AUX)]
+    # Parts: maximal runs off the centreline, each with its bounding centreline points.
+    on = curved[:, 0] <= 1e-9 * max(1.0, np.abs(curved).max())
+    segments = []
+    i = 0
+    last = len(curved) - 1
+    while i < last:
+        if on[i] and on[i + 1]:  # along the centreline: a straight segment
+            j = i + 1
+            while j < last and on[j + 1]:
+                j += 1
+            segments.append((curved[i].copy(), curved[j].copy(), DEFAULT_APEX, DEFAULT_AUX))
+            i = j
+            continue
+        j = i + 1
+        while j < last and not on[j]:
+            j += 1
+        part = curved[i : j + 1]
+        if len(part) < 4:
+            segments.append(_segment(part, 0, len(part) - 1, straight=True))
+        else:
+            sm = _smooth(part, dense, smoothing)
+            ends = [0, *_inflections(sm, lobe_tol), len(sm) - 1]
+            segments += [_segment(sm, a, b) for a, b in zip(ends[:-1], ends[1:])]
+        i = j
+    return keel, deck, segments
+
+
+def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float = 0.0, dense: int = 600):
+    """Feature arrays of a parent hull given as sections ``x (n,)``, ``yz (n, m, 2)`` (numpy).
+
+    ``flat_tol`` [m] (default 0.1 % of the greatest breadth) decides what is flat; ``lobe_tol`` [m]
+    (default 0.3 % of it) is the least sagitta of a lobe between inflection points; ``smoothing`` is the
+    smoothing spline's λ per cubed arc length (0: chosen by generalised cross-validation).
+    Returns a dict of numpy arrays: ``x``, ``keel (n, 2)``, ``deck (n, 2)``, ``ends (n, S+1, 2)``,
+    ``apex (n, S, 2)``, ``aux (n, S, 4)``, ``real (n, S)`` (segment found in the parent, not padding), ``lpp``.
+    """
+    x = np.asarray(x, dtype=np.float64)
+    yz = np.asarray(yz, dtype=np.float64)
+    if yz.ndim != 3 or yz.shape[0] != x.shape[0] or yz.shape[2] != 2:
+        raise HullError(f"sections must be (n, m, 2) with n = {x.shape[0]} stations, got {yz.shape}")
+    breadth = 2.0 * max(float(yz[..., 0].max()), 1e-9)
+    flat_tol = 1e-3 * breadth if flat_tol is None else flat_tol
+    lobe_tol = 3e-3 * breadth if lobe_tol is None else lobe_tol
+    stations = [extract_station(p, flat_tol, lobe_tol, smoothing, dense) for p in yz]
+    s_max = max(len(st[2]) for st in stations)
+    n = len(x)
+    keel = np.array([st[0] for st in stations])
+    deck = np.array([st[1] for st in stations])
+    ends = np.zeros((n, s_max + 1, 2))
+    apex = np.tile(np.array(DEFAULT_APEX), (n, s_max, 1))
+    aux = np.tile(np.array(DEFAULT_AUX), (n, s_max, 1))
+    real = np.zeros((n, s_max), bool)
+    for i, (_, _, segs) in enumerate(stations):
+        pad = s_max - len(segs)  # degenerate segments at the keel end (module docstring, 5.)
+        ends[i, : pad + 1] = segs[0][0]
+        for k, (a, b, ap, ax) in enumerate(segs):
+            ends[i, pad + k + 1] = b
+            apex[i, pad + k] = ap
+            aux[i, pad + k] = ax
+            real[i, pad + k] = True
+    return dict(x=x, keel=keel, deck=deck, ends=ends, apex=apex, aux=aux, real=real, lpp=float(lpp))

@@ -1,0 +1,117 @@
+"""Added resistance from wave reflection by the bluntness coefficient (JP2009-286166, NMRI; DESIGN.md §4).
+
+R_AWR = ½ρgζ_a²·B·Bf·α_T·(1 + α_U),  K_AW = R_AWR / (½ρgζ_a²B) = Bf·α_T·(1 + α_U),
+α_T = π²I₁²(k_e d)/(π²I₁²(k_e d) + K₁²(k_e d)), k_e = k(1 + Ω cos α)², Ω = ωU/g, k = ω²/g (patent eqs. 6–8),
+1 + α_U = 1 + C_U·Fn, C_U = max(68 − 310·Bf(α), 10) (eqs. 9, 11, 12), Fn = U/√(g·Lpp).
+
+Shapes: ``omega`` (any shape W) and ``heading`` (any shape H) give per-wave results of shape W + H.
+Units SI: ω [rad/s], U [m/s], α [rad] (0 = head seas), ζ_a [m], forces [N].
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array
+
+from ..geometry import Sections
+from ._bessel import alpha_t
+from ._waterline import bluntness_of_waterline, waterline
+
+G = 9.80665  # m/s²
+RHO_SEA = 1025.0  # kg/m³
+C_U_SLOPE, C_U_INTERCEPT, C_U_MIN = -310.0, 68.0, 10.0
+BF_KINK = (C_U_INTERCEPT - C_U_MIN) / -C_U_SLOPE  # 58/310 = 0.1871: where C_U reaches its floor
+
+
+def speed_coefficient(bf, smooth: float | None = None) -> Array:
+    """C_U = max(68 − 310·Bf, 10) (patent eqs. 11–12), or with ``smooth = τ`` the soft maximum
+    10 + τ·softplus((58 − 310·Bf)/τ), which is C^∞, lies above the exact value by at most τ·ln 2 (at the
+    kink Bf = 0.1871) and within 1 % of τ beyond |Bf − 0.1871| > 4.6τ/310 (τ = 1: ±0.015 in Bf)."""
+    bf = jnp.asarray(bf, dtype=float)
+    lin = C_U_INTERCEPT + C_U_SLOPE * bf
+    if smooth is None:
+        return jnp.maximum(lin, C_U_MIN)
+    return C_U_MIN + smooth * jax.nn.softplus((lin - C_U_MIN) / smooth)
+
+
+def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
+    """K_AW = Bf·α_T·(1 + C_U(Bf)·Fn) (patent eq. 2 over ½ρgζ²B; claim 1). With α_T = 1 this is the
+    short-wave value the patent's tables list."""
+    return jnp.asarray(bf, dtype=float) * alpha_T * (1.0 + speed_coefficient(bf, smooth) * fn)
+
+
+def froude_number(speed, lpp, g: float = G) -> Array:
+    """Fn = U/√(g·Lpp)."""
+    return jnp.asarray(speed, dtype=float) / jnp.sqrt(g * jnp.asarray(lpp, dtype=float))
+
+
+def omega_from_wavelength(wavelength, g: float = G) -> Array:
+    """Deep-water circular frequency ω = √(2πg/λ) [rad/s] of waves of length λ [m]."""
+    return jnp.sqrt(2.0 * jnp.pi * g / jnp.asarray(wavelength, dtype=float))
+
+
+def encounter_wavenumber(omega, speed, heading, g: float = G) -> Array:
+    """k_e = k(1 + Ω cos α)² with k = ω²/g, Ω = ωU/g [1/m] (patent eq. 7). In following seas k_e → 0 where
+    U cos α meets the phase speed (the reflected wave cannot catch the ship), and grows again beyond."""
+    omega = jnp.asarray(omega, dtype=float)
+    k = omega**2 / g
+    return k * (1.0 + omega * speed / g * jnp.cos(heading)) ** 2
+
+
+class NMRIResult(eqx.Module):
+    """Added resistance by reflection, NMRI/patent formula. Shapes: H = heading's, W + H per wave.
+
+    bf (H): bluntness coefficient; fn (): Froude number; c_u (H): speed coefficient C_U;
+    k_aw_short (H): Bf(1 + C_U Fn), the short-wave limit (α_T = 1); alpha_t (W+H); k_aw (W+H);
+    r_awr (W+H): R_AWR [N] for the given amplitude; beam (): B_wl [m].
+    """
+
+    bf: Array
+    fn: Array
+    c_u: Array
+    k_aw_short: Array
+    alpha_t: Array
+    k_aw: Array
+    r_awr: Array
+    beam: Array
+
+
+def _outer(omega, heading):
+    omega = jnp.asarray(omega, dtype=float)
+    heading = jnp.asarray(heading, dtype=float)
+    return omega.reshape(omega.shape + (1,) * heading.ndim), heading
+
+
+def nmri_added_resistance(
+    sections: Sections,
+    draft,
+    speed,
+    omega,
+    heading=0.0,
+    amplitude=1.0,
+    *,
+    rho: float = RHO_SEA,
+    g: float = G,
+    smooth: float | None = None,
+    aft: str = "include",
+) -> NMRIResult:
+    """R_AWR and K_AW in regular waves of frequencies ``omega`` [rad/s] from headings ``heading`` [rad].
+
+    ``draft`` [m] is both the waterline for Bf and d in α_T; ``speed`` U [m/s]; ``amplitude`` ζ_a [m];
+    ``smooth`` τ for :func:`speed_coefficient` (None: the exact max); ``aft``: see
+    :func:`~hullopt.waves.bluntness`. Pure and differentiable in the sections, draft, speed and ω;
+    finite (0) as ω → 0.
+    """
+    wl = waterline(sections, draft)
+    om, hd = _outer(omega, heading)
+    bf = bluntness_of_waterline(wl, hd, aft)
+    fn = froude_number(speed, sections.lpp, g)
+    c_u = speed_coefficient(bf, smooth)
+    short = bf * (1.0 + c_u * fn)
+    at = alpha_t(encounter_wavenumber(om, speed, hd, g) * draft)
+    kaw = at * short
+    b = wl.beam
+    r = 0.5 * rho * g * jnp.asarray(amplitude, dtype=float) ** 2 * b * kaw
+    return NMRIResult(bf=bf, fn=fn, c_u=c_u, k_aw_short=short, alpha_t=at, k_aw=kaw, r_awr=r, beam=b)

@@ -1,0 +1,182 @@
+"""Semi-empirical methods users compare the NMRI formula with: STAWAVE-1, STAWAVE-2, SNNM (METHODS.md §2).
+
+Every method returns the motion-induced and reflection parts side by side, in regular waves of amplitude
+ζ_a, as :class:`WaveResistance` (shape W + H for ``omega`` W and ``heading`` H). Conventions: α = 0 head
+seas (folded to [0, π] by symmetry), Fr on Lpp, kyy the pitch radius of gyration over Lpp. The hull enters
+through :class:`Particulars` (Lpp, B_wl, T, C_B and waterline lengths), all computed from the sections.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array
+
+from ..geometry import Sections, section_integrals, simpson_weights
+from ._added_resistance import G, RHO_SEA, _outer, froude_number, nmri_added_resistance
+from ._bessel import alpha_t
+from ._waterline import entrance_lengths, waterline
+
+METHODS = ("nmri", "stawave1", "stawave2", "snnm")
+
+
+class Particulars(eqx.Module):
+    """Main particulars at a draft [m]: ``lpp``, ``beam`` (B_wl), ``draft``, ``cb`` (on Lpp·B_wl·T), ``l_bwl``
+    (stem to 95 % of the maximum breadth, STAWAVE-1), ``l_entrance``, ``l_run`` (ends to 99 %, SNNM)."""
+
+    lpp: Array
+    beam: Array
+    draft: Array
+    cb: Array
+    l_bwl: Array
+    l_entrance: Array
+    l_run: Array
+
+
+def particulars(sections: Sections, draft) -> Particulars:
+    """:class:`Particulars` of the hull at ``draft`` (even keel); exact for the polyline sections,
+    Simpson along x."""
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
+    wl = waterline(sections, t)
+    volume = simpson_weights(sections.x) @ (2.0 * section_integrals(sections, t).area)
+    b = wl.beam
+    l_bwl, _ = entrance_lengths(wl, 0.95)
+    l_e, l_r = entrance_lengths(wl, 0.99)
+    return Particulars(lpp=sections.lpp, beam=b, draft=t, cb=volume / (sections.lpp * b * t), l_bwl=l_bwl,
+                       l_entrance=l_e, l_run=l_r)
+
+
+class WaveResistance(eqx.Module):
+    """Added resistance in regular waves [N], shape W + H: ``motion`` + ``reflection`` = ``total``."""
+
+    motion: Array
+    reflection: Array
+
+    @property
+    def total(self) -> Array:
+        return self.motion + self.reflection
+
+
+def _pos_pow(x, p):
+    """x^p for x > 0, 0 for x ≤ 0, with a finite gradient at 0 (double where)."""
+    pos = x > 0.0
+    return jnp.where(pos, jnp.where(pos, x, 1.0) ** p, 0.0)
+
+
+def _jf_shape(wbar, d_low, d_high):
+    """Jinkine–Ferdinande form ω̄^b exp[(b/d)(1 − ω̄^d)], b = 11, d = d_low for ω̄ < 1; b = −8.5, d = d_high
+    above (continuous at ω̄ = 1; 0 at ω̄ = 0 with finite gradients)."""
+    low = wbar < 1.0
+    wl, wh = jnp.where(low, wbar, 0.5), jnp.where(low, 2.0, wbar)
+    lo = _pos_pow(wl, 11.0) * jnp.exp(11.0 / d_low * (1.0 - _pos_pow(wl, d_low)))
+    hi = wh**-8.5 * jnp.exp(-8.5 / d_high * (1.0 - wh**d_high))
+    return jnp.where(low, lo, hi)
+
+
+def _fold(heading):
+    """Heading folded to [0, π] (the hull is symmetric)."""
+    return jnp.arccos(jnp.clip(jnp.cos(heading), -1.0, 1.0))
+
+
+def _within_45(heading):
+    return jnp.cos(heading) >= jnp.cos(jnp.pi / 4) - 1e-12
+
+
+def stawave1(p: Particulars, omega, heading=0.0, amplitude=1.0, rho=RHO_SEA, g=G) -> WaveResistance:
+    """STAWAVE-1 (ITTC 7.5-04-01-01.1, ISO 15016): R = (1/16)ρgH_s²B√(B/L_BWL) in a sea state, i.e. the
+    frequency-independent reflection ½ρgζ_a²B√(B/L_BWL) per regular wave (so the spectral mean gives the
+    published formula exactly); heading within ±45° of the bow only, no speed dependence, no motion part."""
+    om, hd = _outer(omega, heading)
+    r = 0.5 * rho * g * amplitude**2 * p.beam * jnp.sqrt(p.beam / p.l_bwl)
+    r = jnp.where(_within_45(hd), r, 0.0) * jnp.ones_like(om)
+    return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
+
+
+def stawave2(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho=RHO_SEA, g=G) -> WaveResistance:
+    """STAWAVE-2 (ITTC 7.5-04-01-01.1, ISO 15016:2015; METHODS §2.2), headings within ±45° of the bow.
+
+    R_AWML = 4ρgζ²(B²/L) ω̄^b1 exp[(b1/d1)(1 − ω̄^d1)] 60.3 C_B^1.34 Fr^1.5 e^(−3.5Fr),
+    ω̄ = √(L/g) kyy^(1/3) ω Fr^0.143/1.17; R_AWRL = ½ρgζ²B α_T(1.5kT) f1, f1 = 0.692 (U/√(gT))^0.769 + 1.81 C_B^6.95.
+    """
+    om, hd = _outer(omega, heading)
+    lpp, b, t, cb = p.lpp, p.beam, p.draft, p.cb
+    fr = froude_number(speed, lpp, g)
+    wbar = jnp.sqrt(lpp / g) * kyy ** (1.0 / 3.0) * om * _pos_pow(fr, 0.143) / 1.17
+    shape = _jf_shape(wbar, 14.0, -566.0 * (lpp / b) ** -2.66)
+    r_aw = shape * 60.3 * cb**1.34 * _pos_pow(fr, 1.5) * jnp.exp(-3.5 * fr)
+    ok = _within_45(hd)
+    motion = jnp.where(ok, 4.0 * rho * g * amplitude**2 * b**2 / lpp * r_aw, 0.0)
+    f1 = 0.692 * _pos_pow(speed / jnp.sqrt(t * g), 0.769) + 1.81 * cb**6.95
+    refl = 0.5 * rho * g * amplitude**2 * b * alpha_t(1.5 * om**2 / g * t) * f1
+    return WaveResistance(motion=motion, reflection=jnp.where(ok, refl, 0.0) * jnp.ones_like(motion))
+
+
+def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho=RHO_SEA, g=G) -> WaveResistance:
+    """SNNM (Liu & Papanikolaou 2020; ITTC 7.5-04-01-01.1 Rev 06), all headings; METHODS §2.3, even keel.
+
+    Motion part as published for 0 ≤ α ≤ π/2; for π/2 < α ≤ π it is taken linearly in α down to 0 at
+    following seas (the public codes disagree on the following-sea expression, METHODS §2.3 caveat 1).
+    Reflection part R1–R4 for all headings with E1, E2 from the entrance and run lengths at 99 % breadth
+    and the fullness factor on R1, R2 only. σ = R/(ρgζ²B²/L).
+    """
+    om, hd = _outer(omega, heading)
+    a = _fold(hd)
+    lpp, b, t, cb = p.lpp, p.beam, p.draft, p.cb
+    fr = froude_number(speed, lpp, g)
+    k = om**2 / g
+    sqrt_l_over_lambda = jnp.sqrt(lpp * k / (2.0 * jnp.pi))
+    # Motion part, evaluated at min(α, π/2) and ramped to 0 at π.
+    am = jnp.minimum(a, 0.5 * jnp.pi)
+    ca = jnp.cos(am)
+    wbar = (2.142 * kyy ** (1.0 / 3.0) * sqrt_l_over_lambda * (cb / 0.65) ** 0.17
+            * (1.0 - 0.111 / cb * (jnp.log(b / t) - jnp.log(2.75)))
+            * ((-1.377 * fr**2 + 1.157 * fr) * jnp.abs(ca) + 0.618 * (13.0 + jnp.cos(2.0 * am)) / 14.0))
+    theta = 0.0  # even keel: θ = atan(|T_A − T_F|/L)
+    shape = _jf_shape(wbar, 566.0 * (lpp * cb / b) ** -2.66, -566.0 * (lpp / b) ** -2.66 * (4.0 - 125.0 * theta))
+    a1 = (0.87 / cb) ** ((1.0 + fr) * ca) / jnp.log(b / t) * (1.0 + 2.0 * ca) / 3.0
+    a2 = jnp.where(fr < 0.12, 0.0072 + 0.1676 * fr, _pos_pow(fr, 1.5) * jnp.exp(-3.5 * fr))
+    a3 = 1.0 + 28.7 * theta
+    sig_m = 3859.2 * cb**1.34 * kyy**2 * a1 * a2 * a3 * shape
+    sig_m = sig_m * jnp.where(a <= 0.5 * jnp.pi, 1.0, (jnp.pi - a) / (0.5 * jnp.pi))
+    # Reflection part.
+    e1 = jnp.arctan(0.99 * 0.5 * b / p.l_entrance)
+    e2 = jnp.arctan(0.99 * 0.5 * b / p.l_run)
+    two_wu_g = 2.0 * om * speed / g
+
+    def kern(e, ang):
+        return jnp.sin(ang) ** 2 + two_wu_g * (jnp.cos(a) - jnp.cos(e) * jnp.cos(ang))
+
+    lam_over_l = 2.0 * jnp.pi / jnp.maximum(k * lpp, 1e-300)
+
+    def a_t(ti):
+        return jnp.where(lam_over_l <= 2.5, 1.0 - jnp.exp(-4.0 * jnp.pi * (ti * k / (2 * jnp.pi) - ti / (2.5 * lpp))), 0.0)
+
+    t12 = t
+    root = _pos_pow(jnp.abs(jnp.cos(a)), 0.5)
+    t34 = jnp.where(cb <= 0.75, t * (4.0 + root) / 5.0, t * (2.0 + root) / 3.0)
+    c12 = (0.87 / cb) ** ((1.0 + 4.0 * jnp.sqrt(fr)) * jnp.where(a <= e1, jnp.cos(a), 0.0))
+    sig_r = (jnp.where(a <= jnp.pi - e1, a_t(t12) * kern(e1, e1 + a) * c12, 0.0)
+             + jnp.where(a <= e1, a_t(t12) * kern(e1, e1 - a) * c12, 0.0)
+             - jnp.where(a >= e2, a_t(t34) * kern(e2, e2 - a), 0.0)
+             - jnp.where(a >= jnp.pi - e2, a_t(t34) * kern(e2, e2 + a), 0.0))
+    sig_r = 2.25 / 4.0 * lpp / b * sig_r
+    scale = rho * g * amplitude**2 * b**2 / lpp
+    return WaveResistance(motion=scale * sig_m, reflection=scale * sig_r)
+
+
+def method_resistance(method: str, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *,
+                      kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft="include") -> WaveResistance:
+    """Added resistance [N] in regular waves by ``method`` (one of :data:`METHODS`), motion and reflection
+    parts (NMRI: reflection only — its motion part needs a seakeeping code)."""
+    if method == "nmri":
+        r = nmri_added_resistance(sections, draft, speed, omega, heading, amplitude, rho=rho, g=g, smooth=smooth,
+                                  aft=aft).r_awr
+        return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
+    p = particulars(sections, draft)
+    if method == "stawave1":
+        return stawave1(p, omega, heading, amplitude, rho, g)
+    if method == "stawave2":
+        return stawave2(p, speed, omega, heading, amplitude, kyy, rho, g)
+    if method == "snnm":
+        return snnm(p, speed, omega, heading, amplitude, kyy, rho, g)
+    raise ValueError(f"method {method!r}: expected one of {METHODS}")

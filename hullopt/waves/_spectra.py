@@ -1,0 +1,148 @@
+"""Wave spectra, directional spreading, and the mean added resistance in a sea state (METHODS.md §2.6).
+
+R̄_AW = 2 ∫∫ S(ω) D(θ) · R_AW(ω, α = θ)/ζ_a² dω dθ, S the one-sided spectrum [m²·s/rad], D the spreading
+[1/rad] (a single heading when long-crested).
+
+The frequency integral is taken in u = (5/4)(ω_p/ω)⁴, for which the Pierson–Moskowitz/Bretschneider
+spectrum is exactly S dω = (H_s²/16)·e^(−u) du: the high-frequency tail (which matters, because R_AWR tends
+to a non-zero constant in short waves, METHODS §5.4) is integrated to ω = ∞ with no truncation, unless a
+cut-off ``omega_max`` is asked for. Composite Gauss–Legendre panels break at fixed ω/ω_p, dense around the
+peak (the JONSWAP peak enhancement is narrow). Nodes are static, so everything is jit/grad/vmap-able.
+"""
+
+from __future__ import annotations
+
+from math import gamma as _gamma
+
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array
+
+SPECTRA = ("pm", "jonswap")
+# Panel edges in ω/ω_p (beyond the last, down to u_max: waves this long carry e^(−u) < 1e-17 of the energy).
+_RATIO_EDGES = (np.inf, 3.0, 2.0, 1.5, 1.25, 1.12, 1.05, 1.0, 0.95, 0.9, 0.83, 0.75, 0.65, 0.5, 0.35)
+_U_MAX = 40.0
+
+# Beaufort number → (mean wind speed range [m/s], probable significant wave height [m]) after the WMO sea-state
+# code; T_p from the fully developed Pierson–Moskowitz relation, see :func:`beaufort_sea_state`.
+BEAUFORT = {
+    0: ((0.0, 0.2), 0.0), 1: ((0.3, 1.5), 0.1), 2: ((1.6, 3.3), 0.2), 3: ((3.4, 5.4), 0.6),
+    4: ((5.5, 7.9), 1.0), 5: ((8.0, 10.7), 2.0), 6: ((10.8, 13.8), 3.0), 7: ((13.9, 17.1), 4.0),
+    8: ((17.2, 20.7), 5.5), 9: ((20.8, 24.4), 7.0), 10: ((24.5, 28.4), 9.0), 11: ((28.5, 32.6), 11.5),
+    12: ((32.7, 40.0), 14.0),
+}
+
+
+def bretschneider(omega, hs, tp) -> Array:
+    """Two-parameter (modified) Pierson–Moskowitz spectrum S(ω) [m²s] for H_s [m] and peak period T_p [s]:
+    S = (5/16) H_s² ω_p⁴ ω⁻⁵ exp(−(5/4)(ω_p/ω)⁴), ω_p = 2π/T_p; m0 = H_s²/16 exactly. The ITTC 1978 form
+    (173 H_s²/T_1⁴, 691/T_1⁴) is this spectrum with rounded constants and T_1 = 0.772 T_p."""
+    omega = jnp.asarray(omega, dtype=float)
+    wp = 2.0 * jnp.pi / tp
+    pos = omega > 0.0
+    w = jnp.where(pos, omega, 1.0)
+    return jnp.where(pos, 5.0 / 16.0 * hs**2 * wp**4 / w**5 * jnp.exp(-1.25 * (wp / w) ** 4), 0.0)
+
+
+def ittc_1978(omega, hs, t1) -> Array:
+    """ITTC 1978 spectrum S = A/ω⁵ exp(−B/ω⁴), A = 173 H_s²/T_1⁴, B = 691/T_1⁴, T_1 the mean period [s]."""
+    omega = jnp.asarray(omega, dtype=float)
+    pos = omega > 0.0
+    w = jnp.where(pos, omega, 1.0)
+    return jnp.where(pos, 173.0 * hs**2 / t1**4 / w**5 * jnp.exp(-691.0 / t1**4 / w**4), 0.0)
+
+
+def _peak_enhancement(ratio, gamma):
+    """JONSWAP γ^r with r = exp(−(ω/ω_p − 1)²/(2σ²)), σ = 0.07 below the peak and 0.09 above."""
+    sigma = jnp.where(ratio <= 1.0, 0.07, 0.09)
+    return gamma ** jnp.exp(-((ratio - 1.0) ** 2) / (2.0 * sigma**2))
+
+
+def _jonswap_norm(gamma):
+    return 1.0 - 0.287 * jnp.log(gamma)
+
+
+def jonswap(omega, hs, tp, gamma=3.3) -> Array:
+    """JONSWAP spectrum [m²s]: (1 − 0.287 ln γ)·:func:`bretschneider`·γ^r (DNV-RP-C205 §3.5.5), whose
+    normalisation keeps m0 ≈ H_s²/16 (within 1 % for 1 ≤ γ ≤ 7); γ = 1 is Bretschneider."""
+    omega = jnp.asarray(omega, dtype=float)
+    return _jonswap_norm(gamma) * bretschneider(omega, hs, tp) * _peak_enhancement(omega * tp / (2 * jnp.pi), gamma)
+
+
+def spreading(theta, s=1.0) -> Array:
+    """cos-2s spreading D(θ) = 2^(2s) Γ(1+s)² / (π Γ(1+2s)) cos^(2s) θ for |θ| ≤ π/2, else 0 [1/rad];
+    ∫D dθ = 1. s = 1 (wind sea) gives (2/π) cos² θ; s = 0.75 is used for swell."""
+    theta = jnp.asarray(theta, dtype=float)
+    c = 2.0 ** (2 * s) * _gamma(1 + s) ** 2 / (np.pi * _gamma(1 + 2 * s))
+    inside = jnp.abs(theta) < 0.5 * jnp.pi
+    cos = jnp.where(inside, jnp.cos(theta), 1.0)
+    return jnp.where(inside, c * cos ** (2 * s), 0.0)
+
+
+def beaufort_sea_state(number: int) -> tuple[float, float]:
+    """(H_s [m], T_p [s]) for a Beaufort number 1–12: H_s the WMO probable wave height, T_p of a fully
+    developed Pierson–Moskowitz sea with that H_s (H_s = 0.21 U²/g, ω_p = 0.877 g/U, so
+    T_p = 2π/0.877·√(H_s/(0.21 g)) ≈ 4.99 √H_s)."""
+    if number not in BEAUFORT or number == 0:
+        raise ValueError(f"Beaufort number {number!r}: expected an integer 1 to 12")
+    hs = BEAUFORT[number][1]
+    return hs, float(2 * np.pi / 0.877 * np.sqrt(hs / (0.21 * 9.80665)))
+
+
+def frequency_nodes(tp, omega_max=None, order: int = 8) -> tuple[Array, Array]:
+    """Quadrature nodes ω_i [rad/s] and weights w_i with ∫ f(ω) S_PM(ω) dω ≈ (H_s²/16) Σ w_i f(ω_i) for
+    the Bretschneider spectrum of peak period ``tp`` [s] (over ω ≤ ``omega_max`` if given)."""
+    ref, wref = np.polynomial.legendre.leggauss(order)
+    edges = np.minimum(1.25 * np.asarray(_RATIO_EDGES) ** -4.0, _U_MAX)
+    edges = np.append(edges, _U_MAX)
+    a, b = jnp.asarray(edges[:-1]), jnp.asarray(edges[1:])
+    wp = 2.0 * jnp.pi / tp
+    if omega_max is not None:
+        u_min = 1.25 * (wp / omega_max) ** 4
+        a, b = jnp.maximum(a, u_min), jnp.maximum(b, u_min)  # panels below the cut-off shrink to nothing
+    half = 0.5 * (b - a)
+    u = (0.5 * (a + b))[:, None] + half[:, None] * jnp.asarray(ref)[None, :]
+    w = half[:, None] * jnp.asarray(wref)[None, :] * jnp.exp(-u)
+    u, w = u.reshape(-1), w.reshape(-1)
+    return wp * (1.25 / u) ** 0.25, w
+
+
+def direction_nodes(s=None, order: int = 16) -> tuple[Array, Array]:
+    """Relative directions θ_j [rad] and weights (summing to 1) for cos-2s spreading ``s``; a single
+    direction (0, weight 1) when ``s`` is None (long-crested)."""
+    if s is None:
+        return jnp.zeros(1), jnp.ones(1)
+    ref, wref = np.polynomial.legendre.leggauss(order)
+    theta = 0.5 * np.pi * ref
+    w = 0.5 * np.pi * wref * np.asarray(spreading(theta, s))
+    return jnp.asarray(theta), jnp.asarray(w / w.sum())  # exact normalisation: the energy is kept
+
+
+def spectral_mean(
+    response,
+    hs,
+    tp,
+    heading=0.0,
+    *,
+    spectrum: str = "pm",
+    gamma=3.3,
+    spreading_s=None,
+    omega_max=None,
+    order: int = 8,
+    n_dir: int = 16,
+) -> Array:
+    """Mean added resistance [N] in a sea state: 2∫∫ S(ω) D(θ) response(ω, α + θ) dω dθ.
+
+    ``response(omega (k,), heading (h,)) → (k, h, ...)`` is R_AW/ζ_a² [N/m²] in regular waves; ``hs`` [m], ``tp``
+    peak period [s], ``heading`` the mean wave heading [rad] (0 = head seas); ``spectrum`` "pm"
+    (Bretschneider / ITTC modified Pierson–Moskowitz) or "jonswap" (with ``gamma``); ``spreading_s``
+    None for long-crested seas or the cos-2s exponent; ``omega_max`` an optional short-wave cut-off [rad/s].
+    """
+    if spectrum not in SPECTRA:
+        raise ValueError(f"spectrum {spectrum!r}: expected one of {SPECTRA}")
+    om, w = frequency_nodes(tp, omega_max, order)
+    if spectrum == "jonswap":
+        w = w * _jonswap_norm(gamma) * _peak_enhancement(om * tp / (2 * jnp.pi), gamma)
+    th, wd = direction_nodes(spreading_s, n_dir)
+    r = response(om, jnp.asarray(heading, dtype=float) + th)
+    return 2.0 * jnp.asarray(hs, dtype=float) ** 2 / 16.0 * jnp.einsum("k,kh...,h->...", w, r, wd)

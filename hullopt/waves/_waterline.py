@@ -1,0 +1,145 @@
+"""The waterline at a draft and the bluntness coefficient Bf(α) (JP2009-286166 eq. 3; DESIGN.md §4).
+
+The waterline is the curve the hull cuts from the plane z = T. Between stations the hull is the ruled surface
+joining neighbouring half-sections, so the waterline is exactly the polyline through the station
+half-breadths ``(x_i, y_i)`` — closed at both ends along x = x_0 and x = x_{n−1} down to the centreline when
+the end stations are wet (a transom or a blunt bow face). Stations forward of the stem (dry at T) add segments
+of zero length, which contribute nothing. Resolution at the stem is the hull model's: meshes are sliced with
+stations clustered at the ends.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ..geometry import Sections, section_integrals
+
+AFT_OPTIONS = ("include", "exclude")
+
+
+class Waterline(eqx.Module):
+    """The port waterline at one draft as a closed polyline of ``n + 1`` segments.
+
+    Attributes
+    ----------
+    x, y : (n,) float
+        Station positions [m] and waterline half-breadths [m] (0 where a station is dry).
+    dx, dy : (n + 1,) float
+        Segment increments [m], going forward: first the aft closing segment (0, y_0), then the station-to-
+        station segments, then the forward closing segment (0, −y_{n−1}).
+    """
+
+    x: Float[Array, " n"]
+    y: Float[Array, " n"]
+    dx: Float[Array, " n+1"]
+    dy: Float[Array, " n+1"]
+
+    @property
+    def beam(self) -> Float[Array, ""]:
+        """Waterline breadth B_wl = 2·max y [m]."""
+        return 2.0 * jnp.max(self.y)
+
+    @property
+    def slope(self) -> Float[Array, " n-1"]:
+        """dy/dx of each station-to-station segment (0 where stations coincide)."""
+        dxs = self.dx[1:-1]
+        ok = dxs > 0.0
+        return jnp.where(ok, self.dy[1:-1] / jnp.where(ok, dxs, 1.0), 0.0)
+
+    @property
+    def angle(self) -> Float[Array, " n+1"]:
+        """β_w [rad] of each segment: the waterline angle to the x axis, positive where the half-breadth
+        shrinks going forward (the entrance), negative in the run; ±π/2 for the closing segments."""
+        return jnp.arctan2(-self.dy, self.dx)
+
+
+def waterline(sections: Sections, draft) -> Waterline:
+    """The waterline at ``draft`` [m above the baseline], exact for the sections' ruled surface."""
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
+    y = section_integrals(sections, t).width
+    zero = jnp.zeros((1,), dtype=y.dtype)
+    dx = jnp.concatenate([zero, jnp.diff(sections.x), zero])
+    dy = jnp.concatenate([y[:1], jnp.diff(y), -y[-1:]])
+    return Waterline(x=sections.x, y=y, dx=dx, dy=dy)
+
+
+def _side_integral(wl: Waterline, kx, ky, aft: str):
+    """∫ max(0, −k̂·n)² n_x dl over the port waterline for an incident direction k̂ = (kx, ky).
+
+    Per segment, with n = (−dy, dx)/dl the outward normal, the integrand is constant, so the integral is
+    (k̂·n)² n_x dl = (ky·dx − kx·dy)²·(−dy)/dl² — exact for the polyline. Lit segments face the waves
+    (k̂·n < 0). ``aft="exclude"`` drops lit segments facing aft (n_x < 0).
+    """
+    dx, dy = wl.dx[..., None], wl.dy[..., None]  # broadcast against headings in the last axis
+    l2 = dx * dx + dy * dy
+    ok = l2 > 0.0
+    l2 = jnp.where(ok, l2, 1.0)
+    proj = ky * dx - kx * dy  # = dl · (k̂·n)
+    lit = ok & (proj < 0.0)
+    if aft == "exclude":
+        lit = lit & (dy < 0.0)
+    return jnp.sum(jnp.where(lit, proj * proj * (-dy) / l2, 0.0), axis=0)
+
+
+def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "include") -> Array:
+    """Bf(α) of a waterline, for headings ``α`` [rad] (any shape; 0 = head seas, π = following seas).
+
+    Bf = (1/B)[∫_I sin²(α+β_w) sin β_w dl + ∫_II sin²(α−β_w) sin β_w dl] (patent eq. 3), I and II the lit
+    parts of the weather and lee sides: elements whose outward normal n faces the incident wave direction
+    k̂ = (−cos α, −sin α) (waves from the port bow for α > 0). On the weather side −k̂·n = sin(α+β_w), on the
+    lee side sin(β_w−α), and n_x = sin β_w, so the integrand is (k̂·n)² n_x — the mean reflected-wave
+    force of a locally straight, fully reflecting wall. Illumination is judged locally, which is exact for
+    convex waterlines (concave ones would need shadowing by other parts of the hull).
+
+    ``aft`` — the lit aft body in oblique seas (β_w < 0 there): ``"include"`` (default) counts it, with
+    its negative contribution (a thrust), as Faltinsen's asymptotic formula and SNNM's run terms do;
+    ``"exclude"`` integrates over forward-facing elements only. The two agree in head seas (|α| below
+    the smallest entrance angle), where no aft-facing element is lit. In head seas
+    Bf = (2/B) ∫_entrance sin³β_w dl; a wedge of half-angle E gives sin²E, a semicircle 2/3.
+    """
+    if aft not in AFT_OPTIONS:
+        raise ValueError(f"aft={aft!r}: expected one of {AFT_OPTIONS}")
+    a = jnp.asarray(heading, dtype=wl.y.dtype)
+    shape = a.shape
+    a = a.reshape(-1)
+    kx, ky = -jnp.cos(a), -jnp.sin(a)
+    total = _side_integral(wl, kx, ky, aft) + _side_integral(wl, kx, -ky, aft)  # starboard = mirror of k̂
+    b = wl.beam
+    pos = b > 0.0
+    return jnp.where(pos, total / jnp.where(pos, b, 1.0), 0.0).reshape(shape)
+
+
+def bluntness(sections: Sections, draft, heading=0.0, aft: str = "include") -> Array:
+    """Bluntness coefficient Bf of the waterline at ``draft`` [m] for headings ``heading`` [rad];
+    see :func:`bluntness_of_waterline`."""
+    return bluntness_of_waterline(waterline(sections, draft), heading, aft)
+
+
+def entrance_lengths(wl: Waterline, fraction) -> tuple[Array, Array]:
+    """Lengths [m] from the forward and the aft end of the waterline to where its half-breadth first
+    reaches ``fraction`` of its maximum (STAWAVE-1's L_BWL at 0.95; SNNM's L_E, L_R at 0.99)."""
+    y, x = wl.y, wl.x
+    level = fraction * jnp.max(y)
+    n = x.shape[0]
+    wet = y > 0.0
+    # Ends of the waterline: one station beyond the last/first wet one (the ruled surface runs to it),
+    # or the end station itself when it is wet (a transom or blunt bow).
+    last = n - 1 - jnp.argmax(wet[::-1])
+    first = jnp.argmax(wet)
+    x_fwd = x[jnp.minimum(last + 1, n - 1)]
+    x_aft = x[jnp.maximum(first - 1, 0)]
+    above = y >= level
+    i_f = n - 1 - jnp.argmax(above[::-1])  # last station at or above the level
+    i_a = jnp.argmax(above)  # first one
+    # Linear interpolation of the crossing on the neighbouring segment (exact for the polyline).
+    j = jnp.minimum(i_f + 1, n - 1)
+    den = y[i_f] - y[j]
+    ok = (j > i_f) & (den > 0.0)
+    xf = x[i_f] + jnp.where(ok, (y[i_f] - level) / jnp.where(ok, den, 1.0), 0.0) * (x[j] - x[i_f])
+    j = jnp.maximum(i_a - 1, 0)
+    den = y[i_a] - y[j]
+    ok = (j < i_a) & (den > 0.0)
+    xa = x[i_a] - jnp.where(ok, (y[i_a] - level) / jnp.where(ok, den, 1.0), 0.0) * (x[i_a] - x[j])
+    return x_fwd - xf, xa - x_aft
