@@ -15,6 +15,7 @@ from jaxtyping import Array
 from ..geometry import Sections, section_integrals, simpson_weights
 from ._added_resistance import G, RHO_SEA, _outer, froude_number, nmri_added_resistance
 from ._bessel import alpha_t
+from ._spectra import spectral_mean
 from ._waterline import entrance_lengths, waterline
 
 METHODS = ("nmri", "stawave1", "stawave2", "snnm")
@@ -180,3 +181,21 @@ def method_resistance(method: str, sections: Sections, draft, speed, omega, head
     if method == "snnm":
         return snnm(p, speed, omega, heading, amplitude, kyy, rho, g)
     raise ValueError(f"method {method!r}: expected one of {METHODS}")
+
+
+def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp, heading=0.0, *,
+                          spectrum: str = "pm", gamma=3.3, spreading_s=None, omega_max=None, kyy=0.25,
+                          rho=RHO_SEA, g=G, smooth=None, aft="include", order: int = 8,
+                          n_dir: int = 16) -> WaveResistance:
+    """Mean added resistance [N] in a sea state (H_s [m], peak period T_p [s], mean heading [rad]) by
+    ``method``, motion and reflection parts; see :func:`~hullopt.waves.spectral_mean` for the spectrum,
+    spreading and cut-off options."""
+
+    def response(om, hd):
+        r = method_resistance(method, sections, draft, speed, om, hd, 1.0, kyy=kyy, rho=rho, g=g, smooth=smooth,
+                              aft=aft)
+        return jnp.stack([r.motion, r.reflection], axis=-1)
+
+    m = spectral_mean(response, hs, tp, heading, spectrum=spectrum, gamma=gamma, spreading_s=spreading_s,
+                      omega_max=omega_max, order=order, n_dir=n_dir)
+    return WaveResistance(motion=m[0], reflection=m[1])

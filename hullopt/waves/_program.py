@@ -1,0 +1,73 @@
+"""The patent's program (JP2009-286166 claim 6, fig. 18): compute Bf and K_AW of a hull, modify the hull,
+recompute, and keep the hull with the lower K_AW — plus a simple bow-bluntness modification to drive it."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array
+
+from ..geometry import Sections
+from ._added_resistance import G, froude_number, k_aw, speed_coefficient
+from ._waterline import bluntness
+
+
+def blunt_bow(sections: Sections, p, x_start=None) -> Sections:
+    """Blunt (``p > 0``) or sharpen (``−1 < p < 0``) the entrance: half-breadths y are scaled by
+    1 + p·sin²(πξ/2), ξ = (x − x_start)/(x_fwd − x_start) ∈ [0, 1] from ``x_start`` (default midship) to the
+    forward-most station. Stations aft of ``x_start`` are unchanged and the scaling starts with zero slope,
+    so the hull stays smooth; heights and station positions are kept, and a stem (y = 0) stays a stem.
+    Near the stem the entrance half-angle E becomes atan((1 + p)·tan E). Pure and differentiable in ``p``."""
+    x = sections.x
+    x0 = 0.5 * sections.lpp if x_start is None else jnp.asarray(x_start, dtype=x.dtype)
+    xi = jnp.clip((x - x0) / (x[-1] - x0), 0.0, 1.0)
+    f = 1.0 + p * jnp.sin(0.5 * jnp.pi * xi) ** 2
+    yz = sections.yz.at[..., 0].multiply(f[:, None])
+    return Sections(x=x, yz=yz, lpp=sections.lpp)
+
+
+class ProgramResult(eqx.Module):
+    """Candidates of the claim-6 program: index 0 is the original hull, 1… the modified ones.
+
+    ``params`` (k,): modification parameters; ``bf``, ``c_u``, ``k_aw`` (k + 1,): Bf, C_U and the short-wave
+    K_AW = Bf(1 + C_U·Fn) of each; ``fn``: Froude number; ``best``: index of the lowest K_AW;
+    ``sections``: the chosen hull."""
+
+    params: Array
+    bf: Array
+    c_u: Array
+    k_aw: Array
+    fn: Array
+    best: int = eqx.field(static=True)
+    sections: Sections
+
+
+def evaluate_modifications(sections: Sections, modify: Callable[[Sections, Array], Sections], params, draft, speed,
+                           heading=0.0, g: float = G, smooth: float | None = None):
+    """(Bf, C_U, K_AW) of the original hull and of ``modify(sections, p)`` for each ``p`` in ``params`` (k,)
+    (one ``vmap``); each output is (k + 1,), the original first. Pure: jit/grad-able."""
+    fn = froude_number(speed, sections.lpp, g)
+
+    def one(s):
+        bf = bluntness(s, draft, heading)
+        return bf, speed_coefficient(bf, smooth), k_aw(bf, fn, 1.0, smooth)
+
+    base = one(sections)
+    mods = jax.vmap(lambda p: one(modify(sections, p)))(jnp.asarray(params))
+    return tuple(jnp.concatenate([b[None], m]) for b, m in zip(base, mods)) + (fn,)
+
+
+def select_lower_k_aw(sections: Sections, modify: Callable[[Sections, Array], Sections], params, draft, speed,
+                      heading=0.0, g: float = G) -> ProgramResult:
+    """Claim 6: compute Bf, K_AW of ``sections`` (steps 1802–1803), modify it by ``modify(sections, p)`` for
+    every ``p`` in ``params`` (1804), recompute (1806), compare and keep the hull with the lowest K_AW
+    (1807–1808; the original on ties). ``modify`` may be any pure ``(Sections, p) -> Sections``, e.g.
+    :func:`blunt_bow` or a feature-curve deformation."""
+    params = jnp.atleast_1d(jnp.asarray(params, dtype=sections.yz.dtype))
+    bf, c_u, kaw, fn = eqx.filter_jit(evaluate_modifications)(sections, modify, params, draft, speed, heading, g)
+    best = int(jnp.argmin(kaw))  # argmin keeps the first (the original) on ties
+    chosen = sections if best == 0 else modify(sections, params[best - 1])
+    return ProgramResult(params=params, bf=bf, c_u=c_u, k_aw=kaw, fn=fn, best=best, sections=chosen)
