@@ -12,6 +12,9 @@ from hullopt.models import box, offset_surface, read_offsets, wigley
 
 L, B, T, D = 100.0, 10.0, 6.25, 10.0  # Wigley with L/B = 10, B/T = 1.6
 hydro = eqx.filter_jit(hydrostatics)
+hydro_table = jax.jit(hydrostatic_table)
+d_volume = jax.jit(jax.grad(lambda hull, t: hydrostatics(hull, t).volume, argnums=1))
+d_moment = jax.jit(jax.grad(lambda hull, t: (lambda h: h.volume * h.kb)(hydrostatics(hull, t)), argnums=1))
 
 
 @pytest.fixture(scope="module")
@@ -64,8 +67,7 @@ def seed003(request):
 def test_identities_dvolume_dT_is_awp(wig, seed003, t):
     hulls = [wig, seed003[1](jnp.asarray(seed003[0].y))]
     for hull in hulls:
-        vol = jax.grad(lambda d: hydrostatics(hull, d).volume)(t)
-        mom = jax.grad(lambda d: hydrostatics(hull, d).volume * hydrostatics(hull, d).kb)(t)
+        vol, mom = d_volume(hull, t), d_moment(hull, t)
         h = hydro(hull, t)
         assert float(vol) == pytest.approx(float(h.awp), rel=1e-8)
         assert float(mom) == pytest.approx(float(h.awp) * t, rel=1e-8)
@@ -74,14 +76,14 @@ def test_identities_dvolume_dT_is_awp(wig, seed003, t):
 def test_draft_for_volume_inverts_and_differentiates(seed003):
     hull = seed003[1](jnp.asarray(seed003[0].y))
     v = float(hydro(hull, 4.1).volume)
-    assert float(draft_for_volume(hull, v)) == pytest.approx(4.1, abs=1e-9)
-    dT = jax.grad(lambda vol: draft_for_volume(hull, vol))(v)
+    assert float(jax.jit(draft_for_volume)(hull, v)) == pytest.approx(4.1, abs=1e-9)
+    dT = jax.jit(jax.grad(draft_for_volume, argnums=1))(hull, v)
     assert float(dT) == pytest.approx(1 / float(hydro(hull, 4.1).awp), rel=1e-6)
 
 
 def test_table_is_vmap_of_single_drafts(wig):
     ts = jnp.array([1.0, 3.0, 6.25])
-    tab = hydrostatic_table(wig, ts)
+    tab = hydro_table(wig, ts)
     for i, t in enumerate(ts):
         single = hydro(wig, t)
         for k in ("volume", "kb", "bmt", "wetted_surface", "lwl"):
@@ -107,7 +109,7 @@ def test_exported_mesh_cut_by_trimesh_agrees(seed003, wig, t):
 def test_seed003_table_is_sane(seed003):
     table, surf = seed003
     hull = surf(jnp.asarray(table.y))
-    tab = hydrostatic_table(hull, jnp.linspace(0.8, 7.2, 9))
+    tab = hydro_table(hull, jnp.linspace(0.8, 7.2, 9))
     assert np.all(np.diff(np.asarray(tab.volume)) > 0)
     assert np.all(np.diff(np.asarray(tab.kb)) > 0)
     h = hydro(hull, 5.6)
