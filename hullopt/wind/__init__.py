@@ -1,0 +1,45 @@
+"""Wind loads (seed 004, JP2004-271486; Fujiwara, Ueno & Nimura 1998): above-water geometry, explanatory
+variables from geometry and from drawings, coefficient models, forces and wind added resistance."""
+
+from ._parts import KINDS as KINDS
+from ._parts import Parts as Parts
+from ._parts import Projections as Projections
+from ._parts import box_parts as box_parts
+from ._parts import check_parts as check_parts
+from ._parts import concat_parts as concat_parts
+from ._parts import no_parts as no_parts
+from ._parts import polygon_parts as polygon_parts
+from ._parts import projections as projections
+from ._variables import NAMES as NAMES
+from ._variables import WindVariables as WindVariables
+from ._variables import polygon_moments as polygon_moments
+from ._variables import variables_from_projections as variables_from_projections
+from ._variables import wind_variables as wind_variables
+from ._coefficients import DEFAULT_SHIP_TYPE as DEFAULT_SHIP_TYPE
+from ._coefficients import MODELS as MODELS
+from ._coefficients import Coefficients as Coefficients
+from ._coefficients import blendermann as blendermann
+from ._coefficients import blendermann_types as blendermann_types
+from ._coefficients import fujiwara1998 as fujiwara1998
+from ._coefficients import fujiwara1998_harmonics as fujiwara1998_harmonics
+from ._coefficients import fujiwara2005 as fujiwara2005
+from ._coefficients import group_factors as group_factors
+from ._coefficients import isherwood as isherwood
+from ._coefficients import read_table as read_table
+from ._coefficients import ship_type as ship_type
+from ._coefficients import wind_coefficients as wind_coefficients
+from ._forces import RHO_AIR as RHO_AIR
+from ._forces import WindLoads as WindLoads
+from ._forces import relative_wind as relative_wind
+from ._forces import wind_added_resistance as wind_added_resistance
+from ._forces import wind_loads as wind_loads
+from ._images import DrawingResult as DrawingResult
+from ._images import PartSpec as PartSpec
+from ._images import ViewScale as ViewScale
+from ._images import box_counting_dimension as box_counting_dimension
+from ._images import drawing_variables as drawing_variables
+from ._images import mask_moments as mask_moments
+from ._images import outline as outline
+from ._images import part_mask as part_mask
+from ._images import render as render
+from ._images import ship_mask as ship_mask

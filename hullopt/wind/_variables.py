@@ -1,0 +1,259 @@
+"""Explanatory variables of the wind-load regressions (seed 004 §0008, Fujiwara et al. 1998; Isherwood 1972),
+from the projections of :mod:`._parts`, exact for the polygons and differentiable in the draft and the sizes.
+
+Sign and reference conventions (used by every coefficient model):
+
+* lengths in m, areas in m², heights above the waterline;
+* ``C``, ``C_BR`` are measured from the middle of the overall length above water, **forward positive**
+  (seed 004 §0008: "negative when left of midship", with the bow drawn to the right as in its Figs. 2–3);
+  ``C_bow = L/2 − C`` is Isherwood's distance from the bow;
+* ``H_C`` is the height of the centroid of the lateral area A_L (as in Fujiwara 1998 and ISO 15016; the
+  patent's §0008 text names the frontal area here, we follow the paper);
+* ``H_BR`` is the top of the superstructure parts above the waterline (of all parts if there is none, of
+  the hull if there are no parts); ``C_BR`` the centroid of A_SS (0 without superstructure).
+
+Overlapping projections are counted once: A_L, A_OD, A_SS and A_T are areas of unions, integrated over strips
+between all vertex abscissae with two Gauss points each — exact as long as outlines do not cross inside a
+strip (boxes, triangles and parts sitting on the deck are exact).
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..geometry import Sections
+from ._parts import Parts, Projections, projections
+
+NAMES = ("L", "B", "A_T", "A_L", "A_OD", "A_SS", "C", "C_BR", "H_BR", "H_C", "S", "M")
+"""The variables named in issue 5 / seed 004, in the order they are reported."""
+
+_BIG = 1e7  # stands for "no interval" on a cut; far outside any ship, never differentiated
+_G = 1.0 / (2.0 * np.sqrt(3.0))  # two-point Gauss offset, in strip widths from the middle
+
+
+def _div(num, den):
+    """``num / den`` with 0 (and finite gradients) where ``den == 0``: the double-where idiom."""
+    ok = den != 0
+    return jnp.where(ok, num / jnp.where(ok, den, 1.0), 0.0)
+
+
+def _norm(v):
+    """Euclidean norm along the last axis with a finite gradient at 0."""
+    sq = jnp.sum(v * v, axis=-1)
+    ok = sq > 0
+    return jnp.where(ok, jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)
+
+
+def polygon_moments(poly: Float[Array, "... k 2"], order: int = 3) -> Float[Array, "... o o"]:
+    """Raw area moments ``M[p, q] = ∬ u^p v^q du dv`` (p + q ≤ order, else 0) of counter-clockwise polygons.
+
+    By Green's theorem ``M[p, q] = ∮ u^(p+1) v^q /(p+1) dv``: a polynomial of degree ≤ order + 1 along each
+    edge, integrated exactly by three-point Gauss–Legendre (exact to degree 5). ``M[0, 0]`` is the shoelace
+    area; ``M[1, 0]/M[0, 0]``, ``M[0, 1]/M[0, 0]`` the centroid.
+    """
+    if order > 4:
+        raise ValueError("order ≤ 4 (three-point Gauss–Legendre is exact to degree 5)")
+    a, b = poly, jnp.roll(poly, -1, axis=-2)
+    nodes = jnp.array([0.5 - 0.5 * np.sqrt(0.6), 0.5, 0.5 + 0.5 * np.sqrt(0.6)])
+    weights = jnp.array([5.0, 8.0, 5.0]) / 18.0
+    pts = a[..., None, :] + nodes[:, None] * (b - a)[..., None, :]  # (..., k, 3, 2)
+    u, v = pts[..., 0], pts[..., 1]
+    dv = (b - a)[..., 1][..., None]
+    e = np.arange(order + 1)
+    up = jnp.stack([u ** (i + 1) / (i + 1.0) for i in range(order + 1)], axis=-1)  # u^(p+1)/(p+1), (..., k, 3, o)
+    vq = jnp.stack([v**i for i in range(order + 1)], axis=-1)
+    terms = up[..., :, None] * vq[..., None, :]  # (..., k, 3, o, o)
+    m = jnp.sum(weights[:, None, None] * terms * dv[..., None, None], axis=(-4, -3))
+    return jnp.where(jnp.asarray(e[:, None] + e[None, :] <= order), m, 0.0)
+
+
+def _cuts(polys: Array, u: Array, axis: int) -> tuple[Array, Array, Array]:
+    """Where lines ``coordinate[axis] = u`` meet each convex polygon: intervals ``[lo, hi]`` in the other
+    coordinate, ``(G, S)`` each, and ``empty`` (no meeting; then lo = hi = a far-away constant)."""
+    a, b = polys, jnp.roll(polys, -1, axis=-2)
+    au, av, bu, bv = a[..., axis], a[..., 1 - axis], b[..., axis], b[..., 1 - axis]
+    du = bu - au
+    t = _div(u[:, None, None] - au, du)
+    valid = (du != 0) & (t >= 0) & (t <= 1)
+    v = av + t * (bv - av)
+    empty = ~jnp.any(valid, axis=-1)
+    lo = jnp.where(empty, _BIG, jnp.min(jnp.where(valid, v, jnp.inf), axis=-1))
+    hi = jnp.where(empty, _BIG, jnp.max(jnp.where(valid, v, -jnp.inf), axis=-1))
+    return lo, hi, empty
+
+
+def _union(lo: Array, hi: Array) -> tuple[Array, Array]:
+    """Disjoint pieces ``[a, b]`` (``(G, S)``) whose union is the union of the intervals on each row."""
+    order = jnp.argsort(lo, axis=-1)
+    lo, hi = jnp.take_along_axis(lo, order, -1), jnp.take_along_axis(hi, order, -1)
+    reach = jax.lax.cummax(hi, axis=hi.ndim - 1)
+    prev = jnp.concatenate([lo[..., :1], reach[..., :-1]], axis=-1)
+    return jnp.maximum(lo, prev), jnp.maximum(hi, prev)
+
+
+class _Strips(eqx.Module):
+    u: Array  # (G,) Gauss abscissae, two per strip
+    w: Array  # (G,) weights
+    lo: Array  # (G, S)
+    hi: Array
+    empty: Array
+
+
+def _strips(polys: list[Array], axis: int) -> _Strips:
+    flat = [p.reshape(-1, *p.shape[-2:]) for p in polys]
+    edges = jnp.sort(jnp.concatenate([p[..., axis].ravel() for p in flat]))
+    mid, h = 0.5 * (edges[1:] + edges[:-1]), edges[1:] - edges[:-1]
+    u = jnp.stack([mid - _G * h, mid + _G * h], -1).ravel()
+    w = jnp.repeat(0.5 * h, 2)
+    cuts = [_cuts(p, u, axis) for p in flat]
+    lo, hi, empty = (jnp.concatenate([c[i] for c in cuts], axis=-1) for i in range(3))
+    return _Strips(u, w, lo, hi, empty)
+
+
+def _union_integrals(st: _Strips, cols: list[int]) -> tuple[Array, Array, Array]:
+    """Area, ∫u dA and ∫v dA of the union of the shapes ``cols``."""
+    if not cols:
+        z = jnp.zeros(())
+        return z, z, z
+    a, b = _union(st.lo[:, cols], st.hi[:, cols])
+    length = jnp.sum(b - a, axis=-1)
+    area = jnp.sum(st.w * length)
+    return area, jnp.sum(st.w * st.u * length), jnp.sum(st.w * jnp.sum(b * b - a * a, axis=-1) / 2)
+
+
+def _outline_length(st: _Strips, cols: list[int]) -> Array:
+    """Length of the outline of a profile standing on the waterline, less the waterline: the upper
+    envelope (linear in each strip), its jumps, and the two ends. Holes and overhangs are not counted."""
+    top = jnp.maximum(jnp.max(jnp.where(st.empty[:, cols], 0.0, st.hi[:, cols]), axis=-1), 0.0)
+    t1, t2 = top[0::2], top[1::2]
+    h = 2.0 * st.w[0::2]
+    rise = np.sqrt(3.0) * (t2 - t1)  # the Gauss points are h/√3 apart
+    inner = jnp.sum(_norm(jnp.stack([h, rise], -1)))
+    left, right = t1 - 0.5 * (rise - (t2 - t1)), t2 + 0.5 * (rise - (t2 - t1))
+    return inner + jnp.sum(jnp.abs(left[1:] - right[:-1])) + left[0] + right[-1]
+
+
+class WindVariables(eqx.Module):
+    """Explanatory variables of one loading condition (module docstring: units, signs, references).
+
+    Scalars: ``L`` overall length above water, ``B`` breadth, ``A_T`` frontal and ``A_L`` lateral projected
+    areas, ``A_OD`` lateral area of all parts (superstructure, deck cargo, masts), ``A_SS`` of the
+    superstructure, ``C``/``C_BR`` centroids of A_L/A_SS from mid-length (forward +), ``H_BR`` top of the
+    superstructure, ``H_C`` centroid height of A_L, ``H_T`` of A_T, ``H_L = A_L/L``, ``S`` outline length
+    of the lateral projection without the waterline and masts, ``M`` number of mast groups, ``C_bow``,
+    ``x_mid`` mid-length from the AP.
+
+    Per part (``part_names``; the hull above water first, named ``hull``): ``part_area`` (P,),
+    ``part_x`` (from mid-length, forward +) and ``part_h`` (above the waterline) centroid, ``part_moments``
+    (P, 4, 4) raw moments ``∬ x^p h^q dA`` about (mid-length, waterline) for p + q ≤ 3 [m^(2+p+q)],
+    ``part_perimeter`` (P,) and ``part_front_area`` (P,), all from the side view except the last.
+    """
+
+    L: Array
+    B: Array
+    A_T: Array
+    A_L: Array
+    A_OD: Array
+    A_SS: Array
+    C: Array
+    C_BR: Array
+    H_BR: Array
+    H_C: Array
+    S: Array
+    M: Array
+    H_T: Array
+    H_L: Array
+    C_bow: Array
+    x_mid: Array
+    part_area: Array
+    part_x: Array
+    part_h: Array
+    part_moments: Array
+    part_perimeter: Array
+    part_front_area: Array
+    part_names: tuple[str, ...] = eqx.field(static=True)
+    part_kinds: tuple[str, ...] = eqx.field(static=True)
+
+    def scalars(self) -> dict[str, Array]:
+        """The named variables (``NAMES`` plus ``H_T``, ``H_L``, ``C_bow``, ``x_mid``)."""
+        return {k: getattr(self, k) for k in (*NAMES, "H_T", "H_L", "C_bow", "x_mid")}
+
+    def to_dict(self) -> dict:
+        """Plain floats and lists, keyed by name; parts as a list of records."""
+        out = {k: float(v) for k, v in self.scalars().items()}
+        out["parts"] = [
+            {"name": n, "kind": k, "area": float(self.part_area[i]), "x": float(self.part_x[i]),
+             "h": float(self.part_h[i]), "perimeter": float(self.part_perimeter[i]),
+             "front_area": float(self.part_front_area[i]), "moments": np.asarray(self.part_moments[i]).tolist()}
+            for i, (n, k) in enumerate(zip(self.part_names, self.part_kinds))
+        ]
+        return out
+
+
+def variables_from_projections(pr: Projections) -> WindVariables:
+    """:class:`WindVariables` of given projections (see :func:`wind_variables`)."""
+    parts: Parts = pr.parts
+    kinds = parts.kinds
+    ss = [1 + i for i, k in enumerate(kinds) if k == "superstructure"]
+    od = [1 + i for i in range(parts.p)]
+    solid = [0] + [1 + i for i, k in enumerate(kinds) if k != "mast"]
+
+    # Length and mid-length from the profile's stations that bound area above water, and the parts.
+    hx = pr.hull_side[: pr.present.shape[0], 0]
+    px = pr.part_side[..., 0].ravel()
+    x_lo = jnp.minimum(jnp.min(jnp.where(pr.present, hx, jnp.inf)), jnp.min(px, initial=jnp.inf))
+    x_hi = jnp.maximum(jnp.max(jnp.where(pr.present, hx, -jnp.inf)), jnp.max(px, initial=-jnp.inf))
+    length, x_mid = x_hi - x_lo, 0.5 * (x_hi + x_lo)
+
+    side = _strips([pr.hull_side[None], pr.part_side], axis=0)
+    a_l, mx_l, mh_l = _union_integrals(side, [0, *od])
+    a_od, _, _ = _union_integrals(side, od)
+    a_ss, mx_ss, _ = _union_integrals(side, ss)
+    s_outline = _outline_length(side, solid)
+
+    front = _strips([pr.hull_front[None], pr.part_front], axis=1)
+    a_t, mh_t, _ = _union_integrals(front, [0, *od])
+    fy = jnp.concatenate([pr.hull_front[:, 0], pr.part_front[..., 0].ravel()])
+    breadth = jnp.max(fy) - jnp.min(fy)
+
+    if ss:
+        h_br = jnp.max(pr.part_side[jnp.array(ss) - 1][..., 1])
+    elif parts.p:
+        h_br = jnp.max(pr.part_side[..., 1])
+    else:
+        h_br = jnp.max(pr.hull_side[:, 1])
+
+    c = _div(mx_l, a_l) - x_mid
+    # Per part, the hull above water first: exact polygon moments about (mid-length, waterline).
+    ks = max(pr.hull_side.shape[0], pr.part_side.shape[1])
+    pad = lambda a, k: jnp.concatenate([a, jnp.repeat(a[..., -1:, :], k - a.shape[-2], axis=-2)], axis=-2)  # noqa: E731
+    polys = jnp.concatenate([pad(pr.hull_side, ks)[None], pad(pr.part_side, ks)])
+    polys = polys - jnp.stack([x_mid, jnp.zeros(())])
+    mom = polygon_moments(polys, 3)
+    area = mom[:, 0, 0]
+    kf = max(pr.hull_front.shape[0], pr.part_front.shape[1])
+    fronts = jnp.concatenate([pad(pr.hull_front, kf)[None], pad(pr.part_front, kf)])
+    mast_groups = {g for g, k in zip(parts.groups, kinds) if k == "mast"}
+    return WindVariables(
+        L=length, B=breadth, A_T=a_t, A_L=a_l, A_OD=a_od, A_SS=a_ss, C=c,
+        C_BR=jnp.where(a_ss > 0, _div(mx_ss, a_ss) - x_mid, 0.0), H_BR=h_br, H_C=_div(mh_l, a_l),
+        S=s_outline, M=jnp.asarray(float(len(mast_groups))), H_T=_div(mh_t, a_t), H_L=_div(a_l, length),
+        C_bow=0.5 * length - c, x_mid=x_mid,
+        part_area=area, part_x=_div(mom[:, 1, 0], area), part_h=_div(mom[:, 0, 1], area), part_moments=mom,
+        part_perimeter=jnp.sum(_norm(jnp.roll(polys, -1, axis=-2) - polys), axis=-1),
+        part_front_area=polygon_moments(fronts, 0)[:, 0, 0],
+        part_names=("hull", *parts.names), part_kinds=("hull", *kinds),
+    )
+
+
+def wind_variables(sections: Sections, draft, parts: Parts, levels: int = 24) -> WindVariables:
+    """The wind-load explanatory variables of a hull at ``draft`` [m] with its above-deck ``parts``.
+
+    Pure JAX: jit/grad/vmap-able in the sections, the draft and the parts' polygons. See the module
+    docstring for the conventions and :func:`~hullopt.wind.projections` for the geometry.
+    """
+    return variables_from_projections(projections(sections, draft, parts, levels))
