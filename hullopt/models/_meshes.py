@@ -156,24 +156,37 @@ def _trim_deck(arc: np.ndarray) -> np.ndarray:
     return arc[: k + 1]
 
 
-def _resample(arcs: list[np.ndarray], m: int) -> np.ndarray:
-    """Resample the stacked arcs to ``m`` points in all, each arc keeping its ends; points are spread by arc
-    length plus turning angle, so bilges and knuckles get more of them."""
-    weights = []
+def _resample(arcs: list[np.ndarray], m: int, corner_deg: float = 30.0) -> np.ndarray:
+    """Resample the stacked arcs to ``m`` points in all. Every arc keeps its ends and every corner (a turn
+    sharper than ``corner_deg``: bilge chine, transom edge, keel corner) so no area is cut off; the other
+    points are spread by arc length plus turning angle, so curved parts get more of them."""
+    pieces: list[tuple[np.ndarray, bool]] = []  # (points, shares its first point with the previous piece)
     for a in arcs:
+        a = a[np.r_[True, np.any(np.diff(a, axis=0) != 0, axis=1)]]  # drop repeated points
         seg = np.diff(a, axis=0)
+        ang = np.arctan2(seg[:, 1], seg[:, 0])
+        turn = np.abs(np.angle(np.exp(1j * np.diff(ang))))
+        corners = np.flatnonzero(turn > np.radians(corner_deg)) + 1
+        bounds = [0, *corners, len(a) - 1]
+        pieces += [(a[lo : hi + 1], k > 0) for k, (lo, hi) in enumerate(zip(bounds[:-1], bounds[1:]))]
+    weights = []
+    for p, _ in pieces:
+        seg = np.diff(p, axis=0)
         length = np.hypot(*seg.T)
         ang = np.arctan2(seg[:, 1], seg[:, 0])
-        turn = np.abs(np.angle(np.exp(1j * np.diff(ang)))) if len(ang) > 1 else np.zeros(0)
-        turn = np.concatenate([[0.0], turn]) * 0.5 * length.sum() / np.pi
-        weights.append(np.concatenate([[0.0], np.cumsum(length + np.minimum(turn, 0.2 * length.sum()))]))
-    total = sum(w[-1] for w in weights)
-    counts = [max(2, int(round((m - 2 * len(arcs)) * w[-1] / total)) + 2) for w in weights]
-    counts[-1] += m - sum(counts)
-    if counts[-1] < 2:
-        raise HullError(f"{m} points per section are too few for a section of {len(arcs)} parts")
+        turn = np.r_[0.0, np.abs(np.angle(np.exp(1j * np.diff(ang))))] * length.sum() / np.pi
+        weights.append(np.r_[0.0, np.cumsum(length + 0.5 * turn)])
+    fixed = sum(2 - shared for _, shared in pieces)
+    extra = m - fixed
+    if extra < 0:
+        raise HullError(f"{m} points per section are too few for its {len(pieces)} parts and corners; raise m")
+    total = sum(w[-1] for w in weights) or 1.0
+    share = np.array([w[-1] / total * extra for w in weights])
+    counts = np.floor(share).astype(int)
+    counts[np.argsort(share - counts)[::-1][: extra - counts.sum()]] += 1  # largest remainders
     out = []
-    for a, w, c in zip(arcs, weights, counts):
-        s = np.linspace(0.0, w[-1], c)
-        out.append(np.stack([np.interp(s, w, a[:, 0]), np.interp(s, w, a[:, 1])], axis=1))
+    for (p, shared), w, c in zip(pieces, weights, counts):
+        t = np.linspace(0.0, w[-1], c + 2)
+        pts = np.stack([np.interp(t, w, p[:, 0]), np.interp(t, w, p[:, 1])], axis=1)
+        out.append(pts[1:] if shared else pts)
     return np.concatenate(out)

@@ -1,0 +1,171 @@
+"""Hull sources: offset tables (both layouts, knuckles, bad input), meshes (transform, slicing, bad input)."""
+
+import gzip
+import textwrap
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import trimesh
+
+from hullopt import HullError
+from hullopt.geometry import to_trimesh
+from hullopt.hydro import hydrostatics
+from hullopt.models import (
+    MeshTransform,
+    offset_surface,
+    offsets_to_sections,
+    parse_station,
+    read_mesh,
+    read_offsets,
+    slice_mesh,
+)
+
+hydro = jax.jit(hydrostatics)
+
+
+def write(tmp_path, text, name="t.csv"):
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(text).lstrip())
+    return p
+
+
+WIDE = """\
+    # lpp = 20
+    x,0,1,2,3
+    0,0,1,2,2
+    10,1,2,2,2
+    20,0,1,2,2
+"""
+
+
+def test_wide_layout_reads_and_interpolates(tmp_path):
+    t = read_offsets(write(tmp_path, WIDE))
+    assert t.lpp == 20 and t.x.tolist() == [0, 10, 20] and t.z.tolist() == [0, 1, 2, 3]
+    s = offsets_to_sections(t, 21, 31)
+    yz = np.asarray(s.yz)
+    assert yz[:, 0].tolist() == [[0.0, 0.0]] * 21  # every section starts on the centreline at the keel
+    # the spline passes through the table's offsets at its stations and waterlines
+    np.testing.assert_allclose(yz[10, 1:, 0][::10], t.y[1], atol=1e-12)
+    np.testing.assert_allclose(yz[0, 1:, 0][::10], t.y[0], atol=1e-12)
+
+
+def test_stations_layout_names_and_metadata():
+    assert [float(parse_station(s)) for s in ("AP", "1/4", "9 3/4", "FP", "1 1/2", "10")] == [0, 0.25, 9.75, 10, 1.5, 10]
+    t = read_offsets("hullopt/data/offsets/seed003_table1.csv")
+    assert t.lpp == 95 and len(t.x) == 23 and t.z[-1] == pytest.approx(8.0)
+    assert t.x[1] == 0 and t.x[-2] == pytest.approx(95) and t.x[0] < 0 < 95 < t.x[-1]  # AO, AP … FP, FO
+
+
+def test_knuckle_keeps_the_corner(tmp_path):
+    """A transom-like station with a hard chine at z = 2: split splines reproduce the straight sides exactly."""
+    text = """\
+        # lpp = 10
+        # knuckles = 0@2
+        x,0,1,2,3,4
+        0,1,2,3,3,3
+        10,1,2,3,3,3
+    """
+    t = read_offsets(write(tmp_path, text))
+    s = offsets_to_sections(t, 3, 9)
+    yz = np.asarray(s.yz[0, 1:])
+    # below the knuckle the points lie on y = 1 + z, above it on y = 3
+    below, above = yz[yz[:, 1] <= 2], yz[yz[:, 1] >= 2]
+    np.testing.assert_allclose(below[:, 0], 1 + below[:, 1], atol=1e-12)
+    np.testing.assert_allclose(above[:, 0], 3.0, atol=1e-12)
+    plain = offsets_to_sections(read_offsets(write(tmp_path, text.replace("# knuckles = 0@2\n", ""), "p.csv")), 3, 9)
+    assert np.abs(np.asarray(plain.yz[0, 1:, 0]) - np.where(yz[:, 1] <= 2, 1 + yz[:, 1], 3)).max() > 1e-2
+
+
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        ("x,0,1\n0,1,1\n0,1,1\n", "line 3: duplicate station"),
+        ("x,0,1\n5,1,1\n2,1,1\n", "line 3: unsorted station"),
+        ("x,0,1\n0,1,-1\n2,1,1\n", "line 2: half-breadth at waterline z = 1 is -1"),
+        ("x,0,1\n0,1,nan\n2,1,1\n", "line 2: half-breadth at waterline z = 1 is nan"),
+        ("x,0,1\n0,1\n2,1,1\n", "line 2: 2 cells, expected 3"),
+        ("x,0,1\n0,1,a\n2,1,1\n", "line 2: 'a' is not a number"),
+        ("y,0,1\n0,1,1\n2,1,1\n", "first header cell must be 'x'"),
+        ("station,0,1\nAP,1,1\nFP,1,1\n", "needs a metadata line '# lpp"),
+        ("# lpp = 10\n# waterline_spacing = 1\nstation,0,1\nAP,1,1\nQQ,1,1\n", "unknown station 'QQ'"),
+        ("x,1,0\n0,1,1\n2,1,1\n", "strictly increasing"),
+    ],
+)
+def test_bad_offset_tables_name_the_problem(tmp_path, body, message):
+    with pytest.raises(HullError, match=message.replace("(", r"\(").replace("'", "'")) as e:
+        read_offsets(write(tmp_path, body))
+    assert str(tmp_path) in str(e.value)
+
+
+def test_offset_surface_is_differentiable_in_offsets():
+    t = read_offsets("hullopt/data/offsets/seed003_table1.csv")
+    surf = offset_surface(t, 31, 21)
+    g = jax.jit(jax.grad(lambda y: hydrostatics(surf(y), 4.0).volume))(jnp.asarray(t.y))
+    assert np.all(np.isfinite(g)) and float(jnp.abs(g).max()) > 0
+
+
+# --- meshes ---------------------------------------------------------------------------------------------------
+
+
+def _export(tmp_path, mesh, name):
+    p = tmp_path / name
+    data = mesh.export(file_type=name.split(".")[1])
+    if name.endswith(".gz"):
+        p.write_bytes(gzip.compress(data))
+    else:
+        p.write_bytes(data)
+    return p
+
+
+def test_mesh_box_sliced_exactly_with_transform(tmp_path):
+    """A box barge given in model scale with z forward and x up comes in at full scale in our axes."""
+    box = trimesh.creation.box(extents=[0.5, 0.2, 2.0])  # source: x up (depth), y breadth, z length
+    box.apply_translation([0.25, 0.0, 1.0])
+    p = _export(tmp_path, box, "b.stl.gz")
+    mesh = read_mesh(p, MeshTransform(scale=50.0, axes="z,y,x"))
+    np.testing.assert_allclose(mesh.bounds, [[0, -5, 0], [100, 5, 25]], atol=1e-9)
+    s = slice_mesh(mesh, lpp=100.0, n_stations=11, n_points=12)
+    h = hydro(s, 10.0)
+    assert float(h.volume) == pytest.approx(100 * 10 * 10, rel=1e-4)  # stations inset 1e-5 L from the ends
+    assert float(h.kb) == pytest.approx(5.0, rel=1e-9) and float(h.bmt) == pytest.approx(100 / 120, rel=1e-4)
+    assert float(h.wetted_surface) == pytest.approx(100 * (10 + 20), rel=1e-4)
+
+
+def test_mesh_with_bulb_only_station_and_bulb_and_hull_station(tmp_path):
+    """A box hull with a separate round bulb ahead of and below it, fused by a thin neck."""
+    hull = trimesh.creation.box(extents=[100, 10, 10])
+    hull.apply_translation([50, 0, 5])
+    bulb = trimesh.creation.cylinder(radius=2.0, height=20, sections=64)
+    bulb.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+    bulb.apply_translation([105, 0, 2.5])
+    neck = trimesh.creation.box(extents=[20, 1.0, 0.4])
+    neck.apply_translation([105, 0, 4.6])
+    solid = trimesh.boolean.union([hull, bulb, neck], engine="manifold")
+    p = _export(tmp_path, solid, "bulb.stl")
+    mesh = read_mesh(p)
+    s = slice_mesh(mesh, lpp=100.0, n_stations=201, n_points=120)
+    x = np.asarray(s.x)
+    # a station through the bulb alone (the neck reaches up to z = 4.8 < the hull's deck)
+    i = int(np.argmin(np.abs(x - 112)))
+    yz = np.asarray(s.yz[i])
+    assert yz[:, 1].max() < 5 and yz[:, 0].max() == pytest.approx(2.0, rel=1e-3)
+    ref = mesh.slice_plane([0, 0, 4.0], [0, 0, -1], cap=True)
+    h = hydro(s, 4.0)
+    assert float(h.volume) == pytest.approx(ref.volume, rel=2e-3)
+    assert float(h.lcb) == pytest.approx(ref.center_mass[0], abs=0.05)
+    assert to_trimesh(s).is_watertight
+
+
+def test_bad_meshes(tmp_path, shared):
+    with pytest.raises(HullError, match="open"):
+        read_mesh(shared / "hulls" / "wigley_openfoam.stl.gz")
+    junk = tmp_path / "junk.stl"
+    junk.write_bytes(b"\x00\x01 not a mesh")
+    with pytest.raises(HullError, match="junk.stl"):
+        read_mesh(junk)
+    with pytest.raises(HullError, match="unknown file type 'xyz1'"):
+        read_mesh(tmp_path / "a.xyz1")
+    with pytest.raises(HullError, match="axes"):
+        MeshTransform(axes="x,x,z").matrix()
