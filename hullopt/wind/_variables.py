@@ -178,6 +178,19 @@ class WindVariables(eqx.Module):
     part_names: tuple[str, ...] = eqx.field(static=True)
     part_kinds: tuple[str, ...] = eqx.field(static=True)
 
+    @classmethod
+    def from_scalars(cls, **values) -> WindVariables:
+        """Variables given by value (e.g. read off a drawing by hand): the :data:`NAMES` [m, m²] (``S`` and
+        ``M`` default to 0), with ``H_L = A_L/L`` and ``C_bow = L/2 − C`` derived; no parts."""
+        unknown = set(values) - set(NAMES) - {"H_T", "x_mid"}
+        if unknown:
+            raise ValueError(f"unknown variables {sorted(unknown)}; expected {', '.join(NAMES)}")
+        v = {k: jnp.asarray(values.get(k, 0.0), dtype=float) for k in (*NAMES, "H_T", "x_mid")}
+        empty = jnp.zeros((0,))
+        return cls(**v, H_L=v["A_L"] / v["L"], C_bow=0.5 * v["L"] - v["C"], part_area=empty, part_x=empty,
+                   part_h=empty, part_moments=jnp.zeros((0, 4, 4)), part_perimeter=empty, part_front_area=empty,
+                   part_names=(), part_kinds=())
+
     def scalars(self) -> dict[str, Array]:
         """The named variables (``NAMES`` plus ``H_T``, ``H_L``, ``C_bow``, ``x_mid``)."""
         return {k: getattr(self, k) for k in (*NAMES, "H_T", "H_L", "C_bow", "x_mid")}

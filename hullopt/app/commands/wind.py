@@ -1,0 +1,111 @@
+"""``hullopt wind``: wind-load variables and coefficients from a hull with parts, or from drawings."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import typer
+
+from ...errors import HullError
+from ...wind import MODELS, check_parts, drawing_variables, ship_type, wind_coefficients, wind_variables
+from .._app import app
+from ..hulls import load_hull
+from ..output import console, print_json, table
+from ..wind_config import DrawingsConfig, config_parts, read_wind_config
+from .hydro import check_draft
+
+ROWS = [("L", "m"), ("B", "m"), ("A_T", "m²"), ("A_L", "m²"), ("A_OD", "m²"), ("A_SS", "m²"), ("C", "m"),
+        ("C_BR", "m"), ("H_BR", "m"), ("H_C", "m"), ("S", "m"), ("M", ""), ("H_L", "m"), ("C_bow", "m")]
+
+
+def _read_image(path: str):
+    from skimage import io
+
+    if not Path(path).is_file():
+        raise HullError(f"{path}: no such image")
+    try:
+        return io.imread(path)
+    except (OSError, ValueError) as e:
+        raise HullError(f"{path}: cannot read the image: {e}") from None
+
+
+def _plot(path: Path, psi_deg, coeffs: dict[str, np.ndarray], title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(subplot_kw={"projection": "polar"}, figsize=(6, 6))
+    th = np.deg2rad(psi_deg)
+    for key, label in (("cx", "C_X"), ("cy", "C_Y"), ("cn", "C_N"), ("ck", "C_K")):
+        if np.all(np.isfinite(coeffs[key])):
+            ax.plot(th, coeffs[key], label=label)
+    ax.set_theta_zero_location("N")
+    ax.set_thetamin(0)
+    ax.set_thetamax(180)
+    ax.set_title(title + "\nψ from ahead (0°) to astern (180°)", fontsize=9)
+    ax.legend(loc="lower left", fontsize=8)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+
+
+@app.command()
+def wind(
+    config: Annotated[Path, typer.Argument(help="A wind config .toml (hull + parts, or [drawings]) or a drawings .json.")],
+    model: Annotated[str | None, typer.Option(help=f"Coefficient model: {', '.join(MODELS)} (default: the config's).")] = None,
+    ship: Annotated[str | None, typer.Option("--ship-type", help="Blendermann ship type (name, prefix or number).")] = None,
+    draft: Annotated[float | None, typer.Option(help="Draft [m] (overrides the config).")] = None,
+    step: Annotated[float, typer.Option(help="Angle step of the table [deg].")] = 10.0,
+    json: Annotated[bool, typer.Option("--json", help="Print JSON: variables and coefficients.")] = False,
+    plot: Annotated[Path | None, typer.Option(help="Write a polar plot of the coefficients (PNG).")] = None,
+) -> None:
+    """Wind-load variables (L, B, A_T, A_L, …) and coefficients C_X, C_Y, C_N, C_K over ψ = 0…180°."""
+    cfg = read_wind_config(config)
+    model = model or cfg.model
+    if model not in MODELS:
+        raise HullError(f"--model {model!r}: expected one of {', '.join(MODELS)}")
+    ship = ship_type(ship or cfg.ship_type)
+    if not (np.isfinite(step) and 0 < step <= 180):
+        raise HullError(f"--step {step:g}: expected an angle in (0, 180] degrees")
+    if plot is not None and plot.suffix.lower() != ".png":
+        raise HullError(f"--plot {plot}: expected a .png file")
+    extra = {}
+    if isinstance(cfg, DrawingsConfig):
+        if draft is not None:
+            raise HullError("--draft: a drawing has its waterline; give it as waterline_row in the config")
+        res = drawing_variables(_read_image(cfg.side), _read_image(cfg.front), cfg.side_scale.scale(),
+                                cfg.front_scale.scale(), cfg.part_specs(), cfg.threshold)
+        v, name = res.variables, Path(cfg.side).name
+        extra["fractal_dimension"] = res.fractal_dimension
+    else:
+        hull = load_hull(cfg.hull)
+        t = draft if draft is not None else cfg.draft if cfg.draft is not None else hull.design_draft
+        if t is None:
+            raise HullError(f"{config}: give draft = … (this hull has no design draft)")
+        t = check_draft(hull, t, "draft")
+        parts = config_parts(cfg.parts)
+        check_parts(hull.sections, t, parts)
+        v, name = eqx.filter_jit(wind_variables)(hull.sections, jnp.asarray(t), parts), f"{hull.name}, T = {t:g} m"
+    psi_deg = np.arange(0.0, 180.0 + 1e-9, step)
+    c = wind_coefficients(v, jnp.deg2rad(psi_deg), model, ship=ship, y56=cfg.y56)
+    coeffs = {k: np.asarray(getattr(c, k)) for k in ("cx", "cy", "cn", "ck")}
+    if plot is not None:
+        if not plot.parent.is_dir():
+            raise HullError(f"--plot {plot}: the folder {str(plot.parent)!r} does not exist")
+        _plot(plot, psi_deg, coeffs, f"{model} — {name}")
+    variables = v.to_dict() | extra
+    if json:
+        print_json({"model": model, "variables": variables, "coefficients": {"psi_deg": psi_deg, **coeffs}})
+        return
+    table(f"Wind variables — {name}", ["variable", "value"],
+          [[f"{k} [{u}]" if u else k, variables[k]] for k, u in ROWS] +
+          [[k, variables[k]] for k in extra])
+    table(f"Wind coefficients — {model}" + (f" ({ship})" if model == "blendermann" else ""),
+          ["ψ [deg]", "C_X", "C_Y", "C_N", "C_K"],
+          [[f"{p:g}", *(float(coeffs[k][i]) for k in ("cx", "cy", "cn", "ck"))] for i, p in enumerate(psi_deg)])
+    if plot is not None:
+        console.print(f"wrote {plot}")
