@@ -32,9 +32,15 @@ import numpy as np
 from ..errors import HullError
 
 #: Chord-frame values of a segment with no shape (degenerate or straight): apex at mid-chord on the chord,
-#: auxiliary apexes where a parabola has them (half way, 3/4 of the apex height).
+#: auxiliary apexes where a parabola has them (equally spaced in u, v = η(1 − (1 − ρ)²)).
 DEFAULT_APEX = (0.5, 0.0)
-DEFAULT_AUX = (0.5, 0.75, 0.5, 0.75)
+
+
+def default_aux(level: int) -> np.ndarray:
+    """``(2, J, 2)`` auxiliary-apex ratios ``(ρ, σ)`` of a parabolic segment, ``J = 2**level − 1``."""
+    rho = np.arange(1, 2**level) / 2**level
+    half = np.stack([rho, 1.0 - (1.0 - rho) ** 2], -1)
+    return np.stack([half, half])
 
 
 def _chord_uv(a, b, p):
@@ -46,31 +52,49 @@ def _chord_uv(a, b, p):
 
 
 def _farthest(curve: np.ndarray, i: int, j: int) -> int:
-    """Index in ``curve[i..j]`` farthest from the chord ``curve[i] → curve[j]`` (``i`` if none inside)."""
-    if j - i < 2:
-        return i
-    a, b = curve[i], curve[j]
+    """Index strictly between ``i`` and ``j`` (either order) farthest from the chord ``curve[i] → curve[j]``."""
+    lo, hi = min(i, j), max(i, j)
+    if hi - lo < 2:
+        return lo
+    a, b = curve[lo], curve[hi]
     c = b - a
-    n = np.hypot(*c)
-    if n == 0:
-        return i
-    d = np.abs((curve[i + 1 : j] - a) @ np.array([-c[1], c[0]])) / n
-    return i + 1 + int(np.argmax(d))
+    if np.hypot(*c) == 0:
+        return lo
+    d = np.abs((curve[lo + 1 : hi] - a) @ np.array([-c[1], c[0]]))
+    return lo + 1 + int(np.argmax(d))
 
 
-def _segment(curve: np.ndarray, i: int, j: int, straight: bool = False) -> tuple:
-    """Chord-frame description of the segment ``curve[i..j]``: ``(a, b, (β, η), (ρ₁, σ₁, ρ₂, σ₂))``."""
+def _refine(curve: np.ndarray, start: int, apex: int, level: int) -> list[int] | None:
+    """Auxiliary apexes from ``start`` (an inflection) to ``apex``: each level inserts, in every interval,
+    the point farthest from the interval's chord (level 1 is the patent's auxiliary apex)."""
+    idx = [start, apex]
+    for _ in range(level):
+        new = [idx[0]]
+        for p, r in zip(idx[:-1], idx[1:]):
+            k = _farthest(curve, p, r)
+            if k in (p, r) or k == min(p, r):
+                return None
+            new += [k, r]
+        idx = new
+    return idx[1:-1]
+
+
+def _segment(curve: np.ndarray, i: int, j: int, level: int, straight: bool = False) -> tuple:
+    """Chord-frame description of the segment ``curve[i..j]``: ``(a, b, (β, η), aux (2, J, 2))``."""
     a, b = curve[i].copy(), curve[j].copy()
-    if straight or np.hypot(*(b - a)) == 0 or j - i < 4:
-        return a, b, DEFAULT_APEX, DEFAULT_AUX
+    default = (a, b, DEFAULT_APEX, default_aux(level))
+    if straight or np.hypot(*(b - a)) == 0 or j - i < 2 ** (level + 2):
+        return default
     k = _farthest(curve, i, j)
     beta, eta = _chord_uv(a, b, curve[k])
-    if abs(eta) < 1e-9 or k - i < 2 or j - k < 2:
-        return a, b, DEFAULT_APEX, DEFAULT_AUX
-    c1, c2 = _farthest(curve, i, k), _farthest(curve, k, j)
-    u1, v1 = _chord_uv(a, b, curve[c1])
-    u2, v2 = _chord_uv(a, b, curve[c2])
-    aux = (u1 / beta, v1 / eta, (1 - u2) / (1 - beta), v2 / eta)
+    lo, hi = _refine(curve, i, k, level), _refine(curve, j, k, level)
+    if abs(eta) < 1e-9 or lo is None or hi is None:
+        return default
+    aux = np.zeros((2, 2**level - 1, 2))
+    for t, idx in enumerate((lo, hi)):
+        for m, c in enumerate(idx):
+            u, v = _chord_uv(a, b, curve[c])
+            aux[t, m] = (u / beta if t == 0 else (1 - u) / (1 - beta), v / eta)
     return a, b, (beta, eta), aux
 
 
@@ -123,7 +147,8 @@ def _inflections(curve: np.ndarray, lobe_tol: float) -> list[int]:
     return bounds[1:-1]
 
 
-def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: float, dense: int = 600):
+def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: float, level: int = 2,
+                    dense: int = 600):
     """Contour points and segments of one half-section ``p (m, 2)``.
 
     Returns ``(keel, deck, segments)`` with ``segments`` a list of ``(a, b, apex, aux)`` from ``F_b`` up to
@@ -134,7 +159,7 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     p = p[np.concatenate([[True], step > 1e-9 * max(1.0, np.abs(p).max())])]
     keel, deck = p[0].copy(), p[-1].copy()
     if len(p) < 3:
-        return keel, deck, [(keel, deck, DEFAULT_APEX, DEFAULT_AUX)]
+        return keel, deck, [(keel, deck, DEFAULT_APEX, default_aux(level))]
     ib = 0
     while ib + 1 < len(p) - 1 and p[ib + 1, 1] <= keel[1] + flat_tol and p[ib + 1, 0] >= p[ib, 0]:
         ib += 1
@@ -143,7 +168,7 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
         fs -= 1
     curved = p[ib : fs + 1]
     if len(curved) < 2:
-        return keel, deck, [(curved[0], curved[-1], DEFAULT_APEX, DEFAULT_AUX)]
+        return keel, deck, [(curved[0], curved[-1], DEFAULT_APEX, default_aux(level))]
     # Parts: maximal runs off the centreline, each with its bounding centreline points.
     on = curved[:, 0] <= 1e-9 * max(1.0, np.abs(curved).max())
     segments = []
@@ -154,7 +179,7 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
             j = i + 1
             while j < last and on[j + 1]:
                 j += 1
-            segments.append((curved[i].copy(), curved[j].copy(), DEFAULT_APEX, DEFAULT_AUX))
+            segments.append((curved[i].copy(), curved[j].copy(), DEFAULT_APEX, default_aux(level)))
             i = j
             continue
         j = i + 1
@@ -162,23 +187,26 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
             j += 1
         part = curved[i : j + 1]
         if len(part) < 4:
-            segments.append(_segment(part, 0, len(part) - 1, straight=True))
+            segments.append(_segment(part, 0, len(part) - 1, level, straight=True))
         else:
             sm = _smooth(part, dense, smoothing)
             ends = [0, *_inflections(sm, lobe_tol), len(sm) - 1]
-            segments += [_segment(sm, a, b) for a, b in zip(ends[:-1], ends[1:])]
+            segments += [_segment(sm, a, b, level) for a, b in zip(ends[:-1], ends[1:])]
         i = j
     return keel, deck, segments
 
 
-def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float = 0.0, dense: int = 600):
+def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float = 0.0, level: int = 2,
+                     dense: int = 600):
     """Feature arrays of a parent hull given as sections ``x (n,)``, ``yz (n, m, 2)`` (numpy).
 
     ``flat_tol`` [m] (default 0.1 % of the greatest breadth) decides what is flat; ``lobe_tol`` [m]
-    (default 0.3 % of it) is the least sagitta of a lobe between inflection points; ``smoothing`` is the
-    smoothing spline's λ per cubed arc length (0: chosen by generalised cross-validation).
+    (default 0.03 % of it) is the least sagitta of a lobe between inflection points; ``smoothing`` is the
+    smoothing spline's λ per cubed arc length (0: chosen by generalised cross-validation); ``level``
+    the levels of auxiliary apexes (1: the patent's frame; 2, the default: three per half, see
+    :mod:`._feature_frame`).
     Returns a dict of numpy arrays: ``x``, ``keel (n, 2)``, ``deck (n, 2)``, ``ends (n, S+1, 2)``,
-    ``apex (n, S, 2)``, ``aux (n, S, 4)``, ``real (n, S)`` (segment found in the parent, not padding), ``lpp``.
+    ``apex (n, S, 2)``, ``aux (n, S, 2, J, 2)``, ``real (n, S)`` (segment found in the parent, not padding), ``lpp``.
     """
     x = np.asarray(x, dtype=np.float64)
     yz = np.asarray(yz, dtype=np.float64)
@@ -186,15 +214,15 @@ def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float 
         raise HullError(f"sections must be (n, m, 2) with n = {x.shape[0]} stations, got {yz.shape}")
     breadth = 2.0 * max(float(yz[..., 0].max()), 1e-9)
     flat_tol = 1e-3 * breadth if flat_tol is None else flat_tol
-    lobe_tol = 3e-3 * breadth if lobe_tol is None else lobe_tol
-    stations = [extract_station(p, flat_tol, lobe_tol, smoothing, dense) for p in yz]
+    lobe_tol = 3e-4 * breadth if lobe_tol is None else lobe_tol
+    stations = [extract_station(p, flat_tol, lobe_tol, smoothing, level, dense) for p in yz]
     s_max = max(len(st[2]) for st in stations)
     n = len(x)
     keel = np.array([st[0] for st in stations])
     deck = np.array([st[1] for st in stations])
     ends = np.zeros((n, s_max + 1, 2))
     apex = np.tile(np.array(DEFAULT_APEX), (n, s_max, 1))
-    aux = np.tile(np.array(DEFAULT_AUX), (n, s_max, 1))
+    aux = np.tile(default_aux(level), (n, s_max, 1, 1, 1))
     real = np.zeros((n, s_max), bool)
     for i, (_, _, segs) in enumerate(stations):
         pad = s_max - len(segs)  # degenerate segments at the keel end (module docstring, 5.)

@@ -1,21 +1,25 @@
 """Frame rebuilding (seed 000, claim 3 / §0017): each segment between adjacent inflection points is a cubic
-spline through its auxiliary apex, apex and auxiliary apex, with the tangent at the apex parallel to the
-segment's chord, so the apex stays the apex.
+spline through its auxiliary apexes and apex, with the tangent at the apex parallel to the segment's chord,
+so the apex stays the apex.
 
 Everything is in the segment's *chord frame*: for a segment from ``a`` to ``b`` (the chord ``c = b − a``) a
 point is ``a + u·c + v·rot(c)`` with ``rot(c) = (−c_z, c_y)`` (the chord turned +90° in the (y, z) plane), so
 ``u ∈ [0, 1]`` runs along the chord and ``v`` is the signed distance from it, both in chord lengths. A segment
-is then five numbers besides its ends:
+is then, besides its ends:
 
 * the apex ``(β, η)``: ``u = β``, ``v = η``;
-* the auxiliary apexes as the two ratios of claim 6, which a moving apex keeps: ``ρ₁ = u_C1 / u_B`` and
-  ``σ₁ = v_C1 / v_B`` (measured from the first inflection point), ``ρ₂ = (1 − u_C2) / (1 − u_B)`` and
-  ``σ₂ = v_C2 / v_B`` (from the second).
+* on each half (inflection → apex) ``J`` auxiliary apexes as the two ratios of claim 6, which a moving apex
+  keeps: ``ρ = u_C / u_B`` and ``σ = v_C / v_B`` on the first half (measured from the first inflection),
+  ``ρ = (1 − u_C) / (1 − u_B)`` and ``σ = v_C / v_B`` on the second (from the second inflection), ordered
+  from the inflection to the apex. ``J = 1`` is the patent's frame (one auxiliary apex per half); ``J = 3``
+  (``level = 2``) adds the farthest points from the chords inflection–auxiliary apex and auxiliary
+  apex–apex, the same rule one level down, for frames a single auxiliary apex cannot hold (long straight
+  stretches between two bends).
 
-Each half (inflection → auxiliary apex → apex) is a cubic spline on three knots with zero curvature at the
-inflection point (it *is* an inflection) and zero slope ``dv/du`` at the apex (the apex condition). A segment
-whose chord has zero length (a degenerate segment, see :mod:`._feature_extract`) collapses to its end point
-with no special case: every point is ``a + 0``.
+Each half is a cubic spline on ``J + 2`` knots with zero curvature at the inflection point (it *is* an
+inflection) and zero slope ``dv/du`` at the apex (the apex condition). A segment whose chord has zero length
+(a degenerate segment, see :mod:`._feature_extract`) collapses to its end point with no special case: every
+point is ``a + 0``.
 
 Pure JAX, vectorised over stations and segments; differentiable in every input.
 """
@@ -26,53 +30,65 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 
-def _half_spline(u1, v1, u2, v2, f):
-    """Cubic spline through ``(0, 0)``, ``(u1, v1)``, ``(u2, v2)``: natural at 0, ``dv/du = 0`` at ``u2``.
-
-    Inputs ``(...)``; returns ``(u, v)`` of shape ``(..., 2q)`` sampled at the fractions ``f (q,)`` of each
-    knot interval (the last sample is the apex itself).
-    """
-    h0, h1 = u1, u2 - u1
-    d0, d1 = v1 / h0, (v2 - v1) / h1
-    # Second derivatives at the knots: M0 = 0 (natural), continuity of v' at u1, v'(u2) = 0.
-    m1 = 6.0 * (3.0 * d1 - 2.0 * d0) / (4.0 * h0 + 3.0 * h1)
-    m2 = (-6.0 * d1 - h1 * m1) / (2.0 * h1)
-
-    def piece(uj, vj, mj, vk, mk, h):
-        g = f  # (q,)
-        hh = (h * h / 6.0)[..., None]
-        v = (mj[..., None] * hh * (1 - g) ** 3 + mk[..., None] * hh * g**3
-             + (vj[..., None] - mj[..., None] * hh) * (1 - g) + (vk[..., None] - mk[..., None] * hh) * g)
-        return uj[..., None] + h[..., None] * g, v
-
-    zero = jnp.zeros_like(u1)
-    ua, va = piece(zero, zero, zero, v1, m1, h0)
-    ub, vb = piece(u1, v1, m1, v2, m2, h1)
-    return jnp.concatenate([ua, ub], -1), jnp.concatenate([va, vb], -1)
+def _half_spline(u: Array, v: Array, f: Array) -> tuple[Array, Array]:
+    """Cubic spline through knots ``u (..., K)`` (``u[0] = 0``, increasing) with values ``v (..., K)``
+    (``v[0] = 0``): natural at ``u[0]``, ``dv/du = 0`` at ``u[-1]``. Sampled at fractions ``f (q,)`` of each
+    knot interval: returns ``(u, v)`` of shape ``(..., (K−1)·q)``, the last sample being the last knot."""
+    k = u.shape[-1]
+    h = jnp.diff(u, axis=-1)  # (..., K-1)
+    d = jnp.diff(v, axis=-1) / h
+    # Unknowns M_1..M_{K-1} (M_0 = 0): interior rows j = 1..K-2, then the clamped row.
+    rows = []
+    zero = jnp.zeros_like(h[..., 0])
+    for j in range(1, k):
+        row = [zero] * (k - 1)
+        if j < k - 1:
+            if j > 1:
+                row[j - 2] = h[..., j - 1]
+            row[j - 1] = 2.0 * (h[..., j - 1] + h[..., j])
+            row[j] = h[..., j]
+        else:
+            row[j - 2] = h[..., j - 1]
+            row[j - 1] = 2.0 * h[..., j - 1]
+        rows.append(jnp.stack(row, -1))
+    mat = jnp.stack(rows, -2)
+    rhs = jnp.concatenate([6.0 * (d[..., 1:] - d[..., :-1]), -6.0 * d[..., -1:]], -1)
+    m = jnp.linalg.solve(mat, rhs[..., None])[..., 0]
+    m = jnp.concatenate([jnp.zeros_like(m[..., :1]), m], -1)  # (..., K)
+    g = f
+    hh = (h * h / 6.0)[..., None]
+    mj, mk = m[..., :-1, None], m[..., 1:, None]
+    vj, vk = v[..., :-1, None], v[..., 1:, None]
+    vs = mj * hh * (1 - g) ** 3 + mk * hh * g**3 + (vj - mj * hh) * (1 - g) + (vk - mk * hh) * g
+    us = u[..., :-1, None] + h[..., None] * g
+    return us.reshape(us.shape[:-2] + (-1,)), vs.reshape(vs.shape[:-2] + (-1,))
 
 
 def segment_points(
     a: Float[Array, "... 2"],
     b: Float[Array, "... 2"],
     apex: Float[Array, "... 2"],
-    aux: Float[Array, "... 4"],
+    aux: Float[Array, "... 2 J 2"],
     q: int,
-) -> Float[Array, "... 4q 2"]:
-    """Points of the rebuilt segments from ``a`` to ``b`` (``a`` excluded, ``b`` included), ``4q`` each.
+) -> Float[Array, "... P 2"]:
+    """Points of the rebuilt segments from ``a`` to ``b`` (``a`` excluded, ``b`` included),
+    ``P = 2·(J+1)·q`` each.
 
-    ``apex = (β, η)`` and ``aux = (ρ₁, σ₁, ρ₂, σ₂)`` in the chord frame (module docstring); ``q`` samples per
+    ``apex = (β, η)`` and ``aux[half, j] = (ρ, σ)`` in the chord frame (module docstring); ``q`` samples per
     knot interval, equally spaced in ``u``.
     """
     beta, eta = apex[..., 0], apex[..., 1]
-    rho1, sig1, rho2, sig2 = (aux[..., k] for k in range(4))
     f = jnp.arange(1, q + 1, dtype=a.dtype) / q
-    # First half: inflection a (u = 0) → C1 → apex.
-    u_lo, v_lo = _half_spline(rho1 * beta, sig1 * eta, beta, eta, f)
-    # Second half, mirrored (u' = 1 − u): inflection b → C2 → apex, then reversed to run apex → b.
-    w = 1.0 - beta
-    u_hi, v_hi = _half_spline(rho2 * w, sig2 * eta, w, eta, f)
-    # Mirrored samples run from b towards the apex: reverse, drop the apex (already in the first half) and
-    # append b (u' = 0).
+    zero = jnp.zeros_like(beta)[..., None]
+
+    def half(rho, sig, width):
+        u = jnp.concatenate([zero, rho * width[..., None], width[..., None]], -1)
+        v = jnp.concatenate([zero, sig * eta[..., None], eta[..., None]], -1)
+        return _half_spline(u, v, f)
+
+    u_lo, v_lo = half(aux[..., 0, :, 0], aux[..., 0, :, 1], beta)  # inflection a → apex
+    u_hi, v_hi = half(aux[..., 1, :, 0], aux[..., 1, :, 1], 1.0 - beta)  # inflection b → apex (mirrored)
+    # The mirrored half runs from b to the apex: reverse it, drop the apex (already in the first half), end at b.
     u_hi = jnp.concatenate([u_hi[..., ::-1][..., 1:], jnp.zeros_like(u_hi[..., :1])], -1)
     v_hi = jnp.concatenate([v_hi[..., ::-1][..., 1:], jnp.zeros_like(v_hi[..., :1])], -1)
     u = jnp.concatenate([u_lo, 1.0 - u_hi], -1)
@@ -86,27 +102,36 @@ def rebuild_frames(
     keel: Float[Array, "n 2"],
     ends: Float[Array, "n S+1 2"],
     apex: Float[Array, "n S 2"],
-    aux: Float[Array, "n S 4"],
+    aux: Float[Array, "n S 2 J 2"],
     deck: Float[Array, "n 2"],
     q: int,
 ) -> Float[Array, "n m 2"]:
     """Half-section polylines ``keel → flat of bottom → S segments → flat of side → deck edge``.
 
-    ``ends[:, 0]`` is the end of the flat of bottom (= the keel point where there is none), ``ends[:, S]``
-    the start of the flat of side (= the deck edge where there is none), the others the inflection points.
-    ``m = 3 + 4·q·S`` points per station.
+    ``ends[:, 0]`` is the end of the flat of bottom (the keel point where there is none), ``ends[:, S]``
+    the start of the flat of side (the deck edge where there is none), the others the inflection points.
+    ``m = 3 + 2·(J+1)·q·S`` points per station.
     """
-    n, s1 = ends.shape[0], ends.shape[1]
-    pts = segment_points(ends[:, :-1], ends[:, 1:], apex, aux, q)  # (n, S, 4q, 2)
-    body = pts.reshape(n, (s1 - 1) * 4 * q, 2)
+    n = ends.shape[0]
+    pts = segment_points(ends[:, :-1], ends[:, 1:], apex, aux, q)  # (n, S, P, 2)
+    body = pts.reshape(n, -1, 2)
     return jnp.concatenate([keel[:, None], ends[:, :1], body, deck[:, None]], axis=1)
 
 
-def chord_coordinates(a, b, p):
-    """``(u, v)`` of points ``p`` in the chord frame of ``a → b`` (numpy or JAX; the chord must not be
-    degenerate)."""
+def apex_points(ends: Array, apex: Array) -> Array:
+    """Absolute (y, z) of the apexes ``(n, S, 2)`` from the chord-frame ``(β, η)``."""
+    a, b = ends[..., :-1, :], ends[..., 1:, :]
     c = b - a
     rc = jnp.stack([-c[..., 1], c[..., 0]], -1)
-    cc = jnp.sum(c * c, -1)
-    d = p - a
-    return jnp.sum(d * c, -1) / cc, jnp.sum(d * rc, -1) / cc
+    return a + apex[..., :1] * c + apex[..., 1:] * rc
+
+
+def aux_points(ends: Array, apex: Array, aux: Array) -> Array:
+    """Absolute (y, z) of the auxiliary apexes ``(n, S, 2, J, 2)``."""
+    a, b = ends[..., :-1, :], ends[..., 1:, :]
+    c = b - a
+    rc = jnp.stack([-c[..., 1], c[..., 0]], -1)
+    beta, eta = apex[..., 0, None], apex[..., 1, None]
+    u = jnp.stack([aux[..., 0, :, 0] * beta, 1.0 - aux[..., 1, :, 0] * (1.0 - beta)], -2)
+    v = aux[..., 1] * eta[..., None]
+    return a[..., None, None, :] + u[..., None] * c[..., None, None, :] + v[..., None] * rc[..., None, None, :]

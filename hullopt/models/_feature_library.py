@@ -1,0 +1,145 @@
+"""Parents for the feature-curve hull: extraction from any sections, generation without a parent
+(embodiments 2 and 3), and the recipes of the library's parents (``hullopt/data/parents/*.json``).
+
+The library files are made once by :func:`build_library` (the DTC needs ``../shared``); at run time only the
+JSON files are read. Recipes:
+
+* ``dtc`` — the Duisburg Test Case container ship (el Moctar et al. 2012), sliced at 61 stations × 96 points,
+  design draft 14.5 m, two levels of auxiliary apexes beyond the patent's (``level = 3``: a single auxiliary
+  apex per half cannot hold the long straight flare of its forebody to 0.5 % of B);
+* ``tanker`` — a full, tanker-like form generated from principal dimensions (Lpp 320 m, B 58 m, D 30 m,
+  T 20.8 m, the KVLCC2's) and a sectional-area curve with a parallel midbody (:func:`generate_hull`);
+* ``wigley`` — the analytic Wigley hull (L 100 m, B 10 m, T 6.25 m, D 10 m);
+* ``seed003`` — the seed-003 offset table (its stated assumptions: Lpp 95 m, waterlines 0.8 m apart).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import jax.numpy as jnp
+import numpy as np
+
+from ..errors import HullError
+from ..geometry import Sections
+from ._feature_extract import extract_features
+from ._features import PARENTS_DIR, FeatureHull, feature_hull, save_features
+
+
+def extract_parent(sections: Sections, name: str = "hull", design_draft: float | None = None, level: int = 2,
+                   q: int = 2, **kw) -> FeatureHull:
+    """Contour lines and feature curves of ``sections`` (see :func:`extract_features` for ``kw``)."""
+    f = extract_features(np.asarray(sections.x), np.asarray(sections.yz), float(sections.lpp), level=level, **kw)
+    return feature_hull(f, name, design_draft, q)
+
+
+def generate_hull(lpp: float, breadth: float, depth: float, draft: float, parallel: tuple[float, float] = (0.3, 0.65),
+                  entrance: float = 2.2, run: float = 1.8, bilge_radius: float = 3.0, n: int = 61, m: int = 64,
+                  **extract_kw) -> FeatureHull:
+    """A hull from principal dimensions and a sectional-area curve, with no parent (seed 000, embodiment 2).
+
+    The target sectional-area curve (the Cp curve) is 1 on the parallel midbody ``parallel`` (fractions of
+    Lpp from the AP) and ``1 − ξ^entrance`` / ``1 − ξ^run`` towards the FP / AP (ξ from the midbody's end);
+    times the midship area ``B·T − (4 − π)·r²/2``. Each frame is a flat of bottom, an elliptic bilge and a
+    vertical flat of side to the deck: at full breadth the flat of bottom shrinks to meet the target area;
+    where it is gone the breadth does (so the contour lines — flat of bottom, flat of side, deck side — follow
+    from the Cp curve). The frames are then read as feature curves like any parent's.
+    """
+    for k, v in dict(lpp=lpp, breadth=breadth, depth=depth, draft=draft, bilge_radius=bilge_radius).items():
+        if not (math.isfinite(v) and v > 0):
+            raise HullError(f"generate: {k} must be a positive number, got {v}")
+    if not draft < depth:
+        raise HullError(f"generate: draft {draft:g} m must be below the depth {depth:g} m")
+    if not 0 < parallel[0] <= parallel[1] < 1:
+        raise HullError(f"generate: parallel midbody {parallel} must be fractions 0 < a ≤ b < 1 of Lpp")
+    if not bilge_radius < min(draft, breadth / 2):
+        raise HullError(f"generate: bilge_radius {bilge_radius:g} m must be below the draft and half the breadth")
+    b0, r, t = breadth / 2, bilge_radius, draft
+    k = 1.0 - math.pi / 4.0
+    x = np.linspace(0.0, lpp, n)
+    u = x / lpp
+    xi_f = np.clip((u - parallel[1]) / (1 - parallel[1]), 0, 1)
+    xi_a = np.clip((parallel[0] - u) / parallel[0], 0, 1)
+    a = (1 - xi_f**entrance) * (1 - xi_a**run)
+    half_area = a * (b0 * t - k * r * r)
+    yz = np.zeros((n, m, 2))
+    for i in range(n):
+        zf = r + (t - r) * (1 - a[i])  # the bilge rises towards the ends
+        yf = b0 - (b0 * t - half_area[i]) / (zf * k) if zf > 0 else 0.0
+        b = b0
+        if yf < 0:  # no flat of bottom left: narrow the frame instead
+            yf, b = 0.0, half_area[i] / (t - zf * k)
+        ry = b - yf
+        th = np.linspace(0, np.pi / 2, m - 3)
+        bilge = np.column_stack([yf + ry * np.sin(th), zf * (1 - np.cos(th))])
+        yz[i] = np.vstack([[0.0, 0.0], bilge, [b, 0.5 * (zf + depth)], [b, depth]])[: m]
+    sec = Sections(x=jnp.asarray(x), yz=jnp.asarray(yz), lpp=jnp.asarray(float(lpp)))
+    extract_kw.setdefault("smoothing", 1e-9)
+    return extract_parent(sec, "generated", draft, **extract_kw)
+
+
+
+
+def dtc_sections(shared: Path) -> Sections:
+    from ..models import MeshTransform, read_mesh, slice_mesh
+
+    mesh = read_mesh(shared / "hulls" / "DTC-scaled.stl.gz", MeshTransform(scale=59.407))
+    return slice_mesh(mesh, 355.0, 61, 96)
+
+
+RECIPES = {
+    "dtc": dict(level=3, q=2, smoothing=1e-7, design_draft=14.5,
+                source="DTC (el Moctar, Shigunov & Zorn 2012), OpenFOAM DTC-scaled.stl.gz ×59.407, 61 stations"),
+    "tanker": dict(source="generated: Lpp 320, B 58, D 30, T 20.8 m, parallel midbody 0.3–0.65 Lpp"),
+    "wigley": dict(level=2, q=2, smoothing=1e-9, design_draft=6.25, source="Wigley hull L 100, B 10, T 6.25, D 10 m"),
+    "seed003": dict(level=2, q=2, smoothing=1e-9, design_draft=None,
+                    source="seed 003 Table 1 (assumed Lpp 95 m, waterlines 0.8 m), spline surface 41 × 41"),
+}
+
+
+def recipe_sections(name: str, shared: Path | None = None) -> Sections:
+    """The parent sections a library recipe extracts from."""
+    from ._builtins import wigley
+    from ._offsets import offsets_to_sections, read_offsets
+
+    if name == "dtc":
+        if shared is None:
+            raise HullError("the dtc recipe needs the reference folder (../shared)")
+        return dtc_sections(shared)
+    if name == "wigley":
+        return wigley(100.0, 10.0, 6.25, 10.0, n=41, m=41)
+    if name == "seed003":
+        table = read_offsets(Path(__file__).resolve().parents[1] / "data" / "offsets" / "seed003_table1.csv")
+        return offsets_to_sections(table, 41, 41)
+    raise HullError(f"no sections for recipe {name!r}")
+
+
+def build_parent(name: str, shared: Path | None = None) -> FeatureHull:
+    """Make a library parent from its recipe (numpy; the DTC reads ``shared``)."""
+    r = dict(RECIPES[name])
+    r.pop("source")
+    if name == "tanker":
+        h = generate_hull(320.0, 58.0, 30.0, 20.8)
+        return feature_hull(_arrays(h), "tanker", 20.8, h.q)
+    draft = r.pop("design_draft")
+    return extract_parent(recipe_sections(name, shared), name, draft, **r)
+
+
+def _arrays(h: FeatureHull) -> dict:
+    return {**{k: np.asarray(getattr(h, k)) for k in ("x", "keel", "deck", "ends", "apex", "aux", "real")},
+            "lpp": float(h.lpp)}
+
+
+def build_library(shared: Path, out: Path = PARENTS_DIR) -> list[Path]:
+    """Write every library parent to ``out`` (run once; ``python -m hullopt.models._feature_library``)."""
+    out.mkdir(parents=True, exist_ok=True)
+    return [save_features(build_parent(k, shared), out / f"{k}.json", source=RECIPES[k]["source"]) for k in RECIPES]
+
+
+if __name__ == "__main__":  # pragma: no cover - the one-off build of the package data
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    for p in build_library(Path(__file__).resolve().parents[3] / "shared"):
+        print("wrote", p)
