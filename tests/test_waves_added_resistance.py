@@ -8,6 +8,7 @@ import pytest
 from helpers import check_grad
 from scipy.integrate import quad
 
+from hullopt.hydro import hydrostatics
 from hullopt.models import wigley
 from hullopt.waves import (
     BF_KINK, G, RHO_SEA, blunt_bow, bluntness, bretschneider, evaluate_modifications, ittc_1978, jonswap, k_aw,
@@ -66,7 +67,8 @@ def test_kink_and_smooth_speed_coefficient():
     for tau in (0.5, 1.0, 2.0):
         sm = np.asarray(speed_coefficient(bf, tau))
         dev = sm - np.asarray(speed_coefficient(bf))
-        assert np.all(dev >= 0) and np.isclose(dev.max(), tau * np.log(2), rtol=1e-3)
+        assert np.all(dev >= 0) and dev.max() <= tau * np.log(2)
+        np.testing.assert_allclose(speed_coefficient(BF_KINK, tau) - 10.0, tau * np.log(2), rtol=1e-12)
         far = np.abs(np.asarray(bf) - BF_KINK) > 4.6 * tau / 310
         assert np.all(dev[far] < 0.01 * tau)
     # gradients: finite at the kink, exact slopes on each side, smooth version in between
@@ -150,7 +152,8 @@ def test_short_crested_and_cutoff(hull):
     ref = quad(lambda t: float(spectral_mean(resp, hs, tp, t)) * float(spreading(t, 1.0)), -np.pi / 2, np.pi / 2,
                epsrel=1e-6, limit=100)[0]
     np.testing.assert_allclose(short, ref, rtol=5e-3)
-    assert short < long_
+    # a slender bow reflects more in oblique waves (Bf grows with |α|), so spreading raises the mean here
+    assert short > long_ > 0
     # a short-wave cut-off only removes energy; constant response: 2·∫S = H²/8·(1 − e^(−u_min))
     cut = spectral_mean(lambda om, hd: jnp.ones(om.shape + hd.shape), hs, tp, omega_max=2.0)
     wp = 2 * np.pi / tp
@@ -167,7 +170,8 @@ def test_stawave1_spectral_mean_is_the_published_formula(hull):
 
 def test_particulars_of_wigley(hull):
     p = particulars(hull, 6.0)
-    np.testing.assert_allclose(p.cb, 4 / 9, rtol=2e-3)
+    np.testing.assert_allclose(p.cb, hydrostatics(hull, 6.0).cb, rtol=1e-12)
+    np.testing.assert_allclose(p.cb, 4 / 9, rtol=1e-2)  # 7 points per section: polyline area error ≈ 0.7 %
     np.testing.assert_allclose(p.beam, 16.0)
     # waterline (1 − ξ²): 95 % breadth at ξ = √0.05, so L_BWL = (1 − √0.05)·L/2 (polyline: O(h²))
     np.testing.assert_allclose(p.l_bwl, (1 - np.sqrt(0.05)) * 60, rtol=2e-3)
@@ -193,24 +197,25 @@ def test_snnm_head_sea_reduces_to_wedge_formula(hull):
 
 
 def test_methods_are_finite_with_gradients(hull):
-    for m in ("nmri", "stawave1", "stawave2", "snnm"):
-        f = jax.jit(lambda t, u, m=m: method_resistance(m, hull, t, u, jnp.array([0.0, 0.6, 1.5]), 0.0).total.sum())
-        assert np.isfinite(f(6.0, 0.0))
-        g = jax.grad(f, argnums=(0, 1))(6.0, 0.0)
-        assert np.all(np.isfinite(np.asarray(g)))
+    om = jnp.array([0.0, 0.6, 1.5])
+
+    def f(v):
+        return jnp.stack([method_resistance(m, hull, v[0], v[1], om, v[2]).total.sum()
+                          for m in ("nmri", "stawave1", "stawave2", "snnm")])
+
+    for v in ([6.0, 0.0, 0.0], [5.0, 7.0, np.pi], [5.0, 7.0, np.pi / 2]):  # at rest, following and beam seas
+        jac = jax.jit(jax.jacfwd(f))(jnp.array(v))
+        assert np.all(np.isfinite(np.asarray(jac)))
 
 
 def test_gradients_of_k_aw_and_sea_state_mean(hull):
+    # with respect to draft, speed and a hull-shape parameter (bow bluntness), away from the C_U kink
     om = jnp.array([0.5, 0.8, 1.5])
-    fk = jax.jit(lambda t, u, p: nmri_added_resistance(blunt_bow(hull, p), t, u, om, 0.1).k_aw.sum())
-    check_grad(lambda t: fk(t, 7.0, 0.3), 5.5, rtol=1e-6)
-    check_grad(lambda u: fk(5.5, u, 0.3), 7.0, rtol=1e-6)
-    check_grad(lambda p: fk(5.5, 7.0, p), 0.3, rtol=1e-6)
-    fm = jax.jit(lambda t, u, p: mean_added_resistance("nmri", blunt_bow(hull, p), t, u, 3.0, 8.0, 0.2,
-                                                       spreading_s=1.0, n_dir=8).total)
-    check_grad(lambda t: fm(t, 7.0, 0.3), 5.5, rtol=1e-6)
-    check_grad(lambda u: fm(5.5, u, 0.3), 7.0, rtol=1e-6)
-    check_grad(lambda p: fm(5.5, 7.0, p), 0.3, rtol=1e-6)
+    fk = jax.jit(lambda v: nmri_added_resistance(blunt_bow(hull, v[2]), v[0], v[1], om, 0.1).k_aw.sum())
+    check_grad(fk, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
+    fm = jax.jit(lambda v: mean_added_resistance("nmri", blunt_bow(hull, v[2]), v[0], v[1], 3.0, 8.0, 0.2,
+                                                 spreading_s=1.0, n_dir=8).total)
+    check_grad(fm, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
 
 
 def test_claim6_program_keeps_the_lower_k_aw(hull):

@@ -37,6 +37,8 @@ def main(argv: list[str] | None = None) -> int:
     register_all()
     try:
         app(args=argv)  # usage errors: the parser prints them and exits with code 2
+    except SystemExit as e:
+        return e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
     except HullError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2

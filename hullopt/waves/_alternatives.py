@@ -155,7 +155,7 @@ def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho
     t12 = t
     root = _pos_pow(jnp.abs(jnp.cos(a)), 0.5)
     t34 = jnp.where(cb <= 0.75, t * (4.0 + root) / 5.0, t * (2.0 + root) / 3.0)
-    c12 = (0.87 / cb) ** ((1.0 + 4.0 * jnp.sqrt(fr)) * jnp.where(a <= e1, jnp.cos(a), 0.0))
+    c12 = (0.87 / cb) ** ((1.0 + 4.0 * _pos_pow(fr, 0.5)) * jnp.where(a <= e1, jnp.cos(a), 0.0))
     sig_r = (jnp.where(a <= jnp.pi - e1, a_t(t12) * kern(e1, e1 + a) * c12, 0.0)
              + jnp.where(a <= e1, a_t(t12) * kern(e1, e1 - a) * c12, 0.0)
              - jnp.where(a >= e2, a_t(t34) * kern(e2, e2 - a), 0.0)

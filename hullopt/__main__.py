@@ -1,0 +1,5 @@
+"""``python -m hullopt`` runs the CLI."""
+
+from hullopt.app.cli import run
+
+run()

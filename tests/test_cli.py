@@ -1,0 +1,94 @@
+"""The command line: JSON keys and values, tables, exports, and one-line errors for bad input."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+from hullopt.app.cli import main
+
+WIGLEY = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=41"
+KEYS = ["draft", "volume", "displacement", "wetted_surface", "cb", "cp", "cm", "cwp", "lcb", "lcb_pct", "kb", "awp",
+        "lcf", "lcf_pct", "bmt", "bml", "kmt", "tpc", "mct", "lwl", "bwl"]
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "cache"))
+
+
+def run(capsys, *args):
+    code = main(list(args))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_hydro_json_has_exactly_the_documented_keys(capsys):
+    code, out, _ = run(capsys, "hydro", "builtin:box?L=100&B=10&D=10", "--draft", "4", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert list(d) == KEYS
+    assert d["volume"] == pytest.approx(4000) and d["displacement"] == pytest.approx(4000 * 1025)
+    assert d["lcb"] == pytest.approx(50) and d["lcb_pct"] == pytest.approx(0, abs=1e-12)
+
+
+def test_hydro_drafts_table_and_displacement(capsys):
+    code, out, _ = run(capsys, "hydro", WIGLEY, "--drafts", "2:6:3", "--json")
+    rows = json.loads(out)
+    assert code == 0 and [r["draft"] for r in rows] == [2, 4, 6]
+    code, out, _ = run(capsys, "hydro", "builtin:box?L=100&B=10&D=10", "--displacement", "4100", "--json")
+    assert code == 0 and json.loads(out)["draft"] == pytest.approx(4.0, abs=1e-9)
+    code, out, _ = run(capsys, "hydro", WIGLEY)  # design draft, rich table
+    assert code == 0 and "Cb" in out and "0.444" in out
+
+
+def test_export_formats(capsys, tmp_path):
+    from hullopt.app.hulls import load_hull
+    from hullopt.geometry import to_trimesh
+
+    ours = to_trimesh(load_hull(WIGLEY).sections)
+    for ext in ("stl", "obj", "ply", "glb"):
+        out = tmp_path / f"h.{ext}"
+        code, _, err = run(capsys, "export", WIGLEY, str(out))
+        assert code == 0, err
+        mesh = trimesh.load(out, force="mesh")
+        assert mesh.is_watertight and mesh.volume == pytest.approx(ours.volume, rel=1e-6)  # float32 files
+    code, _, _ = run(capsys, "export", WIGLEY, str(tmp_path / "h.x3d"))
+    text = (tmp_path / "h.x3d").read_text()
+    assert code == 0 and text.count(" -1") > 1000 and "<IndexedFaceSet" in text
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["hydro", "builtin:wigley?L=100&B=10&D=10"], "missing parameter T"),
+        (["hydro", "builtin:wigley?L=100&B=10&T=5&D=10&Q=1"], "unknown parameter 'Q'"),
+        (["hydro", "builtin:ship?L=1"], "unknown builtin 'ship'"),
+        (["hydro", "builtin:box?L=100&B=-1&D=10", "--draft", "1"], "B must be a positive number"),
+        (["hydro", WIGLEY, "--draft", "0"], "--draft 0 m is outside the hull"),
+        (["hydro", WIGLEY, "--draft", "11"], "--draft 11 m is outside the hull"),
+        (["hydro", WIGLEY, "--displacement", "99999999"], "more than the hull displaces"),
+        (["hydro", WIGLEY, "--drafts", "1:2"], "expected START:STOP:COUNT"),
+        (["hydro", "nofile.stl"], "no such file"),
+        (["hydro", "README.md"], "unknown file type 'md'"),
+        (["export", WIGLEY, "x.step"], "unknown mesh format"),
+    ],
+)
+def test_bad_input_one_line_error(capsys, args, message):
+    code, out, err = run(capsys, *args)
+    assert code == 2
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_open_mesh_and_bad_offsets_from_the_console(tmp_path, shared):
+    """As a user runs it: a separate process, exit code 2, one line on stderr."""
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,0,1\n0,1,1\n0,1,1\n")
+    for hull, message in ((str(shared / "hulls" / "wigley_openfoam.stl.gz"), "open (not watertight)"),
+                          (str(bad), "duplicate station")):
+        p = subprocess.run([sys.executable, "-m", "hullopt", "hydro", hull, "--draft", "1"],
+                           capture_output=True, text=True, env={"HULLOPT_CACHE": str(tmp_path), "PATH": ""})
+        assert p.returncode == 2 and message in p.stderr and "Traceback" not in p.stderr, p.stderr
