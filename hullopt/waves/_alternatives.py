@@ -75,8 +75,8 @@ def _jf_shape(wbar, d_low, d_high):
 
 
 def _fold(heading):
-    """Heading folded to [0, π] (the hull is symmetric)."""
-    return jnp.arccos(jnp.clip(jnp.cos(heading), -1.0, 1.0))
+    """Heading folded to [0, π] (the hull is symmetric); differentiable, with derivative 0 at α = 0."""
+    return jnp.abs(jnp.mod(heading + jnp.pi, 2.0 * jnp.pi) - jnp.pi)
 
 
 def _within_45(heading):
