@@ -1,0 +1,190 @@
+"""``hullopt waves``: bluntness Bf, K_AW and added resistance in regular waves and in a sea state."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import typer
+
+from ...errors import HullError
+from ...waves import blunt_bow as blunt_bow_modification
+from ...waves import (
+    AFT_OPTIONS, G, METHODS, RHO_SEA, SPECTRA, mean_added_resistance, method_resistance,
+    nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
+)
+from .._app import app
+from ..hulls import load_hull
+from ..output import console, parse_range, print_json, table
+from .hydro import HULL_HELP, check_draft
+
+KNOT = 1852.0 / 3600.0  # m/s
+
+
+def _finite(value: float, name: str, *, positive: bool = False, nonneg: bool = False) -> float:
+    if not np.isfinite(value) or (positive and value <= 0) or (nonneg and value < 0):
+        need = "a positive number" if positive else "a number ≥ 0" if nonneg else "a finite number"
+        raise HullError(f"{name} {value:g}: expected {need}")
+    return float(value)
+
+
+def _parse_params(text: str) -> np.ndarray:
+    try:
+        vals = np.array([float(v) for v in text.split(",")])
+    except ValueError:
+        raise HullError(f"--blunt-bow {text!r}: expected comma-separated numbers, e.g. 0.5,1,2") from None
+    if not np.all(np.isfinite(vals)) or np.any(vals <= -1.0):
+        raise HullError(f"--blunt-bow {text!r}: each value must be a number above −1 (the half-breadth factor 1 + p)")
+    return vals
+
+
+@eqx.filter_jit
+def _regular(method, sections, draft, speed, omega, heading, kyy, smooth, aft):
+    nm = nmri_added_resistance(sections, draft, speed, omega, heading, 1.0, smooth=smooth, aft=aft)
+    r = method_resistance(method, sections, draft, speed, omega, heading, 1.0, kyy=kyy, smooth=smooth, aft=aft)
+    return nm, r
+
+
+@app.command()
+def waves(
+    hull: Annotated[str, typer.Argument(help=HULL_HELP)],
+    speed: Annotated[float, typer.Option(help="Ship speed [kn].")],
+    draft: Annotated[float | None, typer.Option(help="Draft above the baseline [m] (default: the hull's).")] = None,
+    heading: Annotated[float, typer.Option(help="Wave heading [deg]: 0 head seas, 180 following.")] = 0.0,
+    hs: Annotated[float | None, typer.Option(help="Significant wave height of a sea state [m].")] = None,
+    tp: Annotated[float | None, typer.Option(help="Peak period of the sea state [s].")] = None,
+    lambda_over_l: Annotated[str, typer.Option("--lambda-over-l", help="Regular waves λ/L START:STOP:COUNT.")] = "0.2:2.0:19",
+    method: Annotated[str, typer.Option(help=f"One of {', '.join(METHODS)}.")] = "nmri",
+    spectrum: Annotated[str, typer.Option(help=f"Sea-state spectrum: {', '.join(SPECTRA)}.")] = "pm",
+    gamma: Annotated[float, typer.Option(help="JONSWAP peak enhancement γ.")] = 3.3,
+    spreading: Annotated[float | None, typer.Option(help="cos-2s spreading exponent s (short-crested); none: long-crested.")] = None,
+    amplitude: Annotated[float, typer.Option(help="Regular-wave amplitude ζ_a [m] for r_awr.")] = 1.0,
+    kyy: Annotated[float, typer.Option(help="Pitch radius of gyration / Lpp (STAWAVE-2, SNNM).")] = 0.25,
+    smooth: Annotated[float | None, typer.Option(help="Soft-max width τ for C_U (default: exact max).")] = None,
+    aft: Annotated[str, typer.Option(help="Lit aft body in oblique seas: include or exclude.")] = "include",
+    blunt_bow: Annotated[str | None, typer.Option("--blunt-bow", help="Claim-6 program: bow-bluntness values p to try, e.g. 0.5,1,2.")] = None,
+    json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; forces in N).")] = False,
+    plot: Annotated[Path | None, typer.Option(help="Write a plot of K_AW against λ/L (.png, .pdf, .svg).")] = None,
+) -> None:
+    """Bf, K_AW (patent JP2009-286166 / NMRI) and R_AW in regular waves and in a sea state."""
+    if method not in METHODS:
+        raise HullError(f"--method {method!r}: expected one of {', '.join(METHODS)}")
+    if spectrum not in SPECTRA:
+        raise HullError(f"--spectrum {spectrum!r}: expected one of {', '.join(SPECTRA)}")
+    if aft not in AFT_OPTIONS:
+        raise HullError(f"--aft {aft!r}: expected one of {', '.join(AFT_OPTIONS)}")
+    u = _finite(speed, "--speed", nonneg=True) * KNOT
+    if not (np.isfinite(heading) and -360.0 <= heading <= 360.0):
+        raise HullError(f"--heading {heading:g}: expected degrees within ±360")
+    _finite(amplitude, "--amplitude", positive=True)
+    _finite(kyy, "--kyy", positive=True)
+    if smooth is not None:
+        _finite(smooth, "--smooth", positive=True)
+    if spreading is not None:
+        _finite(spreading, "--spreading", positive=True)
+    if (hs is None) != (tp is None):
+        raise HullError("give both --hs and --tp for a sea state (or neither)")
+    if hs is not None:
+        _finite(hs, "--hs", positive=True)
+        _finite(tp, "--tp", positive=True)
+        _finite(gamma, "--gamma", positive=True)
+    ratios = parse_range(lambda_over_l, "--lambda-over-l")
+    if np.any(ratios <= 0):
+        raise HullError(f"--lambda-over-l {lambda_over_l!r}: wave lengths must be positive")
+    params = _parse_params(blunt_bow) if blunt_bow is not None else None
+
+    h = load_hull(hull)
+    if draft is None:
+        if h.design_draft is None:
+            raise HullError("give --draft (this hull has no design draft)")
+        draft = h.design_draft
+    t = check_draft(h, draft)
+    s = h.sections
+    lpp = float(s.lpp)
+    alpha = np.radians(heading)
+    omega = np.asarray(omega_from_wavelength(ratios * lpp))
+    nm, r = _regular(method, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft)
+    half = 0.5 * RHO_SEA * G * float(nm.beam)
+    out = {
+        "hull": h.name, "method": method, "draft": t, "speed": u, "speed_kn": speed, "heading_deg": heading,
+        "lpp": lpp, "beam": float(nm.beam), "fn": float(nm.fn), "bf": float(nm.bf), "c_u": float(nm.c_u),
+        "k_aw": float(nm.k_aw_short), "r_awr_short": float(half * amplitude**2 * nm.k_aw_short),
+        "amplitude": amplitude, "lambda_over_l": ratios, "omega": omega,
+        "alpha_t": np.asarray(nm.alpha_t), "k_aw_per_wave": np.asarray(r.total) / half,
+        "r_awr": amplitude**2 * np.asarray(r.reflection), "r_awm": amplitude**2 * np.asarray(r.motion),
+        "r_aw": amplitude**2 * np.asarray(r.total),
+    }
+    if hs is not None:
+        mean = eqx.filter_jit(mean_added_resistance)(
+            method, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
+            smooth=smooth, aft=aft)
+        out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading, mean_raw=float(mean.total),
+                   mean_raw_motion=float(mean.motion), mean_raw_reflection=float(mean.reflection))
+    if params is not None:
+        prog = select_lower_k_aw(s, blunt_bow_modification, params, t, u, alpha)
+        out["program"] = {
+            "params": [None, *params.tolist()], "bf": np.asarray(prog.bf), "c_u": np.asarray(prog.c_u),
+            "k_aw": np.asarray(prog.k_aw), "best": prog.best,
+            "chosen": "original" if prog.best == 0 else f"blunt-bow p={params[prog.best - 1]:g}",
+        }
+    if plot is not None:
+        _plot(plot, out)
+    if json:
+        print_json(out)
+        return
+    _print(out)
+
+
+
+def _print(out: dict) -> None:
+    table(f"Added resistance in waves — {out['hull']} ({out['method']}, T {out['draft']:g} m, "
+          f"{out['speed_kn']:g} kn, heading {out['heading_deg']:g}°)",
+          ["quantity", "value"],
+          [["Fn", out["fn"]], ["B_wl [m]", out["beam"]], ["Bf", out["bf"]], ["C_U", out["c_u"]],
+           ["K_AW (short waves, NMRI)", out["k_aw"]], [f"R_AWR short waves, ζ={out['amplitude']:g} m [kN]", out["r_awr_short"] / 1e3]]
+          + ([[f"mean R_AW, Hs {out['hs']:g} m, Tp {out['tp']:g} s [kN]", out["mean_raw"] / 1e3],
+              ["  motion part [kN]", out["mean_raw_motion"] / 1e3], ["  reflection part [kN]", out["mean_raw_reflection"] / 1e3]]
+             if "mean_raw" in out else []))
+    table("Regular waves", ["λ/L", "ω [rad/s]", "α_T", "K_AW", "R_AWM [kN]", "R_AWR [kN]", "R_AW [kN]"],
+          [[f"{r:.3f}", w, a, k, m / 1e3, f / 1e3, tt / 1e3] for r, w, a, k, m, f, tt in zip(
+              out["lambda_over_l"], out["omega"], out["alpha_t"], out["k_aw_per_wave"], out["r_awm"], out["r_awr"],
+              out["r_aw"])])
+    if "program" in out:
+        p = out["program"]
+        table("Claim-6 program: modify the bow, keep the lower K_AW", ["candidate", "Bf", "C_U", "K_AW"],
+              [["original" if q is None else f"blunt-bow p={q:g}", b, c, k]
+               for q, b, c, k in zip(p["params"], p["bf"], p["c_u"], p["k_aw"])])
+        console.print(f"chosen: {p['chosen']}")
+
+
+def _plot(path: Path, out: dict) -> None:
+    if not path.parent.is_dir():
+        raise HullError(f"--plot {path}: the folder {str(path.parent)!r} does not exist")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    half = 0.5 * RHO_SEA * G * out["beam"] * out["amplitude"] ** 2
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    x = out["lambda_over_l"]
+    ax.plot(x, out["r_aw"] / half, "k-o", ms=3, label=f"{out['method']}: total")
+    if np.any(out["r_awm"] != 0):
+        ax.plot(x, out["r_awm"] / half, "--", label="motion part")
+        ax.plot(x, out["r_awr"] / half, ":", label="reflection part")
+    ax.axhline(out["k_aw"], color="grey", lw=0.8, label=f"NMRI short-wave K_AW = {out['k_aw']:.3f}")
+    ax.set_xlabel("λ / L")
+    ax.set_ylabel("K_AW = R_AW / (½ρgζ²B)")
+    ax.set_title(f"{out['hull']}: Fn {out['fn']:.3f}, Bf {out['bf']:.3f}, heading {out['heading_deg']:g}°")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    try:
+        fig.savefig(path)
+    except (ValueError, OSError) as e:
+        raise HullError(f"--plot {path}: {e}") from None
+    finally:
+        plt.close(fig)
