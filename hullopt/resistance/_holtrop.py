@@ -1,0 +1,144 @@
+"""Calm-water resistance by Holtrop & Mennen (1982), from the hull's own geometry.
+
+Holtrop, J. & Mennen, G.G.J. (1982), "An approximate power prediction method", International Shipbuilding
+Progress 29(335), 166–170. Its section-5 worked example (L 205 m, 25 kn) is reproduced in the tests.
+
+Conventions as the paper: L is the waterline length, ``lcb`` is in % of L forward of 0.5 L, ``ie`` the half
+angle of entrance in degrees. The piecewise definitions (c7, c12, c15, λ, c4, c6) join continuously, so the
+total is differentiable almost everywhere in the hull's parameters.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array
+
+from ..geometry import Sections, section_integrals
+from ..hydro import hydrostatics
+
+G = 9.80665
+NU_SEA = 1.18831e-6  # m²/s, sea water at 15 °C (ITTC), as the paper's example
+RHO_SEA = 1025.0
+
+
+class HoltropHull(eqx.Module):
+    """Inputs of the method: lengths [m], areas [m²], volume [m³], ``lcb`` [% L fwd of 0.5 L], ``ie`` [deg]."""
+
+    L: Array
+    B: Array
+    T: Array
+    T_F: Array
+    volume: Array
+    cm: Array
+    cwp: Array
+    lcb: Array
+    ie: Array
+    S: Array
+    A_BT: Array
+    h_B: Array
+    A_T: Array
+    c_stern: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    S_app: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    k2_app: Array = eqx.field(default_factory=lambda: jnp.asarray(1.5))
+
+
+class HoltropResult(eqx.Module):
+    """Resistance components [N] and the coefficients the paper prints, for checking."""
+
+    total: Array
+    friction: Array  # R_F, without the form factor
+    form_factor: Array  # 1 + k1
+    appendages: Array
+    wave: Array
+    bulb: Array
+    transom: Array
+    correlation: Array
+    cf: Array
+    ca: Array
+    fn: Array
+    c1: Array
+    c2: Array
+    c5: Array
+    m1: Array
+    m2: Array
+    lam: Array
+
+
+def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:
+    """Total calm-water resistance [N] at ``speed`` [m/s] (any shape: vectorised)."""
+    V = jnp.asarray(speed)
+    L, B, T, vol = h.L, h.B, h.T, h.volume
+    cb = vol / (L * B * T)
+    cp = cb / h.cm
+    fn = V / jnp.sqrt(G * L)
+    q = 0.5 * rho * V**2
+    # friction (ITTC 1957) and form factor
+    rn = jnp.maximum(V * L / nu, 1e3)
+    cf = 0.075 / (jnp.log10(rn) - 2.0) ** 2
+    lr = L * (1.0 - cp + 0.06 * cp * h.lcb / (4.0 * cp - 1.0))
+    tl = T / L
+    c12 = jnp.where(tl > 0.05, tl**0.2228446, jnp.where(tl > 0.02, 48.20 * jnp.maximum(tl - 0.02, 0.0) ** 2.078 + 0.479948, 0.479948))
+    c13 = 1.0 + 0.003 * h.c_stern
+    k1 = c13 * (0.93 + c12 * (B / lr) ** 0.92497 * (0.95 - cp) ** -0.521448 * (1.0 - cp + 0.0225 * h.lcb) ** 0.6906)
+    r_f = q * h.S * cf
+    r_app = q * h.S_app * h.k2_app * cf
+    # wave resistance
+    bl = B / L
+    c7 = jnp.where(bl < 0.11, 0.229577 * bl ** (1 / 3), jnp.where(bl < 0.25, bl, 0.5 - 0.0625 / bl))
+    c1 = 2223105.0 * c7**3.78613 * (T / B) ** 1.07961 * (90.0 - h.ie) ** -1.37565
+    sq_abt = jnp.sqrt(jnp.maximum(h.A_BT, 0.0) + 1e-30)
+    c3 = 0.56 * sq_abt**3 / (B * T * (0.31 * sq_abt + h.T_F - h.h_B))
+    c2 = jnp.exp(-1.89 * jnp.sqrt(c3 + 1e-30))
+    c5 = 1.0 - 0.8 * h.A_T / (B * T * h.cm)
+    c16 = jnp.where(cp < 0.8, 8.07981 * cp - 13.8673 * cp**2 + 6.984388 * cp**3, 1.73014 - 0.7067 * cp)
+    m1 = 0.0140407 * L / T - 1.75254 * vol ** (1 / 3) / L - 4.79323 * B / L - c16
+    l3v = L**3 / vol
+    c15 = jnp.where(l3v < 512.0, -1.69385, jnp.where(l3v < 1727.0, -1.69385 + (L / vol ** (1 / 3) - 8.0) / 2.36, 0.0))
+    fn_safe = jnp.maximum(fn, 1e-3)  # the wave terms vanish smoothly as Fn → 0
+    m2 = c15 * cp**2 * jnp.exp(-0.1 * fn_safe**-2)
+    lam = jnp.where(L / B < 12.0, 1.446 * cp - 0.03 * L / B, 1.446 * cp - 0.36)
+    r_w = c1 * c2 * c5 * vol * rho * G * jnp.exp(m1 * fn_safe**-0.9 + m2 * jnp.cos(lam * fn_safe**-2))
+    # bulb near the surface
+    pb = 0.56 * sq_abt / (h.T_F - 1.5 * h.h_B)
+    fni = V / jnp.sqrt(G * (h.T_F - h.h_B - 0.25 * sq_abt) + 0.15 * V**2)
+    r_b = 0.11 * jnp.exp(-3.0 * pb**-2) * fni**3 * sq_abt**3 * rho * G / (1.0 + fni**2)
+    # immersed transom
+    has_t = h.A_T > 0.0
+    fnt = V / jnp.sqrt(2.0 * G * jnp.where(has_t, h.A_T, 1.0) / (B + B * h.cwp))
+    c6 = jnp.where(has_t & (fnt < 5.0), 0.2 * (1.0 - 0.2 * fnt), 0.0)
+    r_tr = q * h.A_T * c6
+    # model-ship correlation
+    c4 = jnp.minimum(h.T_F / L, 0.04)
+    ca = 0.006 * (L + 100.0) ** -0.16 - 0.00205 + 0.003 * jnp.sqrt(L / 7.5) * cb**4 * c2 * (0.04 - c4)
+    r_a = q * h.S * ca
+    total = r_f * k1 + r_app + r_w + r_b + r_tr + r_a
+    return HoltropResult(total, r_f, k1, r_app, r_w, r_b, r_tr, r_a, cf, ca, fn, c1, c2, c5, m1, m2, lam)
+
+
+def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_stern: float = 0.0) -> HoltropHull:
+    """The method's inputs measured on our geometry at an even-keel ``draft`` [m].
+
+    L, B = waterline length and breadth; S = wetted surface of the grid (:func:`hullopt.geometry.wetted_surface`);
+    A_T = immersed area of the aft end station (the transom); A_BT, h_B = immersed area at the FP and its
+    centroid height; ``ie`` = the angle of the waterline's chord over the forward ``entrance_fraction`` of L
+    (Holtrop's half angle of entrance ignores the local rounding at the stem).
+    """
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
+    hy = hydrostatics(sections, t)
+    s = section_integrals(sections, t)
+    x, bw = sections.x, s.width
+    wet = bw > 0.0
+    n = x.shape[0]
+    fwd = x[jnp.minimum(n - 1 - jnp.argmax(wet[::-1]) + 1, n - 1)]  # the waterline's forward end
+    aft = fwd - hy.lwl
+    lcb = 100.0 * (hy.lcb - 0.5 * (aft + fwd)) / hy.lwl
+    dx = entrance_fraction * hy.lwl
+    ie = jnp.degrees(jnp.arctan(jnp.interp(fwd - dx, x, bw) / dx))
+    area_fp = 2.0 * jnp.interp(sections.lpp, x, s.area)
+    mom_fp = 2.0 * jnp.interp(sections.lpp, x, s.moment_z)
+    h_b = jnp.where(area_fp > 0.0, mom_fp / jnp.where(area_fp > 0.0, area_fp, 1.0), 0.0)
+    return HoltropHull(
+        L=hy.lwl, B=hy.bwl, T=t, T_F=t, volume=hy.volume, cm=hy.cm, cwp=hy.awp / (hy.lwl * hy.bwl), lcb=lcb,
+        ie=ie, S=hy.wetted_surface, A_BT=area_fp, h_B=h_b, A_T=2.0 * s.area[0], c_stern=jnp.asarray(c_stern),
+    )
