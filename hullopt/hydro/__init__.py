@@ -1,4 +1,4 @@
-"""Hydrostatics (upright) and, later, stability."""
+"""Hydrostatics (upright), large-angle stability (GZ, KN, heeled equilibrium) and the IS Code criteria."""
 
 from ._hydrostatics import RHO_SEA as RHO_SEA
 from ._hydrostatics import Hydrostatics as Hydrostatics
@@ -8,3 +8,23 @@ from ._hydrostatics import hydrostatics as hydrostatics
 from ._hydrostatics import sectional_areas as sectional_areas
 from ._hydrostatics import volume_at as volume_at
 from ._hydrostatics import waterline_half_breadths as waterline_half_breadths
+from ._stability import Equilibrium as Equilibrium
+from ._stability import HeeledIntegrals as HeeledIntegrals
+from ._stability import StabilityCurve as StabilityCurve
+from ._stability import cross_curves as cross_curves
+from ._stability import full_sections as full_sections
+from ._stability import gz_curve as gz_curve
+from ._stability import heeled_equilibrium as heeled_equilibrium
+from ._stability import heeled_integrals as heeled_integrals
+from ._stability import heeled_level as heeled_level
+from ._stability import icll_sheer as icll_sheer
+from ._stability import Upright as Upright
+from ._stability import upright as upright
+from ._stability import with_sheer as with_sheer
+from ._stability import Stability as Stability
+from ._stability import stability as stability
+from ._criteria import CRITERIA as CRITERIA
+from ._criteria import Criteria as Criteria
+from ._criteria import criteria_from_gz as criteria_from_gz
+from ._criteria import criteria_heels as criteria_heels
+from ._criteria import intact_criteria as intact_criteria

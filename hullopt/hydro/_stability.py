@@ -1,0 +1,257 @@
+"""Large-angle stability from :class:`~hullopt.geometry.Sections`: heeled hydrostatics, GZ and KN curves
+(DESIGN.md §4, seed 003 §3.4).
+
+Frames and signs. The body frame is the hull's (x forward from the AP, y to port, z up from the baseline).
+A heel ``φ > 0`` puts the **starboard side down** (as NavalToolbox). The *heeled frame* ``(x, y', z')`` is the
+body frame turned by ``φ`` about x::
+
+    y' = y cos φ − z sin φ,    z' = y sin φ + z cos φ,
+
+so z' is vertical, y' horizontal, and the immersed side has y' < 0. The waterplane is
+``z' = level + s (x − Lpp/2)``: ``level`` is its height at midship and ``s = tan θ`` the trim, positive
+bow down. Sections stay at fixed x (body frame), so at every station the water is a horizontal line in the
+rotated section, and the kernel's exact clipped integrals (:func:`~hullopt.geometry.polygon_integrals`) give
+the immersed area and its moments; Simpson's rule integrates them along x. The trim rotates about y', which
+stays horizontal, so transverse levers need no correction for trim.
+
+Righting lever: ``GZ = y'_G − y'_B`` (positive when righting), with G at ``(x_G, 0, KG)`` in the body frame;
+``KN = −y'_B`` (the lever about the keel point K, i.e. GZ for KG = 0). With no trim, GZ = KN − KG sin φ.
+
+Deck and sheer: a section's last polyline point is its deck edge; the closed section runs across a flat deck
+(no camber) to the starboard deck edge. :func:`with_sheer` raises each deck edge by a given deck line, e.g.
+the ICLL standard sheer of :func:`icll_sheer`.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+from jaxtyping import Array, Float
+
+from ..geometry import Sections, polygon_integrals, simpson_weights
+from ._criteria import Criteria, criteria_from_gz, criteria_heels
+
+
+def icll_sheer(sections: Sections) -> Float[Array, " n"]:
+    """The ICLL standard sheer at each station [m] (seed 003 eqs. 12–13, L = Lpp in m, heights in cm):
+    ``y_f = (1.666 L + 50.8)(2ξ/L)²`` forward of midship and ``y_a = (0.833 L + 25.4)(2ξ/L)²`` aft, ξ the
+    distance from midship; so 1.666 L + 50.8 cm at the FP and half that at the AP."""
+    lpp = sections.lpp
+    xi = 2.0 * (sections.x - 0.5 * lpp) / lpp
+    forward = (1.666 * lpp + 50.8) * xi**2
+    aft = (0.833 * lpp + 25.4) * xi**2
+    return 0.01 * jnp.where(xi > 0.0, forward, aft)
+
+
+def with_sheer(sections: Sections, sheer) -> Sections:
+    """Sections with each deck edge raised by ``sheer`` ((n,) or scalar, m ≥ 0): one point is appended
+    straight above the deck edge, so ``m`` grows by one. Pass a given deck line as ``z_deck(x) − z_edge``."""
+    edge = sections.yz[:, -1, :]
+    rise = jnp.broadcast_to(jnp.asarray(sheer, dtype=sections.yz.dtype), edge.shape[:1])
+    top = edge + jnp.stack([jnp.zeros_like(rise), rise], axis=-1)
+    return Sections(x=sections.x, yz=jnp.concatenate([sections.yz, top[:, None, :]], axis=1), lpp=sections.lpp)
+
+
+def full_sections(yz: Float[Array, "n m 2"]) -> Float[Array, "n 2m 2"]:
+    """Closed full sections, counter-clockwise in (y, z): the port polyline keel → deck edge, then the
+    mirrored starboard one deck edge → keel (the closing edge is the flat deck). Centreline joints of the
+    two sides are traversed in opposite directions and cancel."""
+    starboard = yz[:, ::-1, :] * jnp.array([-1.0, 1.0], dtype=yz.dtype)
+    return jnp.concatenate([yz, starboard], axis=1)
+
+
+def _rotate(poly: Array, heel: Array) -> Array:
+    c, s = jnp.cos(heel), jnp.sin(heel)
+    y, z = poly[..., 0], poly[..., 1]
+    return jnp.stack([y * c - z * s, y * s + z * c], axis=-1)
+
+
+class HeeledIntegrals(eqx.Module):
+    """Immersed volume [m³] and centre of buoyancy ``(xb, yb, zb)`` [m] in the heeled frame, and the
+    waterplane's area ``awp`` [m²] and second moment about its own centreline ``it`` [m⁴] (exact for a
+    waterplane that is one strip per station)."""
+
+    volume: Array
+    xb: Array
+    yb: Array
+    zb: Array
+    awp: Array
+    it: Array
+
+
+def heeled_integrals(sections: Sections, heel, level, trim=0.0) -> HeeledIntegrals:
+    """Volume and centre of buoyancy below the waterplane ``z' = level + trim·(x − Lpp/2)`` at ``heel``
+    [rad] (see the module docstring). Exact per section, Simpson along x; differentiable in everything."""
+    dtype = sections.yz.dtype
+    heel, level, trim = (jnp.asarray(v, dtype=dtype) for v in (heel, level, trim))
+    poly = _rotate(full_sections(sections.yz), heel)
+    levels = level + trim * (sections.x - 0.5 * sections.lpp)
+    s = polygon_integrals(poly, levels)
+    w = simpson_weights(sections.x)
+    volume = w @ s.area
+    safe = jnp.where(volume > 0.0, volume, 1.0)
+    return HeeledIntegrals(
+        volume=volume,
+        xb=(w @ (sections.x * s.area)) / safe,
+        yb=(w @ s.moment_y) / safe,
+        zb=(w @ s.moment_z) / safe,
+        awp=w @ s.width,
+        it=w @ s.width**3 / 12.0,
+    )
+
+
+def _level_bounds(sections: Sections, heel) -> tuple[Array, Array]:
+    z = _rotate(full_sections(sections.yz), heel)[..., 1]
+    return jnp.min(z), jnp.max(z)
+
+
+def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array:
+    """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad]
+    displaces ``volume`` [m³]. Bisection between the lowest and highest point of the hull (robust when the
+    deck or the bilge leaves the water), differentiable by the implicit function theorem."""
+    dtype = sections.yz.dtype
+    heel = jnp.asarray(heel, dtype=dtype)
+    lo, hi = _level_bounds(sections, heel)
+
+    def residual(h, args):
+        sec, phi, target = args
+        return heeled_integrals(sec, phi, h).volume / target - 1.0
+
+    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo), flip=False)
+    sol = optx.root_find(
+        residual, solver, 0.5 * (lo + hi), args=(sections, heel, jnp.asarray(volume, dtype=dtype)),
+        options={"lower": lo, "upper": hi}, max_steps=256, throw=False,
+    )
+    return sol.value
+
+
+class Equilibrium(eqx.Module):
+    """Floating position at one heel: ``level`` [m], ``trim`` (tan θ, bow down positive), the buoyancy
+    integrals there, and whether the solve converged."""
+
+    level: Array
+    trim: Array
+    integrals: HeeledIntegrals
+    converged: Array
+
+
+def heeled_equilibrium(sections: Sections, heel, volume, lcg, kg, free_trim: bool = True) -> Equilibrium:
+    """Sink (and, with ``free_trim``, trim) the hull heeled by ``heel`` [rad] until it displaces ``volume``
+    [m³] and, with free trim, B lies on the vertical through G = (lcg, 0, kg) in the longitudinal plane:
+    ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim), then Newton on
+    (level, trim) from there; both differentiable by the implicit function theorem."""
+    dtype = sections.yz.dtype
+    heel, volume, lcg, kg = (jnp.asarray(v, dtype=dtype) for v in (heel, volume, lcg, kg))
+    level0 = heeled_level(sections, heel, volume)
+    if not free_trim:
+        hi = heeled_integrals(sections, heel, level0)
+        return Equilibrium(level0, jnp.zeros_like(level0), hi, jnp.abs(hi.volume / volume - 1.0) < 1e-8)
+    lpp = sections.lpp
+
+    def residual(y, args):
+        sec, phi, target, xg, zg = args
+        b = heeled_integrals(sec, phi, y[0], y[1])
+        zg_heeled = zg * jnp.cos(phi)
+        return jnp.stack([b.volume / target - 1.0, (b.xb - xg + y[1] * (b.zb - zg_heeled)) / sec.lpp])
+
+    y0 = jnp.stack([level0, jnp.zeros_like(level0)])
+    solver = optx.Newton(rtol=1e-11, atol=1e-11 * lpp)
+    sol = optx.root_find(residual, solver, y0, args=(sections, heel, volume, lcg, kg), max_steps=64, throw=False)
+    level, trim = sol.value[0], sol.value[1]
+    hi = heeled_integrals(sections, heel, level, trim)
+    ok = (sol.result == optx.RESULTS.successful) & (jnp.abs(hi.volume / volume - 1.0) < 1e-8)
+    return Equilibrium(level, trim, hi, ok)
+
+
+class Upright(eqx.Module):
+    """Upright, even-keel floating position at a volume: ``level`` (the draft) [m], ``lcb`` [m from the
+    AP], ``kb`` and ``bmt`` [m]."""
+
+    level: Array
+    lcb: Array
+    kb: Array
+    bmt: Array
+
+
+def upright(sections: Sections, volume) -> Upright:
+    """Draft, LCB, KB and BM_T upright on even keel at ``volume`` [m³], from the full (heel 0) sections, so
+    a raised deck line is included. ``lcb`` is the LCG that floats the hull level;
+    GM₀ = KB + BM_T − KG − FSC."""
+    level = heeled_level(sections, 0.0, volume)
+    b = heeled_integrals(sections, 0.0, level)
+    return Upright(level, b.xb, b.zb, b.it / b.volume)
+
+
+class StabilityCurve(eqx.Module):
+    """A GZ curve. ``heel (k,)`` [rad]; ``gz (k,)`` [m] righting lever with the free-surface correction
+    (``gz = y'_G − y'_B − fsc·sin φ``); ``kn (k,)`` [m] = GZ without correction + KG sin φ; ``level (k,)``
+    [m] waterplane height at midship (heeled frame); ``trim (k,)`` tan θ, bow down positive; ``converged
+    (k,)``. Scalars: ``volume`` [m³], ``kg``, ``lcg``, ``fsc`` [m], ``gm0`` [m] (corrected)."""
+
+    heel: Array
+    gz: Array
+    kn: Array
+    level: Array
+    trim: Array
+    converged: Array
+    volume: Array
+    kg: Array
+    lcg: Array
+    fsc: Array
+    gm0: Array
+
+
+def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim: bool = True) -> StabilityCurve:
+    """Righting levers at ``heels (k,)`` [rad] for the loading ``volume`` [m³], ``kg`` [m above the
+    baseline], ``lcg`` [m from the AP] (default: the upright LCB, so the hull floats on even keel upright)
+    and free-surface correction ``fsc`` [m]. One ``vmap`` over heels; differentiable in the geometry and
+    the loading."""
+    dtype = sections.yz.dtype
+    volume, kg, fsc = (jnp.asarray(v, dtype=dtype) for v in (volume, kg, fsc))
+    up = upright(sections, volume)
+    lcg = up.lcb if lcg is None else jnp.asarray(lcg, dtype=dtype)
+    heels = jnp.asarray(heels, dtype=dtype)
+    eq = jax.vmap(heeled_equilibrium, in_axes=(None, 0, None, None, None, None))(
+        sections, heels, volume, lcg, kg, free_trim
+    )
+    s = jnp.sin(heels)
+    gz_dry = -kg * s - eq.integrals.yb
+    return StabilityCurve(
+        heel=heels, gz=gz_dry - fsc * s, kn=gz_dry + kg * s, level=eq.level, trim=eq.trim,
+        converged=eq.converged, volume=volume, kg=kg, lcg=lcg, fsc=fsc, gm0=up.kb + up.bmt - kg - fsc,
+    )
+
+
+def cross_curves(sections: Sections, volumes, heels, free_trim: bool = True) -> Float[Array, "v k"]:
+    """KN [m] at every volume ``(v,)`` [m³] and heel ``(k,)`` [rad]: the cross curves of stability, each
+    with KG = 0 and LCG at the upright LCB of its volume (free trim) or even keel (fixed trim)."""
+    dtype = sections.yz.dtype
+
+    def one(v):
+        return gz_curve(sections, v, jnp.zeros((), dtype), heels, free_trim=free_trim).kn
+
+    return jax.vmap(one)(jnp.asarray(volumes, dtype=dtype))
+
+
+class Stability(eqx.Module):
+    """A GZ curve at the requested heels and the IS Code criteria of the same loading."""
+
+    curve: StabilityCurve
+    criteria: Criteria
+
+
+def stability(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim: bool = True,
+              flooding_angle=None, n_grid: int = 91, tau: float = 0.01) -> Stability:
+    """:func:`gz_curve` at ``heels`` [rad] and :func:`~hullopt.hydro.criteria_from_gz` (IS Code 2008
+    §2.2), from one ``vmap`` over the requested heels and the criteria's heels. ``flooding_angle`` θf
+    [rad] or None; ``n_grid`` heels on [0, 90°] for the maximum; ``tau`` [m] the soft-max temperature."""
+    heels = jnp.asarray(heels, dtype=sections.yz.dtype)
+    k = heels.shape[0]
+    extra = criteria_heels(flooding_angle, n_grid).astype(heels.dtype)
+    c = gz_curve(sections, volume, kg, jnp.concatenate([heels, extra]), lcg, fsc, free_trim)
+    crit = criteria_from_gz(c.gz[k:], c.gm0, flooding_angle, n_grid, tau=tau)
+    curve = eqx.tree_at(lambda t: (t.heel, t.gz, t.kn, t.level, t.trim, t.converged), c,
+                        tuple(getattr(c, f)[:k] for f in ("heel", "gz", "kn", "level", "trim", "converged")))
+    return Stability(curve, crit)
