@@ -1,0 +1,89 @@
+"""Offset tables cut from sections, written in the two layouts :func:`hullopt.models.read_offsets` reads:
+the wide layout (``x`` [m] × waterline heights [m]) and the seed-003 stations layout (AP, ¼, ½, … 9¾, FP ×
+waterline numbers)."""
+
+from __future__ import annotations
+
+import os
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from ..geometry import Sections, atomic_write_bytes
+
+# The standard station list of seed 003 (station numbers, Lpp/10 apart).
+SEED003_STATIONS = tuple(Fraction(s) for s in (
+    "0", "1/4", "1/2", "3/4", "1", "3/2", "2", "5/2", "3", "4", "5", "6", "7", "15/2", "8", "17/2", "9",
+    "37/4", "19/2", "39/4", "10"))
+
+
+def station_label(s: Fraction) -> str:
+    """``0`` → ``AP``, ``10`` → ``FP``, ``3/2`` → ``1 1/2``, ``1/4`` → ``1/4``."""
+    if s == 0:
+        return "AP"
+    if s == 10:
+        return "FP"
+    whole, rest = divmod(s, 1)
+    if rest == 0:
+        return str(int(whole))
+    return f"{int(whole)} {rest}" if whole else str(rest)
+
+
+def half_breadths(sections: Sections, x, z) -> np.ndarray:
+    """Half-breadths ``(len(x), len(z))`` [m]: at each station position (sections interpolated linearly
+    along x, point by point) the outermost crossing of the section with each waterline, 0 where the section
+    does not reach it."""
+    xs = np.asarray(sections.x, float)
+    yz = np.asarray(sections.yz, float)
+    x, z = np.asarray(x, float), np.asarray(z, float)
+    i = np.clip(np.searchsorted(xs, x) - 1, 0, len(xs) - 2)
+    t = np.clip((x - xs[i]) / (xs[i + 1] - xs[i]), 0.0, 1.0)[:, None, None]
+    sec = (1 - t) * yz[i] + t * yz[i + 1]
+    p0, p1 = sec[:, None, :-1], sec[:, None, 1:]
+    a, b = p0[..., 1], p1[..., 1]
+    lev = z[None, :, None]
+    hit = ((a - lev) * (b - lev) < 0) | (a == lev) | (b == lev)
+    s = np.where(hit, (lev - a) / np.where(b != a, b - a, 1.0), 0.0)
+    y = p0[..., 0] + s * (p1[..., 0] - p0[..., 0])
+    return np.maximum(np.max(np.where(hit, y, 0.0), axis=-1), 0.0)
+
+
+def _write(path, header: list[str], rows: list[list[str]], meta: dict[str, str], comment: str) -> Path:
+    lines = [f"# {comment}"] + [f"# {k} = {v}" for k, v in meta.items()] + [",".join(header)]
+    lines += [",".join(r) for r in rows]
+    atomic_write_bytes(path, ("\n".join(lines) + "\n").encode())
+    return Path(path)
+
+
+def write_offsets_wide(sections: Sections, path: str | os.PathLike, x=None, z=None, name: str = "") -> Path:
+    """Wide layout: header ``x,<z1>,…``, one row per station (default: the sections' own stations) with
+    half-breadths [m] at waterlines ``z`` (default: 11 from the keel to the lowest deck edge)."""
+    x = np.asarray(sections.x, float) if x is None else np.asarray(x, float)
+    z = _default_waterlines(sections) if z is None else np.asarray(z, float)
+    y = half_breadths(sections, x, z)
+    rows = [[f"{xi:.6g}", *(f"{v:.6g}" for v in yi)] for xi, yi in zip(x, y)]
+    return _write(path, ["x", *(f"{v:.6g}" for v in z)], rows, {"lpp": f"{float(sections.lpp):.6g}"},
+                  f"offsets of {name or 'a hull'} (half-breadths, m)")
+
+
+def write_offsets_stations(sections: Sections, path: str | os.PathLike, n_waterlines: int = 11,
+                           name: str = "") -> Path:
+    """Seed-003 layout: rows AP, 1/4, … 9 3/4, FP; columns waterline numbers 0…n−1, equally spaced from
+    the baseline to the lowest deck edge (``waterline_spacing`` metadata)."""
+    lpp = float(sections.lpp)
+    dz = float(_default_waterlines(sections, n_waterlines)[1])
+    z = dz * np.arange(n_waterlines)
+    x = np.array([float(s) * lpp / 10.0 for s in SEED003_STATIONS])
+    y = half_breadths(sections, x, z)
+    rows = [[station_label(s), *(f"{v:.6g}" for v in yi)] for s, yi in zip(SEED003_STATIONS, y)]
+    meta = {"lpp": f"{lpp:.6g}", "waterline_spacing": f"{dz:.6g}"}
+    return _write(path, ["station", *map(str, range(n_waterlines))], rows, meta,
+                  f"offsets of {name or 'a hull'} (half-breadths, m; seed-003 station layout)")
+
+
+def _default_waterlines(sections: Sections, n: int = 11) -> np.ndarray:
+    yz = np.asarray(sections.yz, float)
+    wide = yz[:, -1, 0] > 0.05 * yz[..., 0].max()
+    top = float(np.min(yz[wide, -1, 1])) if wide.any() else float(yz[..., 1].max())
+    return np.linspace(0.0, top, n)
