@@ -133,8 +133,10 @@ def test_spectral_mean_against_adaptive_quadrature(hull, spectrum):
     hs, tp, u = 4.0, 8.0, 7.0
     mean = float(jax.jit(lambda: mean_added_resistance("nmri", hull, 6.0, u, hs, tp, 0.0, spectrum=spectrum))().total)
 
+    raw = jax.jit(lambda w: nmri_added_resistance(hull, 6.0, u, w).r_awr)
+
     def resp(w):
-        return float(nmri_added_resistance(hull, 6.0, u, w).r_awr)
+        return float(raw(w))
 
     spec = (lambda w: float(bretschneider(w, hs, tp))) if spectrum == "pm" else (lambda w: float(jonswap(w, hs, tp)))
     np.testing.assert_allclose(mean, _quad_mean(resp, spec, hs), rtol=1e-6)
@@ -146,10 +148,11 @@ def test_short_crested_and_cutoff(hull):
     def resp(om, hd):
         return nmri_added_resistance(hull, 6.0, u, om, hd).r_awr
 
-    long_ = spectral_mean(resp, hs, tp, 0.0)
+    long_at = jax.jit(lambda t: spectral_mean(resp, hs, tp, t))
+    long_ = long_at(0.0)
     short = spectral_mean(resp, hs, tp, 0.0, spreading_s=1.0, n_dir=32)
     # short-crested: the direction integral by adaptive quadrature of the long-crested means
-    ref = quad(lambda t: float(spectral_mean(resp, hs, tp, t)) * float(spreading(t, 1.0)), -np.pi / 2, np.pi / 2,
+    ref = quad(lambda t: float(long_at(t)) * 2 / np.pi * np.cos(t) ** 2, -np.pi / 2, np.pi / 2,
                epsrel=1e-6, limit=100)[0]
     np.testing.assert_allclose(short, ref, rtol=5e-3)
     # a slender bow reflects more in oblique waves (Bf grows with |α|), so spreading raises the mean here
@@ -215,7 +218,7 @@ def test_gradients_of_k_aw_and_sea_state_mean(hull):
     fk = jax.jit(lambda v: nmri_added_resistance(blunt_bow(hull, v[2]), v[0], v[1], om, 0.1).k_aw.sum())
     check_grad(fk, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
     fm = jax.jit(lambda v: mean_added_resistance("nmri", blunt_bow(hull, v[2]), v[0], v[1], 3.0, 8.0, 0.2,
-                                                 spreading_s=1.0, n_dir=8).total)
+                                                 spreading_s=1.0, n_dir=4).total)
     check_grad(fm, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
 
 
