@@ -75,7 +75,7 @@ def plot_gz(curve, path: str | os.PathLike, criteria=None, name: str = "") -> Pa
     ax.set_ylabel("GZ [m]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    title = f"GZ curve — Δ {float(curve.volume) * 1.025:,.0f} t (ρ 1.025), KG {float(curve.kg):.3g} m"
+    title = f"GZ curve — ∇ {float(curve.volume):,.0f} m³, KG {float(curve.kg):.3g} m"
     ax.set_title(f"{title} — {name}" if name else title, loc="left", fontsize=10)
     return _save(plt, fig, path)
 

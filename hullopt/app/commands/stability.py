@@ -1,0 +1,228 @@
+"""``hullopt stability`` (GZ curve, cross curves, IS Code criteria), ``hullopt lines`` (lines plan, curves,
+offset tables) and ``hullopt print`` (a scaled model in watertight pieces for 3D printing)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import typer
+
+from ...errors import HullError
+from ...geometry import export_mesh, split_for_print, to_trimesh
+from ...hydro import RHO_SEA, cross_curves, heeled_integrals, hydrostatic_table, icll_sheer, stability, with_sheer
+from .._app import app
+from ..hulls import LoadedHull, load_hull
+from ..output import console, parse_range, print_json, table
+from .hydro import HULL_HELP, check_draft, parse_displacement
+
+SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
+PLOT_FORMATS = (".png", ".svg", ".pdf")
+
+
+def _sectioned(hull: LoadedHull, sheer: str):
+    s = sheer.strip().lower()
+    if s == "none":
+        return hull.sections
+    if s == "icll":
+        return with_sheer(hull.sections, icll_sheer(hull.sections))
+    raise HullError(f"--sheer {sheer!r}: expected 'none' or 'icll'")
+
+
+def _check_out(path: Path, formats: tuple[str, ...], what: str) -> Path:
+    if path.suffix.lower() not in formats:
+        raise HullError(f"{what} {path}: unknown format {path.suffix!r}; expected one of {', '.join(formats)}")
+    if not path.parent.is_dir():
+        raise HullError(f"{what} {path}: the folder {str(path.parent)!r} does not exist")
+    return path
+
+
+def _volume(sections, displacement: str, rho: float, what: str = "--displacement") -> float:
+    volume = parse_displacement(displacement) / rho
+    full = float(heeled_integrals(sections, 0.0, float(sections.depth) + 1.0).volume)
+    if volume >= full:
+        raise HullError(f"{what} {displacement}: more than the hull displaces at its deck ({rho * full / 1e3:,.0f} t)")
+    return volume
+
+
+@app.command("stability")
+def stability_cmd(
+    hull: Annotated[str, typer.Argument(help=HULL_HELP)],
+    displacement: Annotated[str, typer.Option(help="Displacement [t] (or '…kg').")],
+    kg: Annotated[float, typer.Option("--kg", help="Height of the centre of gravity above the baseline [m].")],
+    lcg: Annotated[float | None, typer.Option(help="LCG [m from AP]; default: the upright LCB (level trim).")] = None,
+    fsc: Annotated[float, typer.Option(help="Free-surface correction GG' [m].")] = 0.0,
+    heels: Annotated[str, typer.Option(help="Heels START:STOP:COUNT [deg], within 0…90.")] = "0:90:19",
+    sheer: Annotated[str, typer.Option(help=SHEER_HELP)] = "none",
+    fixed_trim: Annotated[bool, typer.Option("--fixed-trim", help="Even keel at every heel (no free trim).")] = False,
+    flooding_angle: Annotated[float | None, typer.Option(help="Downflooding angle θf [deg] for the areas.")] = None,
+    cross: Annotated[str | None, typer.Option(help="Cross curves KN over displacements START:STOP:COUNT [t].")] = None,
+    rho: Annotated[float, typer.Option(help="Water density [kg/m³].")] = RHO_SEA,
+    json: Annotated[bool, typer.Option("--json", help="Print JSON (heels in degrees, lengths in m).")] = False,
+    plot: Annotated[Path | None, typer.Option(help="Save the GZ curve (.png, .svg, .pdf).")] = None,
+    kn_plot: Annotated[Path | None, typer.Option(help="Save the cross curves (needs --cross).")] = None,
+) -> None:
+    """GZ curve, GM₀, angle of vanishing stability and the IMO IS Code 2008 §2.2 criteria for a loading."""
+    if not (np.isfinite(rho) and rho > 0):
+        raise HullError(f"--rho {rho}: must be a positive density in kg/m³")
+    for name, v in (("--kg", kg), ("--fsc", fsc), ("--lcg", 0.0 if lcg is None else lcg)):
+        if not np.isfinite(v):
+            raise HullError(f"{name} {v}: must be a finite number of metres")
+    if fsc < 0:
+        raise HullError(f"--fsc {fsc}: a free-surface correction is ≥ 0 m")
+    if flooding_angle is not None and not (0 < flooding_angle <= 90):
+        raise HullError(f"--flooding-angle {flooding_angle}: expected an angle in (0, 90] degrees")
+    deg = parse_range(heels, "--heels")
+    if deg.min() < 0 or deg.max() > 90:
+        raise HullError(f"--heels {heels}: heels must lie within 0…90 degrees")
+    if plot is not None:
+        _check_out(plot, PLOT_FORMATS, "--plot")
+    if kn_plot is not None:
+        _check_out(kn_plot, PLOT_FORMATS, "--kn-plot")
+        if cross is None:
+            raise HullError("--kn-plot needs --cross START:STOP:COUNT (displacements in t)")
+    h = load_hull(hull)
+    sections = _sectioned(h, sheer)
+    volume = _volume(sections, displacement, rho)
+    if lcg is not None and not (float(sections.x[0]) <= lcg <= float(sections.x[-1])):
+        raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(sections.x[0]):g} … {float(sections.x[-1]):g} m)")
+    theta_f = None if flooding_angle is None else jnp.deg2rad(jnp.asarray(flooding_angle))
+    arr = jnp.asarray  # arrays, not Python floats: filter_jit would compile once per value
+    res = eqx.filter_jit(stability)(sections, arr(volume), arr(kg), jnp.deg2rad(arr(deg)),
+                                    None if lcg is None else arr(lcg), arr(fsc), not fixed_trim, theta_f)
+    c, crit = res.curve, res.criteria
+    out = {
+        "hull": h.name, "displacement": rho * volume, "volume": volume, "kg": kg, "lcg": float(c.lcg), "fsc": fsc,
+        "sheer": sheer, "free_trim": not fixed_trim, "heel_deg": deg, "gz": c.gz, "kn": c.kn,
+        "trim_deg": np.rad2deg(np.arctan(np.asarray(c.trim))), "level": c.level, "converged": c.converged,
+        "gm0": float(c.gm0), "gz_max": float(crit.gz_max), "angle_gz_max_deg": np.rad2deg(float(crit.angle_gz_max)),
+        "vanishing_angle_deg": np.rad2deg(float(crit.vanishing_angle)), "criteria": crit.to_list(),
+    }
+    if cross is not None:
+        disp_t = parse_range(cross, "--cross")
+        vols = np.array([_volume(sections, f"{float(d)}", rho, "--cross value") for d in disp_t])
+        kn = eqx.filter_jit(cross_curves)(sections, jnp.asarray(vols), jnp.deg2rad(jnp.asarray(deg)), not fixed_trim)
+        out["cross_curves"] = {"displacement": disp_t * 1e3, "heel_deg": deg, "kn": kn}
+        if kn_plot is not None:
+            from ...drawing import plot_cross_curves
+
+            plot_cross_curves(disp_t, np.deg2rad(deg), kn, kn_plot, h.name)
+    if plot is not None:
+        from ...drawing import plot_gz
+
+        plot_gz(c, plot, crit, h.name)
+    if not bool(np.all(np.asarray(c.converged))):
+        bad = deg[~np.asarray(c.converged)]
+        console.print(f"[yellow]warning: no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°[/]")
+    if json:
+        print_json(out)
+        return
+    rows = [[f"{a:g}", float(g), float(k), float(t)] for a, g, k, t in zip(deg, c.gz, c.kn, out["trim_deg"])]
+    table(f"GZ curve — {h.name}: Δ {rho * volume / 1e3:,.0f} t, KG {kg:g} m, LCG {float(c.lcg):.3f} m, "
+          f"GM₀ {float(c.gm0):.3f} m", ["heel [°]", "GZ [m]", "KN [m]", "trim [°, bow down]"], rows)
+    crows = [[r["criterion"], f"{r['value']:.4g} {r['unit']}", f"≥ {r['required']:g}", f"{r['margin_exact']:+.4g}",
+              "[green]pass[/]" if r["pass"] else "[red]FAIL[/]"] for r in out["criteria"]]
+    table("IMO IS Code 2008 Part A §2.2", ["criterion", "value", "required", "margin", ""], crows)
+    van = out["vanishing_angle_deg"]
+    console.print(f"GZmax {out['gz_max']:.3f} m at {out['angle_gz_max_deg']:.1f}°; angle of vanishing stability "
+                  + (f"{van:.1f}°" if np.isfinite(van) else "beyond 90°"))
+
+
+@app.command()
+def lines(
+    hull: Annotated[str, typer.Argument(help=HULL_HELP)],
+    out: Annotated[list[Path], typer.Option(help="Lines plan: .png, .svg, .pdf or .dxf (repeat for several).")],
+    waterlines: Annotated[int, typer.Option(help="Number of waterlines.")] = 8,
+    buttocks: Annotated[int, typer.Option(help="Number of buttocks.")] = 4,
+    curves: Annotated[Path | None, typer.Option(help="Also save the hydrostatic curves (.png, .svg, .pdf).")] = None,
+    offsets: Annotated[Path | None, typer.Option(help="Also write the offset table (.csv).")] = None,
+    layout: Annotated[str, typer.Option(help="Offset table layout: 'wide' (x × z) or 'stations' (seed 003).")] = "stations",
+) -> None:
+    """Lines plan (body, half-breadth and sheer plans) and, optionally, hydrostatic curves and offsets."""
+    from ...drawing import (LINES_FORMATS, lines_plan, plot_hydrostatic_curves, save_lines, write_offsets_stations,
+                            write_offsets_wide)
+
+    for p in out:
+        _check_out(p, tuple(f".{f}" for f in LINES_FORMATS), "--out")
+    if curves is not None:
+        _check_out(curves, PLOT_FORMATS, "--curves")
+    if offsets is not None:
+        _check_out(offsets, (".csv",), "--offsets")
+    if layout not in ("wide", "stations"):
+        raise HullError(f"--layout {layout!r}: expected 'wide' or 'stations'")
+    for name, v in (("--waterlines", waterlines), ("--buttocks", buttocks)):
+        if not 1 <= v <= 100:
+            raise HullError(f"{name} {v}: expected 1…100")
+    h = load_hull(hull)
+    plan = lines_plan(h.sections, h.name, n_waterlines=waterlines, n_buttocks=buttocks)
+    for p in out:
+        save_lines(plan, p)
+        console.print(f"wrote {p}")
+    if curves is not None:
+        lo = max(0.0, float(h.sections.keel))
+        drafts = np.linspace(lo, float(h.sections.depth), 21)[1:]
+        for t in drafts:
+            check_draft(h, float(t), "draft")
+        plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name)
+        console.print(f"wrote {curves}")
+    if offsets is not None:
+        (write_offsets_wide if layout == "wide" else write_offsets_stations)(h.sections, offsets, name=h.name)
+        console.print(f"wrote {offsets} ({layout} layout)")
+
+
+def parse_scale(text: str) -> float:
+    """``'1:200'`` (or ``'200'``, ``'0.005'``) → the model scale factor (0.005)."""
+    t = text.strip()
+    try:
+        if ":" in t:
+            a, b = (float(v) for v in t.split(":"))
+            s = a / b
+        else:
+            v = float(t)
+            s = 1.0 / v if v > 1 else v
+    except (ValueError, ZeroDivisionError):
+        raise HullError(f"--scale {text!r}: expected a ratio such as 1:200") from None
+    if not (np.isfinite(s) and s > 0):
+        raise HullError(f"--scale {text!r}: expected a positive ratio such as 1:200")
+    return s
+
+
+@app.command("print")
+def print_cmd(
+    hull: Annotated[str, typer.Argument(help=HULL_HELP)],
+    out: Annotated[Path, typer.Option(help="Output folder (created if missing).")],
+    scale: Annotated[str, typer.Option(help="Model scale, e.g. 1:200.")] = "1:100",
+    pieces: Annotated[int, typer.Option(help="Number of pieces along the length.")] = 3,
+    formats: Annotated[str, typer.Option("--format", help="Comma-separated: stl, x3d, obj, ply, glb.")] = "stl,x3d",
+    sheer: Annotated[str, typer.Option(help=SHEER_HELP)] = "none",
+) -> None:
+    """A scaled model for 3D printing, in millimetres, split into watertight pieces along the length."""
+    s = parse_scale(scale)
+    if not 1 <= pieces <= 100:
+        raise HullError(f"--pieces {pieces}: expected 1…100")
+    fmts = [f.strip().lower().lstrip(".") for f in formats.split(",") if f.strip()]
+    bad = [f for f in fmts if f not in ("stl", "x3d", "obj", "ply", "glb")]
+    if bad or not fmts:
+        raise HullError(f"--format {formats!r}: expected some of stl, x3d, obj, ply, glb")
+    if out.exists() and not out.is_dir():
+        raise HullError(f"--out {out}: exists and is not a folder")
+    h = load_hull(hull)
+    mesh = to_trimesh(_sectioned(h, sheer))
+    try:
+        parts = split_for_print(mesh, pieces, 1000.0 * s)
+    except ValueError as e:
+        raise HullError(f"hull {hull!r}: {e}") from None
+    out.mkdir(parents=True, exist_ok=True)
+    stem = Path(h.name.split(" ")[0]).name.split(".")[0] or "hull"
+    rows = []
+    for i, p in enumerate(parts, start=1):
+        for f in fmts:
+            export_mesh(p, out / f"{stem}_{i}of{pieces}.{f}")
+        ext = p.bounds[:, 0]
+        rows.append([f"{i}", float(ext[0]), float(ext[1]), float(p.volume / 1e3), str(p.is_watertight)])
+    whole = mesh.volume * (1000.0 * s) ** 3 / 1e3
+    table(f"{h.name} at 1:{1 / s:g} in {out} (mm)", ["piece", "x from [mm]", "x to [mm]", "volume [cm³]", "watertight"],
+          rows + [["whole", float(mesh.bounds[0, 0] * 1000 * s), float(mesh.bounds[1, 0] * 1000 * s), float(whole), ""]])
