@@ -1,0 +1,140 @@
+"""Lines plan, offset export and the stability/lines CLI: curves against the Wigley hull's closed form,
+files made and sane (PNG, SVG, DXF read back), offset tables read back in both layouts, bad input."""
+
+import json
+
+import ezdxf
+import numpy as np
+import pytest
+
+from hullopt.app.cli import main
+from hullopt.drawing import (half_breadths, lines_plan, plot_gz, save_lines, write_offsets_stations,
+                             write_offsets_wide)
+from hullopt.errors import HullError
+from hullopt.models import read_offsets, wigley
+
+Lw, Bw, Tw, Dw = 100.0, 10.0, 6.25, 10.0
+WIGLEY = f"builtin:wigley?L={Lw:g}&B={Bw:g}&T={Tw:g}&D={Dw:g}&n=41&m=41"
+
+
+def wigley_y(x, z):
+    """Exact half-breadth of the Wigley hull (vertical sides above T)."""
+    beam = (Bw / 2) * (1 - (2 * (np.asarray(x) - Lw / 2) / Lw) ** 2)
+    zz = np.minimum(np.asarray(z), Tw)
+    return beam * (1 - ((Tw - zz) / Tw) ** 2)
+
+
+@pytest.fixture(scope="module")
+def hull():
+    return wigley(Lw, Bw, Tw, Dw, n=41, m=401)
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "cache"))
+
+
+def test_waterlines_and_buttocks_follow_the_closed_form(hull):
+    plan = lines_plan(hull, "wigley", waterlines=[2.0, 4.0], buttocks=[1.5])
+    wl = [c for c in plan.half_breadth if c[0] == "waterline"]
+    assert len(wl) == 2
+    for (_, label, pts), z in zip(wl, (2.0, 4.0)):
+        np.testing.assert_allclose(pts[:, 1], wigley_y(pts[:, 0], z), atol=2e-4)
+    (bt,) = [c for c in plan.sheer if c[0] == "buttock"]
+    x, z = bt[2][:, 0], bt[2][:, 1]
+    # buttock y = 1.5: invert y(x, z) = 1.5 for the depth below the waterline
+    beam = (Bw / 2) * (1 - (2 * (x - Lw / 2) / Lw) ** 2)
+    np.testing.assert_allclose(z, Tw - Tw * np.sqrt(1 - 1.5 / beam), atol=2e-3)
+    stations = [c for c in plan.body if c[0] == "station"]
+    assert len(stations) == 11
+    assert all(np.all(c[2][:, 0] <= 1e-12) for c in stations[:5]) and all(np.all(c[2][:, 0] >= 0) for c in stations[6:])
+
+
+def test_drawings_are_written(hull, tmp_path):
+    plan = lines_plan(hull, "wigley")
+    for ext in ("png", "svg", "dxf"):
+        p = save_lines(plan, tmp_path / f"lines.{ext}")
+        assert p.stat().st_size > 10_000
+    assert (tmp_path / "lines.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "<svg" in (tmp_path / "lines.svg").read_text()[:2000]
+    doc = ezdxf.readfile(tmp_path / "lines.dxf")
+    layers = {e.dxf.layer for e in doc.modelspace()}
+    assert {"STATION", "WATERLINE", "BUTTOCK", "OUTLINE", "GRID"} <= layers
+    n_curves = len(plan.sheer) + len(plan.half_breadth) + len(plan.body)
+    assert len(doc.modelspace().query("LWPOLYLINE")) == n_curves
+    with pytest.raises(HullError, match="unknown drawing format"):
+        save_lines(plan, tmp_path / "lines.jpg")
+    assert not list(tmp_path.glob(".*tmp*"))  # no temporary files left behind
+
+
+def test_offset_tables_read_back_in_both_layouts(hull, tmp_path):
+    z = np.linspace(0.0, Dw, 11)
+    exact = wigley_y(np.linspace(0, Lw, 41)[:, None], z[None, :])
+    np.testing.assert_allclose(half_breadths(hull, np.linspace(0, Lw, 41), z), exact, atol=2e-4)
+    wide = read_offsets(write_offsets_wide(hull, tmp_path / "wide.csv", z=z))
+    np.testing.assert_allclose(wide.x, np.linspace(0, Lw, 41))
+    np.testing.assert_allclose(wide.y, exact, atol=2e-4)
+    st = read_offsets(write_offsets_stations(hull, tmp_path / "st.csv", n_waterlines=11))
+    assert st.lpp == Lw and len(st.x) == 21 and st.x[1] == pytest.approx(Lw / 40)  # AP, 1/4, …
+    np.testing.assert_allclose(st.y, wigley_y(st.x[:, None], st.z[None, :]), atol=2e-4)
+    assert [r.split(",")[0] for r in (tmp_path / "st.csv").read_text().splitlines()[4:8]] == ["AP", "1/4", "1/2", "3/4"]
+
+
+def run(capsys, *args):
+    code = main(list(args))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_cli_lines_curves_offsets(capsys, tmp_path):
+    code, _, err = run(capsys, "lines", WIGLEY, "--out", str(tmp_path / "l.png"), "--out", str(tmp_path / "l.dxf"),
+                       "--curves", str(tmp_path / "c.svg"), "--offsets", str(tmp_path / "o.csv"), "--layout", "wide")
+    assert code == 0, err
+    assert all((tmp_path / f).stat().st_size > 1000 for f in ("l.png", "l.dxf", "c.svg", "o.csv"))
+    assert read_offsets(tmp_path / "o.csv").y.shape[0] == 41
+    code, _, err = run(capsys, "lines", WIGLEY, "--out", str(tmp_path / "l.jpg"))
+    assert code == 2 and "--out" in err and ".jpg" in err
+    code, _, err = run(capsys, "lines", WIGLEY, "--out", str(tmp_path / "nope" / "l.png"))
+    assert code == 2 and "does not exist" in err
+
+
+def test_cli_stability_json_and_plot(capsys, tmp_path):
+    code, out, err = run(capsys, "stability", "builtin:box?L=100&B=20&D=10", "--displacement", "8200", "--kg", "6",
+                         "--heels", "0:60:4", "--json", "--plot", str(tmp_path / "gz.png"))
+    assert code == 0, err
+    d = json.loads(out)
+    assert {"heel_deg", "gz", "kn", "gm0", "criteria"} <= set(d)
+    assert d["heel_deg"] == [0, 20, 40, 60]
+    bm = 20**2 / (12 * 4.0)
+    assert d["gm0"] == pytest.approx(2.0 + bm - 6.0) and d["volume"] == pytest.approx(8000.0)
+    phi = np.deg2rad(20.0)  # wall-sided at 20°
+    assert d["gz"][1] == pytest.approx(np.sin(phi) * (d["gm0"] + 0.5 * bm * np.tan(phi) ** 2), rel=1e-9)
+    assert [c["key"] for c in d["criteria"]] == ["area_0_30", "area_0_40", "area_30_40", "gz_30", "angle_gz_max", "gm0"]
+    assert all(c["pass"] for c in d["criteria"])
+    assert (tmp_path / "gz.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--displacement", "8200", "--kg", "nan"], ["--kg"]),
+    (["--displacement", "30000", "--kg", "6"], ["--displacement", "more than"]),
+    (["--displacement", "8200", "--kg", "6", "--heels", "0:120:5"], ["--heels", "0…90"]),
+    (["--displacement", "8200", "--kg", "6", "--sheer", "wavy"], ["--sheer", "icll"]),
+    (["--displacement", "8200", "--kg", "6", "--flooding-angle", "120"], ["--flooding-angle"]),
+    (["--displacement", "8200", "--kg", "6", "--kn-plot", "kn.png"], ["--kn-plot", "--cross"]),
+    (["--displacement", "8200", "--kg", "6", "--plot", "gz.bmp"], ["--plot", ".bmp"]),
+])
+def test_cli_stability_bad_input(capsys, args, words):
+    code, _, err = run(capsys, "stability", "builtin:box?L=100&B=20&D=10", *args)
+    assert code == 2 and err.startswith("error:") and len(err.strip().splitlines()) == 1
+    assert all(w in err for w in words), err
+
+
+def test_plot_gz_draws_a_file(tmp_path):
+    import jax.numpy as jnp
+
+    from hullopt.hydro import stability
+    from hullopt.models import box
+
+    res = stability(box(50.0, 10.0, 5.0), jnp.asarray(50 * 10 * 2.0), jnp.asarray(3.0),
+                    jnp.deg2rad(jnp.linspace(0.0, 90.0, 10)), free_trim=False, n_grid=31)
+    assert plot_gz(res.curve, tmp_path / "gz.svg", res.criteria, "box").stat().st_size > 5000
