@@ -7,14 +7,15 @@ import socket
 import sys
 from pathlib import Path
 
-from ..errors import HullError
+# XLA logs a false alarm about CPU features each time it loads a cached executable; keep the terminal for
+# the user (set TF_CPP_MIN_LOG_LEVEL yourself to see XLA's logs). It must be set before jax is imported.
+os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
+
+from ..errors import HullError  # noqa: E402
 
 
 def configure_jax() -> None:
     """float64 everywhere, and a per-host persistent compilation cache (warm starts skip compiling)."""
-    # XLA logs a false alarm about CPU features each time it loads a cached executable; keep the terminal
-    # for the user (set TF_CPP_MIN_LOG_LEVEL yourself to see XLA's logs).
-    os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
     import jax
 
     jax.config.update("jax_enable_x64", True)

@@ -6,4 +6,17 @@ from ._bounds import to_unbounded as to_unbounded
 from ._jaxopt import minimise_lbfgsb as minimise_lbfgsb
 from ._solvers import SolveResult as SolveResult
 from ._solvers import fit as fit
+from ._solvers import fit_stepwise as fit_stepwise
 from ._solvers import minimise_constrained as minimise_constrained
+from ._problems import OBJECTIVES as OBJECTIVES
+from ._problems import TARGETS as TARGETS
+from ._problems import Design as Design
+from ._problems import Objective as Objective
+from ._problems import Targets as Targets
+from ._problems import achieved as achieved
+from ._problems import make_targets as make_targets
+from ._problems import non_dominated as non_dominated
+from ._problems import solve_fit as solve_fit
+from ._problems import solve_minimum as solve_minimum
+from ._problems import target_residuals as target_residuals
+from ._problems import with_objective_scale as with_objective_scale

@@ -1,0 +1,171 @@
+"""Run configs (TOML), validated strictly with pydantic: unknown keys are rejected and every error names its
+field. One config describes a parent, a design (which feature curves may move, within which bounds),
+targets, an objective, a solver and, for Pareto runs, a sweep.
+
+    kind = "fit" | "minimise" | "pareto"
+    [hull]       parent = "dtc", draft = 14.5
+    [[design.apex_move]]  segment, x_fixed1, x_moved, x_fixed2, profile, d (start), bound (|d| ≤, m)
+    [[design.distribution]]  x_a, x_b, curves, modes, c (start), bound (|c_j| ≤)
+    [[design.contour_edit]]  line, x_a, x_b, shape, amplitude (start), bound (m)
+    [targets]    cb = 0.64, lcb_pct = -2.0, volume = …      [tolerances] (optional, same names)
+    [objective]  kind, speed_kn, hs, tp, heading_deg
+    [sweep]      start, stop, count, chunk, measure (an objective table: the second Pareto axis)
+    [solver]     max_steps, smoothness, outer
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from ..errors import HullError
+from ..optimise import OBJECTIVES, TARGETS, make_targets
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class HullConfig(_Strict):
+    parent: str = Field(description="library parent (dtc, tanker, wigley, seed003) or a parent .json file")
+    draft: float | None = Field(default=None, gt=0, description="m; default: the parent's design draft")
+
+
+class ApexMoveConfig(_Strict):
+    segment: int
+    x_fixed1: float
+    x_moved: float
+    x_fixed2: float
+    profile: Literal["linear", "smooth"] = "smooth"
+    d: tuple[float, float] = (0.0, 0.0)
+    bound: float = Field(default=2.0, gt=0, description="|dy|, |dz| ≤ bound [m]")
+
+
+class DistributionConfig(_Strict):
+    x_a: float
+    x_b: float
+    curves: str | list[str] = "all"
+    modes: int = Field(default=2, ge=1, le=8)
+    c: list[float] | None = None
+    bound: float = Field(default=0.3, gt=0, lt=1, description="|c_j| ≤ bound (the warp stays monotone)")
+
+
+class ContourEditConfig(_Strict):
+    line: Literal["keel_z", "fob_y", "fos_z", "deck_y", "deck_z"]
+    x_a: float
+    x_b: float
+    shape: Literal["bump", "ramp"] = "bump"
+    amplitude: float = 0.0
+    bound: float = Field(default=1.0, gt=0, description="|amplitude| ≤ bound [m]")
+
+
+class DesignConfig(_Strict):
+    apex_move: list[ApexMoveConfig] = []
+    distribution: list[DistributionConfig] = []
+    contour_edit: list[ContourEditConfig] = []
+
+    @model_validator(mode="after")
+    def _some(self):
+        if not (self.apex_move or self.distribution or self.contour_edit):
+            raise ValueError("the design has no parameters: give [[design.apex_move]], [[design.distribution]] "
+                             "or [[design.contour_edit]]")
+        return self
+
+
+class ObjectiveConfig(_Strict):
+    kind: Literal[OBJECTIVES]  # type: ignore[valid-type]
+    speed_kn: float = Field(gt=0)
+    hs: float = Field(default=0.0, ge=0)
+    tp: float = Field(default=10.0, gt=0)
+    heading_deg: float = Field(default=0.0, ge=-360, le=360)
+    smooth: float = Field(default=1.0, gt=0, description="width of the smooth max in C_U")
+
+    @model_validator(mode="after")
+    def _sea(self):
+        if self.kind == "mean_added_resistance" and self.hs <= 0:
+            raise ValueError("mean_added_resistance needs a sea state: hs > 0 [m] and tp [s]")
+        return self
+
+
+class SweepConfig(_Strict):
+    variable: Literal["bf"] = "bf"
+    start: float
+    stop: float
+    count: int = Field(ge=2, le=4096)
+    chunk: int = Field(default=4, ge=1)
+    measure: ObjectiveConfig
+
+
+class SolverConfig(_Strict):
+    max_steps: int = Field(default=200, ge=1)
+    smoothness: float = Field(default=1e-6, ge=0)
+    outer: int = Field(default=8, ge=1, le=50)
+
+
+class RunConfig(_Strict):
+    kind: Literal["fit", "minimise", "pareto"]
+    hull: HullConfig
+    design: DesignConfig
+    targets: dict[str, float] = {}
+    tolerances: dict[str, float] = {}
+    kg: float | None = Field(default=None, description="m, for a gm target")
+    objective: ObjectiveConfig | None = None
+    sweep: SweepConfig | None = None
+    solver: SolverConfig = SolverConfig()
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        for k in self.targets:
+            if k not in TARGETS:
+                raise ValueError(f"targets.{k}: unknown target; expected one of {', '.join(TARGETS)}")
+        make_targets(self.targets, self.tolerances, self.kg)  # physical ranges, tolerances of non-targets
+        if self.kind == "fit" and not self.targets:
+            raise ValueError("a fit needs [targets]")
+        if self.kind in ("minimise", "pareto") and self.objective is None:
+            raise ValueError(f"kind = {self.kind!r} needs an [objective]")
+        if self.kind == "pareto" and self.sweep is None:
+            raise ValueError("kind = 'pareto' needs a [sweep]")
+        return self
+
+
+def _set(tree: dict, dotted: str, text: str) -> None:
+    """Apply one ``--set a.b=value`` (the value parsed as TOML, else kept as a string)."""
+    keys = dotted.split(".")
+    try:
+        value = tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = text
+    node = tree
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+        if not isinstance(node, dict):
+            raise HullError(f"--set {dotted}: {k} is not a table")
+    node[keys[-1]] = value
+
+
+def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig, dict]:
+    """Read, override (``a.b=value``) and validate a run config; returns it and the resolved raw dict.
+    :class:`HullError` names the file and the field of any problem."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except OSError as e:
+        raise HullError(f"{path}: cannot read the config ({e.strerror})") from None
+    except tomllib.TOMLDecodeError as e:
+        raise HullError(f"{path}: not valid TOML ({e})") from None
+    for item in overrides:
+        key, sep, text = item.partition("=")
+        if not sep or not key:
+            raise HullError(f"--set {item!r}: expected KEY=VALUE, e.g. targets.cb=0.62")
+        _set(raw, key.strip(), text.strip())
+    try:
+        return RunConfig.model_validate(raw), raw
+    except ValidationError as e:
+        err = e.errors()[0]
+        where = ".".join(str(p) for p in err["loc"])
+        msg = err["msg"].removeprefix("Value error, ")
+        more = f" (and {len(e.errors()) - 1} more)" if len(e.errors()) > 1 else ""
+        raise HullError(f"{path}: {where + ': ' if where else ''}{msg}{more}") from None

@@ -1,0 +1,90 @@
+"""Plots of design runs (matplotlib, Agg): body plans and sectional-area curves before/after, solver
+convergence, Pareto fronts."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+
+from ..geometry import atomic_write_bytes
+from ..hydro import sectional_areas
+
+
+def _figure(*args, **kw):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt, *plt.subplots(*args, **kw)
+
+
+def _save(plt, fig, path: Path) -> Path:
+    buf = io.BytesIO()
+    fig.savefig(buf, format=Path(path).suffix.lstrip(".") or "png", dpi=130, bbox_inches="tight")
+    plt.close(fig)
+    atomic_write_bytes(path, buf.getvalue())
+    return Path(path)
+
+
+def plot_body_plans(before, after, path: Path, every: int | None = None) -> Path:
+    """Body plan (aft body left, fore body right, as drawn by naval architects), parent dashed."""
+    plt, fig, ax = _figure(figsize=(8, 5))
+    x = np.asarray(after.x)
+    mid = 0.5 * float(after.lpp)
+    every = every or max(1, len(x) // 20)
+    for s, style in ((before, dict(color="0.6", lw=0.8, ls="--")), (after, dict(color="C0", lw=1.0))):
+        yz = np.asarray(s.yz)
+        for i in range(0, len(x), every):
+            sign = 1.0 if x[i] >= mid else -1.0
+            ax.plot(sign * yz[i, :, 0], yz[i, :, 1], **style)
+    ax.plot([], [], color="0.6", ls="--", label="parent")
+    ax.plot([], [], color="C0", label="design")
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_aspect("equal")
+    ax.set_xlabel("half-breadth y [m] (aft body left, fore body right)")
+    ax.set_ylabel("z [m]")
+    ax.legend(loc="lower right")
+    return _save(plt, fig, path)
+
+
+def plot_sectional_areas(before, after, draft, path: Path) -> Path:
+    plt, fig, ax = _figure(figsize=(8, 4))
+    for s, label, style in ((before, "parent", dict(color="0.6", ls="--")), (after, "design", dict(color="C0"))):
+        ax.plot(np.asarray(s.x), np.asarray(sectional_areas(s, draft)), label=label, **style)
+    ax.set_xlabel("x from AP [m]")
+    ax.set_ylabel(f"sectional area at T = {float(draft):g} m [m²]")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    return _save(plt, fig, path)
+
+
+def plot_convergence(history: list[float], path: Path) -> Path:
+    plt, fig, ax = _figure(figsize=(6, 4))
+    if history:
+        ax.semilogy(np.arange(1, len(history) + 1), np.maximum(history, 1e-300), marker=".")
+    ax.set_xlabel("step")
+    ax.set_ylabel("sum of squared scaled residuals")
+    ax.grid(alpha=0.3)
+    return _save(plt, fig, path)
+
+
+def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path:
+    plt, fig, ax = _figure(figsize=(6, 4.5))
+    pts = np.array([[d["measure"], d["objective"]] for d in designs])
+    front = np.array([d["pareto"] for d in designs])
+    met = np.array([d["met"] for d in designs])
+    ax.scatter(pts[met & ~front, 0], pts[met & ~front, 1], color="0.6", label="dominated")
+    ax.scatter(pts[~met, 0], pts[~met, 1], marker="x", color="C3", label="targets not met")
+    order = np.argsort(pts[front, 0])
+    ax.plot(pts[front, 0][order], pts[front, 1][order], "o-", color="C0", label="Pareto front")
+    for d in designs:
+        ax.annotate(f"{d['bf_target']:.2f}", (d["measure"], d["objective"]), fontsize=7, alpha=0.7)
+    ax.set_xlabel(xname.replace("_", " ") + (" [N]" if xname != "k_aw" else ""))
+    ax.set_ylabel(yname.replace("_", " ") + (" [N]" if yname != "k_aw" else ""))
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.set_title("labels: Bf")
+    return _save(plt, fig, path)

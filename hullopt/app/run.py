@@ -1,0 +1,282 @@
+"""Config-driven runs: build the design problem from a :class:`~hullopt.app.config.RunConfig`, solve it (fit,
+constrained minimum, or a Pareto sweep in resumable chunks) and write the run folder:
+
+    config.json   the resolved config           report.json   results (see :func:`run`)
+    hull.stl      the final hull (closed mesh)  offsets.csv   its offset table (wide layout)
+    body_plan.png, sectional_area.png, convergence.png, pareto.png (sweeps), chunks/ (sweeps)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+from ..drawing import write_offsets_wide
+from ..errors import HullError
+from ..geometry import export_mesh, to_trimesh
+from ..hydro import hydrostatics
+from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model, load_parent
+from ..optimise import (
+    Design,
+    Objective,
+    achieved,
+    make_targets,
+    non_dominated,
+    solve_fit,
+    solve_minimum,
+    with_objective_scale,
+)
+from .config import ObjectiveConfig, RunConfig
+from .output import console, write_json
+
+KNOT = 1852.0 / 3600.0
+
+
+@dataclass
+class Problem:
+    """A design problem built from a config, with its start point and bounds."""
+
+    design: Design
+    p0: FeatureParams
+    lower: FeatureParams
+    upper: FeatureParams
+    parent: str
+
+
+def objective_from(cfg: ObjectiveConfig) -> Objective:
+    return Objective(kind=cfg.kind, speed=jnp.asarray(cfg.speed_kn * KNOT), hs=jnp.asarray(cfg.hs),
+                     tp=jnp.asarray(cfg.tp), heading=jnp.asarray(np.radians(cfg.heading_deg)), smooth=cfg.smooth)
+
+
+def build_problem(cfg: RunConfig) -> Problem:
+    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design)."""
+    hull = load_parent(cfg.hull.parent)
+    draft = cfg.hull.draft or hull.design_draft
+    if draft is None:
+        raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
+    d = cfg.design
+    model = feature_model(
+        hull,
+        [ApexMove(m.segment, m.x_fixed1, m.x_moved, m.x_fixed2, m.profile) for m in d.apex_move],
+        [Distribution(g.x_a, g.x_b, g.curves if isinstance(g.curves, str) else tuple(g.curves), g.modes)
+         for g in d.distribution],
+        [ContourEdit(e.line, e.x_a, e.x_b, e.shape) for e in d.contour_edit],
+    )
+    modes = max((g.modes for g in d.distribution), default=0)
+    dist0 = np.zeros((len(d.distribution), modes))
+    dist_b = np.ones((len(d.distribution), modes))
+    for i, g in enumerate(d.distribution):
+        c = g.c or []
+        if len(c) > g.modes:
+            raise HullError(f"design.distribution[{i}].c: {len(c)} values for {g.modes} modes")
+        dist0[i, : len(c)] = c
+        dist_b[i] = g.bound
+    p0 = FeatureParams(jnp.asarray(np.array([m.d for m in d.apex_move]).reshape(-1, 2)), jnp.asarray(dist0),
+                       jnp.asarray(np.array([e.amplitude for e in d.contour_edit])))
+    half = FeatureParams(jnp.asarray(np.array([[m.bound] * 2 for m in d.apex_move]).reshape(-1, 2)),
+                         jnp.asarray(dist_b), jnp.asarray(np.array([e.bound for e in d.contour_edit])))
+    lower = jax.tree.map(lambda h: -h, half)
+    for name, v, b in (("apex_move d", p0.apex, half.apex), ("distribution c", p0.distribution, half.distribution),
+                       ("contour_edit amplitude", p0.contour, half.contour)):
+        if np.any(np.abs(np.asarray(v)) >= np.asarray(b)):
+            raise HullError(f"design: a start value of {name} is not inside its bound")
+    try:
+        targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg)
+    except ValueError as e:
+        raise HullError(f"targets: {e}") from None
+    design = Design(model=model, draft=jnp.asarray(float(draft)), targets=targets,
+                    objective=objective_from(cfg.objective) if cfg.objective else None,
+                    smoothness=cfg.solver.smoothness, param_scale=half)
+    if design.objective is not None:
+        design = with_objective_scale(design, p0)
+    return Problem(design, p0, lower, half, cfg.hull.parent)
+
+
+def _params_dict(p: FeatureParams) -> dict:
+    return {"apex_move_d": np.asarray(p.apex).tolist(), "distribution_c": np.asarray(p.distribution).tolist(),
+            "contour_edit_amplitude": np.asarray(p.contour).tolist()}
+
+
+def _particulars(design: Design, params) -> dict:
+    s = design.model(params)
+    return {k: float(v) for k, v in hydrostatics(s, design.draft).to_dict().items()}
+
+
+def _target_report(design: Design, params) -> dict:
+    s = design.model(params)
+    a = achieved(hydrostatics(s, design.draft), s, design.targets.names, design.targets.kg)
+    out = {}
+    for k, t, tol, v in zip(design.targets.names, np.asarray(design.targets.values), np.asarray(design.targets.tol),
+                            np.asarray(a)):
+        from ..optimise import TARGETS
+
+        err = v / t - 1.0 if TARGETS[k][0] else v - t
+        out[k] = {"target": float(t), "achieved": float(v), "error": float(err), "tolerance": float(tol),
+                  "met": bool(abs(err) <= tol)}
+    return out
+
+
+def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False) -> dict:
+    """Solve the config's problem and write the run folder ``out``; returns the report.
+
+    ``report.json``: ``kind``, ``converged`` (the solver finished and every target is met), ``met``,
+    ``iterations``, ``targets`` (target, achieved, error, tolerance, met per particular), ``achieved`` and
+    ``parent`` (the ``hullopt hydro --json`` keys of the final and the parent hull), ``objective``
+    (value, parent value, name), ``params``; for sweeps ``designs`` (one per sweep value, with its
+    objectives, particulars, parameters and whether it is Pareto-optimal).
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(out / "config.json", raw)
+    prob = build_problem(cfg)
+    d = prob.design
+    if cfg.kind == "pareto":
+        report = _pareto(cfg, prob, out, quiet)
+        final = prob.p0
+    else:
+        history: list[float] = []
+        with _progress(quiet) as bar:
+            task = bar.add_task(f"{cfg.kind} {prob.parent}", total=cfg.solver.max_steps)
+            if cfg.kind == "fit":
+                def cb(step, params, cost):
+                    history.append(cost)
+                    bar.update(task, completed=step, description=f"fit: cost {cost:.3e}")
+
+                res = solve_fit(d, prob.p0, prob.lower, prob.upper, stepwise=True, callback=cb,
+                                max_steps=cfg.solver.max_steps)
+            else:
+                bar.update(task, description="minimise (augmented Lagrangian, compiling…)")
+                res = eqx.filter_jit(solve_minimum)(d, prob.p0, prob.lower, prob.upper, outer=cfg.solver.outer,
+                                                    max_steps=cfg.solver.max_steps)
+            bar.update(task, completed=cfg.solver.max_steps)
+        final = res.params
+        met = bool(res.met)
+        report = {
+            "kind": cfg.kind,
+            "converged": bool(res.solver_ok) and met,
+            "met": met,
+            "iterations": int(res.steps),
+            "max_violation": float(res.max_violation),
+            "targets": _target_report(d, final),
+            "params": _params_dict(final),
+        }
+        if d.objective is not None:
+            report["objective"] = {"name": d.objective.kind, "value": float(d.objective(d.model(final), d.draft)),
+                                   "parent": float(d.objective_scale)}
+        if not met:
+            worst = max(report["targets"].items(), key=lambda kv: abs(kv[1]["error"]) / kv[1]["tolerance"])
+            report["message"] = (f"the targets cannot be met within the bounds: {worst[0]} is off by "
+                                 f"{worst[1]['error']:.3g} (tolerance {worst[1]['tolerance']:.3g}); "
+                                 "the closest design found is saved")
+        from .plots import plot_convergence
+
+        plot_convergence(history, out / "convergence.png")
+    report["achieved"] = _particulars(d, final)
+    report["parent"] = _particulars(d, prob.p0)
+    _write_hull(d, prob.p0, final, out)
+    write_json(out / "report.json", report)
+    return report
+
+
+def _write_hull(d: Design, p0, final, out: Path) -> None:
+    from .plots import plot_body_plans, plot_sectional_areas
+
+    before, after = d.model(p0), d.model(final)
+    export_mesh(to_trimesh(after), out / "hull.stl")
+    write_offsets_wide(after, out / "offsets.csv", name="the designed hull")
+    plot_body_plans(before, after, out / "body_plan.png")
+    plot_sectional_areas(before, after, d.draft, out / "sectional_area.png")
+
+
+def _progress(quiet: bool) -> Progress:
+    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                    TimeElapsedColumn(), console=console, disable=quiet, transient=True)
+
+
+# ----------------------------------------------------------------------------------------------- sweeps
+
+
+def _sweep_key(raw: dict) -> str:
+    return hashlib.sha256(json.dumps(raw, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _pareto(cfg: RunConfig, prob: Problem, out: Path, quiet: bool) -> dict:
+    """ε-constraint sweep on Bf: at each Bf* minimise the objective with the targets and Bf = Bf* held;
+    chunks of ``sweep.chunk`` values are solved as one jitted ``vmap`` and written atomically to
+    ``chunks/``; a rerun skips the chunks already there (if the config is the same)."""
+    sw = cfg.sweep
+    d = prob.design
+    targets = dict(cfg.targets)
+    targets["bf"] = 0.5 * (sw.start + sw.stop)
+    tgt = make_targets(targets, cfg.tolerances, cfg.kg)
+    d = eqx.tree_at(lambda x: x.targets, d, tgt)
+    i_bf = tgt.names.index("bf")
+    measure = objective_from(sw.measure)
+    eps = np.linspace(sw.start, sw.stop, sw.count)
+    chunks = out / "chunks"
+    chunks.mkdir(exist_ok=True)
+    key = _sweep_key({k: v for k, v in cfg.model_dump().items() if k != "solver"} | {"solver": cfg.solver.model_dump()})
+
+    @eqx.filter_jit
+    def solve_chunk(values):
+        def one(e):
+            de = eqx.tree_at(lambda x: x.targets.values, d, d.targets.values.at[i_bf].set(e))
+            r = solve_minimum(de, prob.p0, prob.lower, prob.upper, outer=cfg.solver.outer,
+                              max_steps=cfg.solver.max_steps)
+            s = de.model(r.params)
+            h = hydrostatics(s, de.draft)
+            return r, de.objective(s, de.draft), measure(s, de.draft), h
+
+        return jax.vmap(one)(values)
+
+    n_chunks = -(-len(eps) // sw.chunk)
+    designs = []
+    with _progress(quiet) as bar:
+        task = bar.add_task("Pareto sweep", total=n_chunks)
+        for k in range(n_chunks):
+            path = chunks / f"chunk_{k:04d}.json"
+            values = eps[k * sw.chunk: (k + 1) * sw.chunk]
+            if path.exists():
+                data = json.loads(path.read_text())
+                if data.get("key") == key and np.allclose(data["values"], values):
+                    designs += data["designs"]
+                    bar.update(task, advance=1)
+                    continue
+            padded = np.concatenate([values, np.full(sw.chunk - len(values), values[-1])])
+            r, obj, meas, h = solve_chunk(jnp.asarray(padded))
+            rows = []
+            for i, e in enumerate(values):
+                p_i = jax.tree.map(lambda a: a[i], r.params)
+                rows.append({
+                    "bf_target": float(e),
+                    "objective": float(obj[i]),
+                    "measure": float(meas[i]),
+                    "met": bool(r.met[i]),
+                    "max_violation": float(r.max_violation[i]),
+                    "iterations": int(r.steps[i]),
+                    "params": _params_dict(p_i),
+                    "particulars": {k2: float(v[i]) for k2, v in h.to_dict().items() if k2 in ("volume", "cb",
+                                    "lcb_pct", "cp", "cwp", "wetted_surface", "bwl", "lwl")},
+                })
+            write_json(path, {"key": key, "values": values.tolist(), "designs": rows})
+            designs += rows
+            bar.update(task, advance=1)
+    pts = jnp.asarray([[r["measure"], r["objective"]] if r["met"] else [np.nan, np.nan] for r in designs])
+    front = np.asarray(non_dominated(pts))
+    for r, f in zip(designs, front):
+        r["pareto"] = bool(f)
+    from .plots import plot_pareto
+
+    plot_pareto(designs, sw.measure.kind, cfg.objective.kind, out / "pareto.png")
+    met = all(r["met"] for r in designs)
+    return {"kind": "pareto", "converged": met, "met": met, "iterations": sum(r["iterations"] for r in designs),
+            "targets": {k: float(v) for k, v in cfg.targets.items()}, "designs": designs,
+            "objective": {"name": cfg.objective.kind, "measure": sw.measure.kind},
+            "pareto_count": int(front.sum())}

@@ -1,0 +1,208 @@
+"""Design problems: a hull model (parameters → Sections) composed with analyses into target residuals,
+objectives and constraints — pure functions of the parameters, ready for the solvers.
+
+Targets are normalised to order one (relative for sizes, absolute for coefficients and % Lpp) and each has a
+tolerance in those units, so "met" means the same thing for every particular:
+
+=================  ===================================  ==========================
+name               residual                             default tolerance
+=================  ===================================  ==========================
+volume             (∇ − ∇*)/∇*                          5e-4 (0.05 %)
+displacement       (Δ − Δ*)/Δ*                          5e-4
+cb, cp, cm, cwp    c − c*                               1e-4
+lcb_pct, lcf_pct   % Lpp from midship, forward +        0.01 (% Lpp)
+kb                 (KB − KB*)/KB*                       1e-3
+bwl, lwl           relative                             1e-4 (fixed main dimensions)
+gm                 GM_T − GM* [m] (needs ``kg``)        0.01 m
+bf                 Bf(head seas) − Bf*                  1e-4
+=================  ===================================  ==========================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jax.flatten_util import ravel_pytree
+from jaxtyping import Array
+
+from ..geometry import Sections
+from ..hydro import Hydrostatics, hydrostatics
+from ..resistance import holtrop_hull, holtrop_mennen
+from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
+
+# name: (relative?, default tolerance)
+TARGETS: dict[str, tuple[bool, float]] = {
+    "volume": (True, 5e-4), "displacement": (True, 5e-4), "cb": (False, 1e-4), "cp": (False, 1e-4),
+    "cm": (False, 1e-4), "cwp": (False, 1e-4), "lcb_pct": (False, 0.01), "lcf_pct": (False, 0.01),
+    "kb": (True, 1e-3), "bwl": (True, 1e-4), "lwl": (True, 1e-4), "gm": (False, 0.01), "bf": (False, 1e-4),
+}
+PHYSICAL = {"cb": (0.2, 1.0), "cp": (0.3, 1.0), "cm": (0.3, 1.0), "cwp": (0.3, 1.0), "lcb_pct": (-15.0, 15.0),
+            "lcf_pct": (-20.0, 20.0), "bf": (0.0, 1.0)}
+
+
+class Targets(eqx.Module):
+    """Target particulars: ``names`` (static) with ``values`` and ``tol`` (normalised units, see the module
+    table); ``kg`` [m] for a GM target."""
+
+    names: tuple[str, ...] = eqx.field(static=True)
+    values: Array
+    tol: Array
+    kg: Array | None = None
+
+
+def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, kg: float | None = None) -> Targets:
+    """Targets from ``{name: value}``; raises ``ValueError`` naming an unknown or unphysical target."""
+    tol = tol or {}
+    for k, v in values.items():
+        if k not in TARGETS:
+            raise ValueError(f"unknown target {k!r}; expected one of {', '.join(TARGETS)}")
+        lo, hi = PHYSICAL.get(k, (0.0, float("inf")))
+        if not (lo < float(v) < hi):
+            raise ValueError(f"target {k} = {v} is outside the physical range ({lo}, {hi})")
+        if k == "gm" and kg is None:
+            raise ValueError("a gm target needs kg")
+    for k in tol:
+        if k not in values:
+            raise ValueError(f"tolerance for {k!r}, which is not a target")
+    names = tuple(values)
+    return Targets(
+        names=names,
+        values=jnp.asarray([float(values[k]) for k in names]),
+        tol=jnp.asarray([float(tol.get(k, TARGETS[k][1])) for k in names]),
+        kg=None if kg is None else jnp.asarray(float(kg)),
+    )
+
+
+def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=None) -> Array:
+    """The particulars ``names`` of a hull with hydrostatics ``h`` at its draft."""
+    out = []
+    for k in names:
+        if k == "gm":
+            out.append(h.kmt - kg)
+        elif k == "bf":
+            out.append(bluntness(sections, h.draft))
+        else:
+            out.append(getattr(h, k))
+    return jnp.stack(out) if out else jnp.zeros(0)
+
+
+def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
+    """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``)."""
+    a = achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg)
+    rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
+    return jnp.where(rel, a / targets.values - 1.0, a - targets.values)
+
+
+# ----------------------------------------------------------------------------------------------- objectives
+
+
+class Objective(eqx.Module):
+    """An objective of the hull at a draft: ``kind`` one of
+
+    * ``"k_aw"`` — K_AW in short head waves at ``speed`` [m/s] (patent; smooth C_U of width ``smooth``);
+    * ``"mean_added_resistance"`` — the sea-state mean R_AW [N] (NMRI, ``hs`` [m], ``tp`` [s], ``heading``
+      [rad], long-crested);
+    * ``"calm_resistance"`` — Holtrop–Mennen total [N] at ``speed``.
+    """
+
+    kind: str = eqx.field(static=True)
+    speed: Array
+    hs: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    tp: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
+    heading: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    smooth: float = eqx.field(static=True, default=1.0)
+
+    def __call__(self, sections: Sections, draft) -> Array:
+        if self.kind == "k_aw":
+            fn = froude_number(self.speed, sections.lpp)
+            return k_aw(bluntness(sections, draft), fn, smooth=self.smooth)
+        if self.kind == "mean_added_resistance":
+            r = mean_added_resistance("nmri", sections, draft, self.speed, self.hs, self.tp, self.heading,
+                                      smooth=self.smooth)
+            return r.motion + r.reflection
+        if self.kind == "calm_resistance":
+            return holtrop_mennen(holtrop_hull(sections, draft), self.speed).total
+        raise ValueError(f"unknown objective {self.kind!r}")
+
+
+OBJECTIVES = ("k_aw", "mean_added_resistance", "calm_resistance")
+
+
+# ----------------------------------------------------------------------------------------------- the problem
+
+
+class Design(eqx.Module):
+    """A design problem: ``model(params) → Sections`` at ``draft`` [m] with ``targets`` to hold, an optional
+    ``objective`` to minimise (scaled by ``objective_scale``, its value at the parent), and a small penalty
+    ``smoothness`` · |params / param_scale|² that keeps the deformation the least needed."""
+
+    model: Callable
+    draft: Array
+    targets: Targets
+    objective: Objective | None = None
+    objective_scale: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
+    smoothness: float = eqx.field(static=True, default=1e-6)
+    param_scale: object = None
+
+    def sections(self, params) -> Sections:
+        return self.model(params)
+
+    def residuals(self, params, args=None) -> Array:
+        """Target residuals in units of their tolerances (so every target weighs alike in the least-squares
+        cost), followed by the smoothness residuals (tolerance: infinite)."""
+        r = target_residuals(self.model(params), self.draft, self.targets) / self.targets.tol
+        flat = ravel_pytree(self._scaled(params))[0]
+        return jnp.concatenate([r, jnp.sqrt(self.smoothness) * flat])
+
+    def fit_tolerances(self, params) -> Array:
+        n = ravel_pytree(params)[0].shape[0]
+        return jnp.concatenate([jnp.ones_like(self.targets.tol), jnp.full(n, jnp.inf)])
+
+    def constraints(self, params, args=None) -> Array:
+        return target_residuals(self.model(params), self.draft, self.targets)
+
+    def objective_value(self, params, args=None) -> Array:
+        """The scaled objective plus the smoothness penalty (order one at the parent)."""
+        flat = ravel_pytree(self._scaled(params))[0]
+        value = self.objective(self.model(params), self.draft) / self.objective_scale
+        return value + self.smoothness * flat @ flat
+
+    def _scaled(self, params):
+        if self.param_scale is None:
+            return params
+        return jax.tree.map(lambda p, s: p / s, params, self.param_scale)
+
+
+def with_objective_scale(design: Design, params) -> Design:
+    """The design with ``objective_scale`` set to the objective's value for ``params`` (the parent)."""
+    value = design.objective(design.model(params), design.draft)
+    return eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(value) + 1e-30)
+
+
+def non_dominated(points: Array) -> Array:
+    """Mask of the Pareto-optimal rows of ``points (k, 2)`` (both objectives minimised; NaN rows excluded)."""
+    p = jnp.asarray(points)
+    ok = jnp.all(jnp.isfinite(p), axis=1)
+    le = jnp.all(p[:, None, :] <= p[None, :, :], axis=-1)
+    lt = jnp.any(p[:, None, :] < p[None, :, :], axis=-1)
+    dominated = jnp.any(le & lt & ok[:, None], axis=0)
+    return ok & ~dominated
+
+
+def solve_fit(design: Design, p0, lower, upper, *, stepwise: bool = False, **kw):
+    """Auto-fit: meet the targets with the least deformation (Levenberg–Marquardt, bounded). With
+    ``stepwise`` one jitted step at a time (``callback=`` for progress); else one ``vmap``-able solve."""
+    from ._solvers import fit, fit_stepwise
+
+    return (fit_stepwise if stepwise else fit)(design.residuals, p0, lower, upper, tol=design.fit_tolerances(p0), **kw)
+
+
+def solve_minimum(design: Design, p0, lower, upper, **kw):
+    """Minimise the objective with the targets held (augmented Lagrangian over BFGS, bounded)."""
+    from ._solvers import minimise_constrained
+
+    return minimise_constrained(design.objective_value, design.constraints, p0, lower, upper,
+                                tol=design.targets.tol, **kw)
