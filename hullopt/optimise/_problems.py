@@ -93,7 +93,8 @@ def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
     """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``)."""
     a = achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg)
     rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
-    return jnp.where(rel, a / targets.values - 1.0, a - targets.values)
+    safe = jnp.where(rel, targets.values, 1.0)  # a zero target (LCB amidships) must not poison the gradient
+    return jnp.where(rel, a / safe - 1.0, a - targets.values)
 
 
 # ----------------------------------------------------------------------------------------------- objectives
