@@ -1,0 +1,23 @@
+"""Fairing (seed 001): the Coons-patch hull surface, curvature, unfairness functionals, automatic fairing."""
+
+from ._coons import CoonsSurface as CoonsSurface
+from ._coons import coons_sections as coons_sections
+from ._coons import coons_surface as coons_surface
+from ._coons import hermite_basis as hermite_basis
+from ._coons import spline_slopes as spline_slopes
+from ._curvature import curve_curvature as curve_curvature
+from ._curvature import graph_curvatures as graph_curvatures
+from ._curvature import polyline_curvature as polyline_curvature
+from ._curvature import section_curvature as section_curvature
+from ._curvature import surface_curvatures as surface_curvatures
+from ._unfairness import RESIDUALS as RESIDUALS
+from ._unfairness import jump_residuals as jump_residuals
+from ._unfairness import knot_residuals as knot_residuals
+from ._unfairness import line_residuals as line_residuals
+from ._unfairness import mean_residuals as mean_residuals
+from ._unfairness import measure as measure
+from ._unfairness import unfairness as unfairness
+from ._fair import FairResult as FairResult
+from ._fair import aft_body_noise as aft_body_noise
+from ._fair import fair_offsets as fair_offsets
+from ._fair import fixed_offsets as fixed_offsets
