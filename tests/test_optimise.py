@@ -1,0 +1,147 @@
+"""Design problems and solvers: auto-fit to targets (vmapped over several target pairs, near and far,
+feasible and not), constrained minimisation, gradients of the full objective, Pareto filtering, jaxopt."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from hullopt.hydro import hydrostatics
+from hullopt.models import ApexMove, ContourEdit, Distribution, feature_model, load_parent
+from hullopt.optimise import (
+    Design,
+    Objective,
+    fit,
+    make_targets,
+    minimise_constrained,
+    minimise_lbfgsb,
+    non_dominated,
+    solve_fit,
+    with_objective_scale,
+)
+
+KNOT = 1852.0 / 3600.0
+
+
+@pytest.fixture(scope="module")
+def wigley_design():
+    h = load_parent("wigley")
+    model = feature_model(
+        h,
+        [ApexMove(-1, 50.0, 80.0, 100.0, "smooth"), ApexMove(-1, 0.0, 20.0, 50.0, "smooth")],
+        [Distribution(0.0, 100.0, "all", 2)],
+        [ContourEdit("deck_y", 55.0, 100.0, "bump")],
+    )
+    p0 = model.zeros()
+    half = type(p0)(jnp.full((2, 2), 1.5), jnp.full((1, 2), 0.4), jnp.full((1,), 1.0))
+    lower = jax.tree.map(lambda a: -a, half)
+    parent = hydrostatics(model(p0), 6.25)
+    return model, p0, lower, half, parent
+
+
+def test_make_targets_rejects_bad_input():
+    with pytest.raises(ValueError, match="unknown target 'cbb'"):
+        make_targets({"cbb": 0.5})
+    with pytest.raises(ValueError, match="cb = 1.3 is outside the physical range"):
+        make_targets({"cb": 1.3})
+    with pytest.raises(ValueError, match="gm target needs kg"):
+        make_targets({"gm": 1.0})
+
+
+def test_fit_many_target_pairs_in_one_vmap(wigley_design):
+    """Near, far (Cb +8 %, LCB 1.5 % Lpp — beyond the ±3–5 % of a Lackenby/Maxsurf transformation) and
+    infeasible targets, one vmapped solve: each member reports its own status."""
+    model, p0, lo, hi, parent = wigley_design
+    cb0 = float(parent.cb)
+    cases = np.array([[cb0 * 1.02, 0.5], [cb0 * 1.08, -1.5], [cb0 * 0.94, 1.0], [cb0 * 1.05, 0.0], [0.75, 0.0]])
+    base = Design(model=model, draft=jnp.asarray(6.25), targets=make_targets({"cb": cb0, "lcb_pct": 0.0}),
+                  param_scale=hi)
+
+    @eqx.filter_jit
+    def solve(values):
+        d = eqx.tree_at(lambda x: x.targets.values, base, values)
+        r = solve_fit(d, p0, lo, hi, max_steps=150)
+        h = hydrostatics(d.model(r.params), d.draft)
+        return r.met, h.cb, h.lcb_pct
+
+    met, cb, lcb = jax.vmap(solve)(jnp.asarray(cases))
+    met, cb, lcb = np.asarray(met), np.asarray(cb), np.asarray(lcb)
+    assert met[:4].all() and not met[4]  # Cb 0.75 on a Wigley's length, breadth and draft: out of reach
+    np.testing.assert_allclose(cb[:4], cases[:4, 0], atol=1e-4)
+    np.testing.assert_allclose(lcb[:4], cases[:4, 1], atol=0.01)
+    assert cb[4] < 0.7  # the closest design found, reported as not met
+
+
+def test_fit_volume_and_lcb_stepwise_with_progress(wigley_design):
+    model, p0, lo, hi, parent = wigley_design
+    d = Design(model=model, draft=jnp.asarray(6.25), param_scale=hi,
+               targets=make_targets({"volume": float(parent.volume) * 1.05, "lcb_pct": -1.0}))
+    costs = []
+    r = solve_fit(d, p0, lo, hi, stepwise=True, callback=lambda n, p, c: costs.append(c))
+    h = hydrostatics(model(r.params), 6.25)
+    assert bool(r.met) and bool(r.solver_ok)
+    assert float(h.volume) == pytest.approx(float(parent.volume) * 1.05, rel=5e-4)
+    assert float(h.lcb_pct) == pytest.approx(-1.0, abs=0.01)
+    assert costs[-1] < 1e-3 * costs[0]
+
+
+def test_objective_gradient_matches_finite_differences(wigley_design):
+    """The full objective of the minimisation (sea-state mean added resistance, scaled, plus smoothness)
+    and the target residuals, along random directions of all parameters."""
+    model, p0, lo, hi, parent = wigley_design
+    d = Design(model=model, draft=jnp.asarray(6.25), param_scale=hi,
+               targets=make_targets({"cb": float(parent.cb), "lcb_pct": 0.0, "volume": float(parent.volume)}),
+               objective=Objective("mean_added_resistance", jnp.asarray(15 * KNOT), jnp.asarray(3.0),
+                                   jnp.asarray(9.0), jnp.asarray(0.0)))
+    d = with_objective_scale(d, p0)
+    p = jax.tree.map(lambda a: 0.2 * jnp.ones_like(a), p0)
+    f = eqx.filter_jit(lambda q: jnp.concatenate([d.objective_value(q)[None], d.constraints(q)]))
+    rng = np.random.default_rng(1)
+    for _ in range(2):
+        v = jax.tree.map(lambda a: jnp.asarray(rng.normal(size=a.shape)), p0)
+        _, jvp = eqx.filter_jit(lambda q, t: jax.jvp(f, (q,), (t,)))(p, v)
+        eps = 1e-6
+        fd = (f(jax.tree.map(lambda a, b: a + eps * b, p, v)) - f(jax.tree.map(lambda a, b: a - eps * b, p, v))) / (2 * eps)
+        np.testing.assert_allclose(jvp, fd, rtol=2e-5, atol=1e-9)
+
+
+def test_minimise_constrained_vmaps_with_per_member_status():
+    obj = lambda p, a: (p["a"] - 3.0) ** 2 + (p["b"] - 2.0) ** 2  # noqa: E731
+    con = lambda p, a: jnp.array([p["a"] + p["b"] - a])  # noqa: E731
+    p0 = {"a": jnp.array(1.0), "b": jnp.array(0.0)}
+    lo = {"a": jnp.array(-5.0), "b": jnp.array(-5.0)}
+    hi = {"a": jnp.array(5.0), "b": jnp.array(5.0)}
+    t = jnp.array([0.0, 1.0, 2.0, 12.0])  # the last cannot be met within the bounds
+    r = jax.jit(jax.vmap(lambda t: minimise_constrained(obj, con, p0, lo, hi, t, tol=1e-8)))(t)
+    np.testing.assert_allclose(r.params["a"][:3], (t[:3] + 1) / 2, atol=1e-6)  # a − 3 = b − 2 on a + b = t
+    np.testing.assert_allclose(r.params["b"][:3], (t[:3] - 1) / 2, atol=1e-6)
+    assert np.asarray(r.met).tolist() == [True, True, True, False]
+
+
+def test_fit_is_implicitly_differentiable_in_its_target():
+    """d(solution)/d(target) by the implicit function theorem equals the analytic value."""
+    res = lambda p, a: jnp.array([p["x"] ** 3 - a])  # noqa: E731
+    p0, lo, hi = {"x": jnp.array(1.0)}, {"x": jnp.array(0.0)}, {"x": jnp.array(5.0)}
+    g = jax.grad(lambda a: fit(res, p0, lo, hi, a, rtol=1e-12, atol=1e-14).params["x"])(8.0)
+    assert float(g) == pytest.approx(1 / (3 * 4.0), rel=1e-6)  # x = a^(1/3): dx/da = 1/(3 x²)
+
+
+def test_non_dominated_matches_brute_force():
+    rng = np.random.default_rng(0)
+    pts = rng.normal(size=(60, 2))
+    pts[5] = np.nan
+    mask = np.asarray(non_dominated(jnp.asarray(pts)))
+    for i, p in enumerate(pts):
+        if not np.all(np.isfinite(p)):
+            assert not mask[i]
+            continue
+        dominated = any(np.all(q <= p) and np.any(q < p) for q in pts if np.all(np.isfinite(q)))
+        assert mask[i] == (not dominated)
+
+
+def test_jaxopt_adapter_respects_bounds():
+    p, value, ok = minimise_lbfgsb(lambda p, a: jnp.sum((p - a) ** 2), jnp.zeros(2), jnp.array([-1.0, -1.0]),
+                                   jnp.array([2.0, 4.0]), 3.0)
+    np.testing.assert_allclose(p, [2.0, 3.0], atol=1e-6)
+    assert bool(ok) and float(value) == pytest.approx(1.0, abs=1e-9)

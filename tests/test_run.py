@@ -1,0 +1,105 @@
+"""Config-driven runs from the command line: the three use-case configs, resume of a killed sweep, and bad
+configs failing fast with a message naming the field."""
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from hullopt.app.cli import main
+
+CONFIGS = Path(__file__).resolve().parents[1] / "configs"
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "cache"))
+
+
+def run(capsys, *args):
+    code = main(list(args))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_fit_config_meets_its_targets_and_writes_the_run_folder(capsys, tmp_path):
+    out = tmp_path / "fit"
+    code, stdout, err = run(capsys, "run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(out), "--json")
+    assert code == 0, err
+    report = json.loads(stdout)
+    assert report["converged"] and report["met"] and report["iterations"] > 0
+    assert abs(report["achieved"]["cb"] - 0.48) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.5) <= 0.01
+    assert set(report["achieved"]) >= {"volume", "cb", "lcb_pct", "kb", "wetted_surface"}
+    for f in ("report.json", "config.json", "hull.stl", "offsets.csv", "body_plan.png", "sectional_area.png",
+              "convergence.png"):
+        assert (out / f).stat().st_size > 0, f
+    assert json.loads((out / "config.json").read_text())["targets"]["cb"] == 0.48
+
+
+def test_infeasible_target_is_reported_with_the_closest_design(capsys, tmp_path):
+    out = tmp_path / "far"
+    code, stdout, _ = run(capsys, "run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.75",
+                          "--out", str(out), "--json")
+    report = json.loads(stdout)
+    assert code == 3 and not report["met"] and "cannot be met" in report["message"]
+    assert (out / "hull.stl").exists() and report["targets"]["cb"]["met"] is False
+
+
+def test_min_added_resistance_config_lowers_it_with_particulars_held(capsys, tmp_path):
+    code, stdout, err = run(capsys, "run", str(CONFIGS / "min_added_resistance.toml"), "--out", str(tmp_path / "m"),
+                            "--json")
+    assert code == 0, err
+    r = json.loads(stdout)
+    assert r["met"] and r["objective"]["value"] < 0.9 * r["objective"]["parent"]
+    assert all(t["met"] for t in r["targets"].values())
+
+
+def test_pareto_sweep_is_non_dominated_and_resumes(capsys, tmp_path):
+    out = tmp_path / "p"
+    args = ["run", str(CONFIGS / "pareto_bow.toml"), "--set", "sweep.count=4", "--set", "sweep.chunk=2",
+            "--out", str(out), "--json"]
+    code, stdout, err = run(capsys, *args)
+    assert code == 0, err
+    r = json.loads(stdout)
+    designs = r["designs"]
+    assert len(designs) == 4 and all(d["met"] for d in designs)
+    pts = [(d["measure"], d["objective"]) for d in designs]
+    for d, p in zip(designs, pts):  # truly non-dominated
+        dominated = any(q[0] <= p[0] and q[1] <= p[1] and q != p for q in pts)
+        assert d["pareto"] == (not dominated)
+    assert (out / "pareto.png").stat().st_size > 0
+    # Kill simulation: chunk 1 lost, chunk 0 kept (marked, to see that it is not recomputed).
+    c0, c1 = out / "chunks" / "chunk_0000.json", out / "chunks" / "chunk_0001.json"
+    data = json.loads(c0.read_text())
+    data["designs"][0]["iterations"] = -12345
+    c0.write_text(json.dumps(data))
+    c1.unlink()
+    code, stdout, _ = run(capsys, *args)
+    again = json.loads(stdout)["designs"]
+    assert code == 0 and again[0]["iterations"] == -12345 and c1.exists()
+    assert again[3]["objective"] == pytest.approx(designs[3]["objective"], rel=1e-9)  # deterministic
+
+
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (lambda t: t.replace("[targets]", "[targets]\ncbb = 0.5"), "targets.cbb: unknown target"),
+        (lambda t: t.replace("kind = \"fit\"", "kind = \"fit\"\ncolour = 1"), "colour: Extra inputs are not permitted"),
+        (lambda t: t.replace("max_steps = 200", "max_steps = \"many\""), "solver.max_steps"),
+        (lambda t: t.replace("parent = \"wigley\"", "parent = \"nosuch\""), "unknown parent 'nosuch'"),
+        (lambda t: t.replace("cb = 0.48", "cb = 1.4"), "cb = 1.4 is outside the physical range"),
+        (lambda t: t.replace("[targets]", "[targetz]"), "targetz"),
+    ],
+)
+def test_bad_configs_fail_fast(capsys, tmp_path, edit, message):
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(edit((CONFIGS / "fit_cb_lcb.toml").read_text()))
+    code, _, err = run(capsys, "run", str(cfg), "--out", str(tmp_path / "o"))
+    assert code == 2 and message in err and "Traceback" not in err, err
+    assert str(cfg) in err or "nosuch" in err
+
+
+def test_missing_config_file(capsys, tmp_path):
+    code, _, err = run(capsys, "run", str(tmp_path / "none.toml"))
+    assert code == 2 and "cannot read the config" in err
