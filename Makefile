@@ -15,7 +15,8 @@ $(STAMP): pyproject.toml
 	@touch $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/hullopt hydro 'builtin:wigley?L=100&B=10&T=6.25&D=10' --drafts 1:6.25:8
+	$(VENV)/bin/hullopt hydro 'builtin:wigley?L=100&B=10&T=6.25&D=10'
+	$(VENV)/bin/hullopt run configs/fit_cb_lcb.toml --out runs/fit_cb_lcb
 
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest -n 2 --dist loadfile
