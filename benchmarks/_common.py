@@ -10,7 +10,19 @@ import time
 from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results"
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+def _find_shared() -> Path:
+    """The reference folder: $HULLOPT_SHARED, else ``../shared`` beside the checkout, else /work/shared."""
+    import os
+
+    candidates = [os.environ.get("HULLOPT_SHARED"), Path(__file__).resolve().parents[1].parent / "shared",
+                  "/work/shared"]
+    for c in candidates:
+        if c and (Path(c) / "hulls").is_dir():
+            return Path(c)
+    return Path(__file__).resolve().parents[1].parent / "shared"
+
+
+SHARED = _find_shared()
 
 
 def machine() -> dict:
