@@ -29,3 +29,22 @@ def shared() -> Path:
     if not SHARED.is_dir():
         pytest.fail(f"reference folder {SHARED} is missing")
     return SHARED
+
+
+@pytest.fixture(autouse=True)
+def _compilation_cache(tmp_path_factory, monkeypatch):
+    """CLI calls in tests use a throw-away persistent compilation cache, never the user's."""
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path_factory.getbasetemp() / "jax-cache"))
+
+
+@pytest.fixture
+def cli(capsys):
+    """Run the CLI in-process: ``code, stdout, stderr = cli("hydro", HULL, "--json")``."""
+    from hullopt.app.cli import main
+
+    def run(*args):
+        code = main([str(a) for a in args])
+        out = capsys.readouterr()
+        return code, out.out, out.err
+
+    return run

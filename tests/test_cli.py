@@ -8,26 +8,14 @@ import numpy as np
 import pytest
 import trimesh
 
-from hullopt.app.cli import main
 
 WIGLEY = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=41"
 KEYS = ["draft", "volume", "displacement", "wetted_surface", "cb", "cp", "cm", "cwp", "lcb", "lcb_pct", "kb", "awp",
         "lcf", "lcf_pct", "bmt", "bml", "kmt", "tpc", "mct", "lwl", "bwl"]
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "cache"))
-
-
-def run(capsys, *args):
-    code = main(list(args))
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def test_hydro_json_has_exactly_the_documented_keys(capsys):
-    code, out, _ = run(capsys, "hydro", "builtin:box?L=100&B=10&D=10", "--draft", "4", "--json")
+def test_hydro_json_has_exactly_the_documented_keys(cli):
+    code, out, _ = cli("hydro", "builtin:box?L=100&B=10&D=10", "--draft", "4", "--json")
     assert code == 0
     d = json.loads(out)
     assert list(d) == KEYS
@@ -35,28 +23,28 @@ def test_hydro_json_has_exactly_the_documented_keys(capsys):
     assert d["lcb"] == pytest.approx(50) and d["lcb_pct"] == pytest.approx(0, abs=1e-12)
 
 
-def test_hydro_drafts_table_and_displacement(capsys):
-    code, out, _ = run(capsys, "hydro", WIGLEY, "--drafts", "2:6:3", "--json")
+def test_hydro_drafts_table_and_displacement(cli):
+    code, out, _ = cli("hydro", WIGLEY, "--drafts", "2:6:3", "--json")
     rows = json.loads(out)
     assert code == 0 and [r["draft"] for r in rows] == [2, 4, 6]
-    code, out, _ = run(capsys, "hydro", "builtin:box?L=100&B=10&D=10", "--displacement", "4100", "--json")
+    code, out, _ = cli("hydro", "builtin:box?L=100&B=10&D=10", "--displacement", "4100", "--json")
     assert code == 0 and json.loads(out)["draft"] == pytest.approx(4.0, abs=1e-9)
-    code, out, _ = run(capsys, "hydro", WIGLEY)  # design draft, rich table
+    code, out, _ = cli("hydro", WIGLEY)  # design draft, rich table
     assert code == 0 and "Cb" in out and "0.444" in out
 
 
-def test_export_formats(capsys, tmp_path):
+def test_export_formats(cli, tmp_path):
     from hullopt.app.hulls import load_hull
     from hullopt.geometry import to_trimesh
 
     ours = to_trimesh(load_hull(WIGLEY).sections)
     for ext in ("stl", "obj", "ply", "glb"):
         out = tmp_path / f"h.{ext}"
-        code, _, err = run(capsys, "export", WIGLEY, str(out))
+        code, _, err = cli("export", WIGLEY, str(out))
         assert code == 0, err
         mesh = trimesh.load(out, force="mesh")
         assert mesh.is_watertight and mesh.volume == pytest.approx(ours.volume, rel=1e-6)  # float32 files
-    code, _, _ = run(capsys, "export", WIGLEY, str(tmp_path / "h.x3d"))
+    code, _, _ = cli("export", WIGLEY, str(tmp_path / "h.x3d"))
     text = (tmp_path / "h.x3d").read_text()
     assert code == 0 and text.count(" -1") > 1000 and "<IndexedFaceSet" in text
 
@@ -77,8 +65,8 @@ def test_export_formats(capsys, tmp_path):
         (["export", WIGLEY, "x.step"], "unknown mesh format"),
     ],
 )
-def test_bad_input_one_line_error(capsys, args, message):
-    code, out, err = run(capsys, *args)
+def test_bad_input_one_line_error(cli, args, message):
+    code, out, err = cli(*args)
     assert code == 2
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
 

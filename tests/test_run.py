@@ -7,25 +7,13 @@ from pathlib import Path
 
 import pytest
 
-from hullopt.app.cli import main
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "cache"))
-
-
-def run(capsys, *args):
-    code = main(list(args))
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def test_fit_config_meets_its_targets_and_writes_the_run_folder(capsys, tmp_path):
+def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path):
     out = tmp_path / "fit"
-    code, stdout, err = run(capsys, "run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(out), "--json")
+    code, stdout, err = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(out), "--json")
     assert code == 0, err
     report = json.loads(stdout)
     assert report["converged"] and report["met"] and report["iterations"] > 0
@@ -37,17 +25,17 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(capsys, tmp_path
     assert json.loads((out / "config.json").read_text())["targets"]["cb"] == 0.48
 
 
-def test_infeasible_target_is_reported_with_the_closest_design(capsys, tmp_path):
+def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
     out = tmp_path / "far"
-    code, stdout, _ = run(capsys, "run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.75",
+    code, stdout, _ = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.75",
                           "--out", str(out), "--json")
     report = json.loads(stdout)
     assert code == 3 and not report["met"] and "cannot be met" in report["message"]
     assert (out / "hull.stl").exists() and report["targets"]["cb"]["met"] is False
 
 
-def test_min_added_resistance_config_lowers_it_with_particulars_held(capsys, tmp_path):
-    code, stdout, err = run(capsys, "run", str(CONFIGS / "min_added_resistance.toml"), "--out", str(tmp_path / "m"),
+def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_path):
+    code, stdout, err = cli("run", str(CONFIGS / "min_added_resistance.toml"), "--out", str(tmp_path / "m"),
                             "--json")
     assert code == 0, err
     r = json.loads(stdout)
@@ -55,11 +43,11 @@ def test_min_added_resistance_config_lowers_it_with_particulars_held(capsys, tmp
     assert all(t["met"] for t in r["targets"].values())
 
 
-def test_pareto_sweep_is_non_dominated_and_resumes(capsys, tmp_path):
+def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
     out = tmp_path / "p"
     args = ["run", str(CONFIGS / "pareto_bow.toml"), "--set", "sweep.count=4", "--set", "sweep.chunk=2",
             "--out", str(out), "--json"]
-    code, stdout, err = run(capsys, *args)
+    code, stdout, err = cli(*args)
     assert code == 0, err
     r = json.loads(stdout)
     designs = r["designs"]
@@ -75,7 +63,7 @@ def test_pareto_sweep_is_non_dominated_and_resumes(capsys, tmp_path):
     data["designs"][0]["iterations"] = -12345
     c0.write_text(json.dumps(data))
     c1.unlink()
-    code, stdout, _ = run(capsys, *args)
+    code, stdout, _ = cli(*args)
     again = json.loads(stdout)["designs"]
     assert code == 0 and again[0]["iterations"] == -12345 and c1.exists()
     assert again[3]["objective"] == pytest.approx(designs[3]["objective"], rel=1e-9)  # deterministic
@@ -92,14 +80,14 @@ def test_pareto_sweep_is_non_dominated_and_resumes(capsys, tmp_path):
         (lambda t: t.replace("[targets]", "[targetz]"), "targetz"),
     ],
 )
-def test_bad_configs_fail_fast(capsys, tmp_path, edit, message):
+def test_bad_configs_fail_fast(cli, tmp_path, edit, message):
     cfg = tmp_path / "bad.toml"
     cfg.write_text(edit((CONFIGS / "fit_cb_lcb.toml").read_text()))
-    code, _, err = run(capsys, "run", str(cfg), "--out", str(tmp_path / "o"))
+    code, _, err = cli("run", str(cfg), "--out", str(tmp_path / "o"))
     assert code == 2 and message in err and "Traceback" not in err, err
     assert str(cfg) in err or "nosuch" in err
 
 
-def test_missing_config_file(capsys, tmp_path):
-    code, _, err = run(capsys, "run", str(tmp_path / "none.toml"))
+def test_missing_config_file(cli, tmp_path):
+    code, _, err = cli("run", str(tmp_path / "none.toml"))
     assert code == 2 and "cannot read the config" in err
