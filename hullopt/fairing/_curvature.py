@@ -87,13 +87,15 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
 
 def section_curvature(sections: Sections, eps: float = 1e-9) -> Float[Array, "n m"]:
     """Signed curvature [1/m] of every half-section polyline at its points (0 at the two ends and next
-    to repeated points): ``κ = (t_{i−1} × t_i) / ds``, positive where the section turns left going from
+    to repeated points): ``±|κ|`` of :func:`polyline_curvature` (exactly ``1/R`` on the chords of a
+    circle), positive where the section turns left going from
     keel to deck (a convex bilge). The "porcupine" of seed 001 §2.2 draws ``κ`` along the section normal.
     """
     kappa, _, _ = polyline_curvature(sections.yz, eps)
     t, _, _ = _safe_unit(jnp.diff(sections.yz, axis=-2), eps)
-    # component of the curvature vector along the left normal of the incoming tangent (±|κ| for small turns)
-    normal = jnp.stack([-t[..., :-1, 1], t[..., :-1, 0]], -1)
-    signed = jnp.sum(kappa * normal, -1)
+    # component along the left normal of the bisector t_{i−1} + t_i, to which κ is parallel: exactly ±|κ|
+    b, _, ok = _safe_unit(t[..., :-1, :] + t[..., 1:, :], eps)
+    normal = jnp.stack([-b[..., 1], b[..., 0]], -1)
+    signed = jnp.where(ok, jnp.sum(kappa * normal, -1), 0.0)
     pad = jnp.zeros(signed.shape[:-1] + (1,), signed.dtype)
     return jnp.concatenate([pad, signed, pad], -1)

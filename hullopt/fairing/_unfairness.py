@@ -51,7 +51,7 @@ from jaxtyping import Array, Float
 
 from ..geometry import Sections
 from ._coons import CoonsSurface
-from ._curvature import graph_curvatures, polyline_curvature
+from ._curvature import _safe_unit, graph_curvatures, polyline_curvature
 
 _G, _W = np.polynomial.legendre.leggauss(3)
 GAUSS_T, GAUSS_W = (_G + 1.0) / 2.0, _W / 2.0  # 3-point Gauss–Legendre on [0, 1]
@@ -230,11 +230,13 @@ def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
     """Unfairness of any hull given as :class:`~hullopt.geometry.Sections` (dimensionless, ≥ 0): the
     variation of curvature along every section and along every longitudinal line of the ``n × m`` grid::
 
-        U = Lpp³ [ mean_i Σ_k |κ_{i,k+1} − κ_{i,k}|² / Δs_{i,k}  +  mean_j Σ_i |κ_{i+1,j} − κ_{i,j}|² / Δs_{i,j} ]
+        U = Lpp³ [ mean_i Σ_k |P Δκ_{i,k}|² / Δs_{i,k}  +  mean_j Σ_i |P Δκ_{i,j}|² / Δs_{i,j} ]
 
     with ``κ`` the discrete curvature vectors of :func:`polyline_curvature` (sections in (y, z), lines
-    in (x, y, z)) and ``Δs`` the arc length between the two vertices: a discrete ``∫ |dκ/ds|² ds`` per
-    line, the counterpart of the ``"lines"`` measure. Edges along the centreline (``y = 0`` at both ends:
+    in (x, y, z)), ``Δκ`` their difference between neighbouring vertices, ``P`` the projection
+    perpendicular to the edge joining them (removing the ``−κ² t`` turning of a circle) and ``Δs`` the
+    arc length between the vertices: a discrete ``∫ (dκ/ds)² ds`` per line (plus ``κ²τ²`` for twisted
+    3-D lines), zero on circles and straight lines — the counterpart of the ``"lines"`` measure. Edges along the centreline (``y = 0`` at both ends:
     joins and unstarted parts of a section) and repeated points are left out. Pure, differentiable,
     ``jit``/``vmap``-able: a fairness term (penalty or objective) for the design problems.
     """
@@ -247,7 +249,11 @@ def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
         kappa, ds, ok = polyline_curvature(points, eps, edge_ok)
         pair = ok[..., :-1] & ok[..., 1:]
         gap = jnp.where(pair, 0.5 * (ds[..., :-1] + ds[..., 1:]), 1.0)
-        dk2 = jnp.sum((kappa[..., 1:, :] - kappa[..., :-1, :]) ** 2, -1)
+        dk = kappa[..., 1:, :] - kappa[..., :-1, :]
+        # dκ⃗/ds = κ' n − κ² t: drop the part along the edge joining the two vertices (turning of a
+        # constant curvature), keep the change of curvature (and, in 3-D, of the osculating plane)
+        t, _, _ = _safe_unit(jnp.diff(points, axis=-2)[..., 1:-1, :], eps)
+        dk2 = jnp.sum(dk**2, -1) - jnp.sum(dk * t, -1) ** 2
         return jnp.sum(jnp.where(pair, dk2 / gap, 0.0), -1)
 
     lines = jnp.concatenate([jnp.broadcast_to(sections.x[:, None, None], yz.shape[:-1] + (1,)), yz], -1)

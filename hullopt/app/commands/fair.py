@@ -1,0 +1,224 @@
+"""``hullopt fair``: automatic fairing of an offset table (seed 001) with a before/after report and plots."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import jax.numpy as jnp
+import numpy as np
+import typer
+
+from ...errors import HullError
+from ...fairing import (
+    RESIDUALS, aft_body_noise, coons_surface, curve_curvature, fair_offsets, fixed_offsets, graph_curvatures, measure,
+)
+from ...hydro import hydrostatics
+from ...models import offset_surface, read_offsets
+from .._app import app
+from ..hulls import load_hull
+from ..output import console, parse_range, print_json, table, write_json
+
+FAIR_HULL_HELP = ("offsets .csv (faired as given), or any other hull spec (builtin:…, mesh): its sections are "
+                  "resampled on --stations × --waterlines offsets")
+
+
+def hull_offsets(spec: str, stations: int, waterlines: int):
+    """``(x, z, y, lpp, design_draft, name)`` of a hull spec: an offset table as read, else the sections
+    resampled at equally spaced stations and waterlines (each section must be single-valued in z)."""
+    base = spec.partition("?")[0]
+    if base.lower().endswith(".csv") and "?" not in spec:
+        if not Path(base).is_file():
+            raise HullError(f"hull {spec!r}: no such file {base!r}")
+        t = read_offsets(base)
+        if t.knuckles:
+            raise HullError(f"{base}: fairing does not handle knuckles yet (a split spline would be faired across its corner)")
+        return t.x, t.z, t.y, t.lpp, None, Path(base).name
+    if stations < 4 or waterlines < 4:
+        raise HullError(f"--stations {stations} and --waterlines {waterlines}: need at least 4 each")
+    h = load_hull(spec)
+    s = h.sections
+    yz, xs = np.asarray(s.yz), np.asarray(s.x)
+    if np.any(np.diff(yz[..., 1], axis=-1) < 0):
+        raise HullError(f"hull {spec!r}: a section turns back downwards; fairing needs sections single-valued in z")
+    z = np.linspace(max(float(s.keel), 0.0), float(s.depth), waterlines)
+    per_station = np.array([np.interp(z, sec[:, 1], sec[:, 0], left=0.0, right=sec[-1, 0]) for sec in yz])
+    x = np.linspace(xs[0], xs[-1], stations)
+    y = np.array([np.interp(x, xs, per_station[:, j]) for j in range(waterlines)]).T
+    return x, z, np.maximum(y, 0.0), float(s.lpp), h.design_draft, h.name
+
+
+def _write_offsets(path: Path, x, z, y, lpp: float, note: str) -> None:
+    lines = [f"# {note}", f"# lpp = {lpp:.17g}", "x," + ",".join(f"{v:.17g}" for v in z)]
+    lines += [f"{xi:.17g}," + ",".join(f"{v:.9f}" for v in row) for xi, row in zip(x, y)]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def _curvature_fields(x, z, y, n=161, m=81):
+    """Mean and Gaussian curvature on a fine (x, z) grid and the frame lines with their curvature."""
+    s = coons_surface(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y))
+    xf, zf = np.linspace(x[0], x[-1], n), np.linspace(z[0], z[-1], m)
+    xx, zz = jnp.asarray(xf)[:, None], jnp.asarray(zf)[None, :]
+    d = [s(xx, zz, a, b) for a, b in ((1, 0), (0, 1), (2, 0), (1, 1), (0, 2))]
+    k, h = graph_curvatures(*d)
+    yy = np.asarray(s(xx, zz))
+    frames = np.asarray(s(jnp.asarray(x)[:, None], zz))
+    kappa = np.asarray(curve_curvature(s(jnp.asarray(x)[:, None], zz, 0, 1), s(jnp.asarray(x)[:, None], zz, 0, 2)))
+    return xf, zf, yy, np.asarray(h), np.asarray(k), frames, kappa
+
+
+def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fields = [_curvature_fields(x, z, y) for y in (before, after)]
+    zf = fields[0][1]
+    # body plan: aft half on the left (mirrored), fore half on the right; porcupines along the normals
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), sharey=True)
+    scale = 0.08 * float(np.max(before)) / max(np.percentile(np.abs(fields[0][6][fields[0][5] > 0]), 95), 1e-12)
+    for ax, (_, _, _, _, _, frames, kappa), label in zip(axes, fields, ("before", "after")):
+        for i, xi in enumerate(x):
+            side = -1.0 if xi < lpp / 2 else 1.0
+            yv, kv = frames[i], kappa[i]
+            hull = yv > 0
+            if hull.sum() < 2:
+                continue
+            yp, zp = side * yv[hull], zf[hull]
+            ax.plot(yp, zp, color="k", lw=0.8)
+            # unit normal of the frame (dy, dz) rotated; bristles point out of the hull where convex
+            ty, tz = np.gradient(yp), np.gradient(zp)
+            nrm = np.hypot(ty, tz) + 1e-300
+            ny, nz = tz / nrm, -ty / nrm
+            ny, nz = side * ny * np.sign(side), nz
+            ny, nz = (ny, nz) if side > 0 else (-ny, -nz)
+            b = scale * kv[hull]
+            for yy0, zz0, dy, dz in zip(yp, zp, b * ny, b * nz):
+                ax.plot([yy0, yy0 + dy], [zz0, zz0 + dz], color="tab:red", lw=0.5)
+        ax.axvline(0, color="0.6", lw=0.5)
+        ax.set_aspect("equal")
+        ax.set_title(f"{title}: body plan and section curvature ({label})")
+        ax.set_xlabel("half-breadth y [m] (aft ← | → fore)")
+    axes[0].set_ylabel("z [m]")
+    fig.tight_layout()
+    files = [out / "body_plan.png"]
+    fig.savefig(files[0], dpi=110)
+    plt.close(fig)
+
+    fig, axes = plt.subplots(2, 2, figsize=(13, 6.5), sharex=True, sharey=True)
+    for col, (xf, zf_, yy, h, k, _, _), label in zip(range(2), fields, ("before", "after")):
+        for row, (field, name) in enumerate(((h, "mean curvature H [1/m]"), (k, "Gaussian curvature K [1/m²]"))):
+            ax = axes[row, col]
+            f = np.where(yy > 0, field, np.nan)
+            lim = np.nanpercentile(np.abs(fields[0][3 + row][fields[0][2] > 0]), 98) or 1.0
+            im = ax.pcolormesh(xf, zf_, f.T, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="auto")
+            ax.set_title(f"{name}, {label}")
+            fig.colorbar(im, ax=ax)
+            ax.set_ylabel("z [m]")
+    for ax in axes[-1]:
+        ax.set_xlabel("x [m from AP]")
+    fig.suptitle(f"{title}: curvature-shaded hull side (x, z)")
+    fig.tight_layout()
+    files.append(out / "curvature.png")
+    fig.savefig(files[1], dpi=110)
+    plt.close(fig)
+    return [str(f) for f in files]
+
+
+@app.command()
+def fair(
+    hull: Annotated[str, typer.Argument(help=FAIR_HULL_HELP)],
+    measure_name: Annotated[str, typer.Option("--measure", help=f"Unfairness measure: {', '.join(RESIDUALS)}.")] = "knots",
+    draft: Annotated[float | None, typer.Option(help="Draft [m] at which displacement and LCB are held (default: the design draft).")] = None,
+    max_move: Annotated[float | None, typer.Option(help="Largest move of one offset [m] (default 5 % of the largest half-breadth).")] = None,
+    region: Annotated[str | None, typer.Option(help="Fair only stations with X0 ≤ x ≤ X1 [m], given as X0:X1.")] = None,
+    proximity: Annotated[float, typer.Option(help="Weight of the pull towards the given offsets.")] = 1e-3,
+    noise: Annotated[float, typer.Option(help="Demo: first add Gaussian noise of this size [m] to the aft-body offsets.")] = 0.0,
+    seed: Annotated[int, typer.Option(help="Random seed of --noise.")] = 0,
+    stations: Annotated[int, typer.Option(help="Stations when resampling a non-offset hull.")] = 21,
+    waterlines: Annotated[int, typer.Option(help="Waterlines when resampling a non-offset hull.")] = 11,
+    out: Annotated[Path | None, typer.Option(help="Folder for report.json, faired_offsets.csv, body_plan.png, curvature.png.")] = None,
+    json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
+) -> None:
+    """Fair a hull's offsets by minimising an unfairness measure, holding displacement, LCB and the contour."""
+    if measure_name not in RESIDUALS:
+        raise HullError(f"--measure {measure_name!r}: expected one of {', '.join(RESIDUALS)}")
+    for name, v, ok in (("--proximity", proximity, proximity >= 0), ("--noise", noise, noise >= 0),
+                        ("--max-move", max_move, max_move is None or max_move > 0)):
+        if v is not None and not (np.isfinite(v) and ok):
+            raise HullError(f"{name} {v}: must be a {'positive' if name == '--max-move' else 'non-negative'} number")
+    if out is not None and out.exists() and not out.is_dir():
+        raise HullError(f"--out {out}: exists and is not a folder")
+    x, z, y, lpp, design, name = hull_offsets(hull, stations, waterlines)
+    t = draft if draft is not None else design
+    if t is None:
+        raise HullError("give --draft (this hull has no design draft)")
+    if not (np.isfinite(t) and z[0] < t <= z[-1]):
+        raise HullError(f"--draft {t:g} m is outside the offsets: expected a draft in ({z[0]:g}, {z[-1]:g}] m")
+    free = ~fixed_offsets(y)
+    if region is not None:
+        try:
+            lo, hi = (float(v) for v in region.split(":"))
+        except ValueError:
+            raise HullError(f"--region {region!r}: expected X0:X1 in m from the AP, e.g. 0:30") from None
+        free &= (x[:, None] >= lo) & (x[:, None] <= hi)
+    if not free.any():
+        raise HullError("no offset is free to move (all are fixed: zero, contour, flat of side, or outside --region)")
+    given = aft_body_noise(x, y, noise, seed, lpp=lpp, free=free) if noise > 0 else y
+    with console.status("fairing…") if not json else _null():
+        res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity)
+    # hydrostatics of the spline surface the offsets define (as `hullopt hydro` reads the written table)
+    from ...models import OffsetTable
+
+    def particulars(yy):
+        h = hydrostatics(offset_surface(OffsetTable(x=x, z=z, y=yy, lpp=lpp))(jnp.asarray(yy)), t)
+        return float(h.volume), float(h.lcb)
+
+    (v0, lcb0), (v1, lcb1) = particulars(given), particulars(res.y)
+    all_measures = {
+        m: {"before": float(measure(coons_surface(x, z, given), m)), "after": float(measure(coons_surface(x, z, res.y), m))}
+        for m in RESIDUALS
+    }
+    move = res.y - given
+    report = {
+        "hull": name, "measure": measure_name, "draft": t, "lpp": lpp,
+        "before": res.before, "after": res.after, "reduction": res.reduction,
+        "measures": all_measures,
+        "free_offsets": int(free.sum()), "max_move": float(np.abs(move).max()),
+        "rms_move": float(np.sqrt(np.mean(move[free] ** 2))),
+        "volume_before": v0, "volume_after": v1, "volume_change_pct": 100 * (v1 / v0 - 1),
+        "lcb_before": lcb0, "lcb_after": lcb1, "lcb_shift_pct_lpp": 100 * (lcb1 - lcb0) / lpp,
+        "steps": res.steps, "converged": res.converged,
+    }
+    if noise > 0:
+        e0 = float(np.sqrt(np.mean((given - y)[free] ** 2)))
+        e1 = float(np.sqrt(np.mean((res.y - y)[free] ** 2)))
+        report.update(noise=noise, noise_rms=e0, residual_error_rms=e1, noise_removed=1 - e1 / e0 if e0 else 0.0)
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        _write_offsets(out / "faired_offsets.csv", x, z, res.y, lpp, f"{name} faired by hullopt ({measure_name})")
+        report["files"] = [str(out / "report.json"), str(out / "faired_offsets.csv"),
+                           *_plots(out, x, z, given, res.y, lpp, name)]
+        write_json(out / "report.json", report)
+    if json:
+        print_json(report)
+        return
+    rows = [[f"unfairness ({m})", d["before"], d["after"]] for m, d in all_measures.items()]
+    rows += [["volume [m³]", v0, v1], ["LCB [m from AP]", lcb0, lcb1]]
+    table(f"Fairing — {name} (measure {measure_name}, T = {t:g} m)", ["", "before", "after"], rows)
+    console.print(f"{measure_name} fell by {100 * res.reduction:.1f} %; max move {report['max_move']:.4f} m; "
+                  f"displacement {report['volume_change_pct']:+.4f} %, LCB {report['lcb_shift_pct_lpp']:+.4f} % Lpp")
+    if noise > 0:
+        console.print(f"noise removed: {100 * report['noise_removed']:.1f} % (rms {report['noise_rms']:.4f} → "
+                      f"{report['residual_error_rms']:.4f} m)")
+    if out is not None:
+        console.print("wrote " + ", ".join(report["files"]))
+
+
+class _null:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *a):
+        return False
