@@ -145,3 +145,16 @@ def test_jaxopt_adapter_respects_bounds():
                                    jnp.array([2.0, 4.0]), 3.0)
     np.testing.assert_allclose(p, [2.0, 3.0], atol=1e-6)
     assert bool(ok) and float(value) == pytest.approx(1.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("kind", ["calm_resistance", "wind_added_resistance", "k_aw"])
+def test_other_objectives_differentiate_through_the_design(wigley_design, kind):
+    model, p0, lo, hi, parent = wigley_design
+    obj = Objective(kind, jnp.asarray(15 * KNOT), wind_speed=jnp.asarray(15.0), wind_angle=jnp.asarray(0.4))
+    p = jax.tree.map(lambda a: 0.1 * jnp.ones_like(a), p0)
+    f = eqx.filter_jit(lambda q: obj(model(q), 6.25))
+    v = jax.tree.map(lambda a: jnp.ones_like(a), p0)
+    _, jvp = eqx.filter_jit(lambda q, t: jax.jvp(f, (q,), (t,)))(p, v)
+    eps = 1e-6
+    fd = (f(jax.tree.map(lambda a, b: a + eps * b, p, v)) - f(jax.tree.map(lambda a, b: a - eps * b, p, v))) / (2 * eps)
+    assert np.isfinite(float(jvp)) and float(jvp) == pytest.approx(float(fd), rel=1e-5, abs=1e-9 * abs(float(f(p))))

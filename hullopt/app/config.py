@@ -82,11 +82,15 @@ class ObjectiveConfig(_Strict):
     tp: float = Field(default=10.0, gt=0)
     heading_deg: float = Field(default=0.0, ge=-360, le=360)
     smooth: float = Field(default=1.0, gt=0, description="width of the smooth max in C_U")
+    wind_speed: float = Field(default=0.0, ge=0, description="true wind [m/s] (wind_added_resistance)")
+    wind_angle_deg: float = Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")
 
     @model_validator(mode="after")
     def _sea(self):
         if self.kind == "mean_added_resistance" and self.hs <= 0:
             raise ValueError("mean_added_resistance needs a sea state: hs > 0 [m] and tp [s]")
+        if self.kind == "wind_added_resistance" and self.wind_speed <= 0:
+            raise ValueError("wind_added_resistance needs wind_speed > 0 [m/s]")
         return self
 
 

@@ -8,8 +8,6 @@ constrained minimum, or a Pareto sweep in resumable chunks) and write the run fo
 
 from __future__ import annotations
 
-import hashlib
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,7 +51,8 @@ class Problem:
 
 def objective_from(cfg: ObjectiveConfig) -> Objective:
     return Objective(kind=cfg.kind, speed=jnp.asarray(cfg.speed_kn * KNOT), hs=jnp.asarray(cfg.hs),
-                     tp=jnp.asarray(cfg.tp), heading=jnp.asarray(np.radians(cfg.heading_deg)), smooth=cfg.smooth)
+                     tp=jnp.asarray(cfg.tp), heading=jnp.asarray(np.radians(cfg.heading_deg)), smooth=cfg.smooth,
+                     wind_speed=jnp.asarray(cfg.wind_speed), wind_angle=jnp.asarray(np.radians(cfg.wind_angle_deg)))
 
 
 def build_problem(cfg: RunConfig) -> Problem:
@@ -124,21 +123,27 @@ def _target_report(design: Design, params) -> dict:
     return out
 
 
-def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False) -> dict:
+def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[int, int] = (1, 1),
+        executor: str = "local", address: str | None = None) -> dict:
     """Solve the config's problem and write the run folder ``out``; returns the report.
 
     ``report.json``: ``kind``, ``converged`` (the solver finished and every target is met), ``met``,
     ``iterations``, ``targets`` (target, achieved, error, tolerance, met per particular), ``achieved`` and
     ``parent`` (the ``hullopt hydro --json`` keys of the final and the parent hull), ``objective``
     (value, parent value, name), ``params``; for sweeps ``designs`` (one per sweep value, with its
-    objectives, particulars, parameters and whether it is Pareto-optimal).
+    objectives, particulars, parameters and whether it is Pareto-optimal). ``shard = (k, N)``, ``executor``
+    (``"local"`` or ``"dask"``) and ``address`` (the Dask scheduler) apply to sweeps: a shard whose sweep is
+    not complete yet returns a partial report and writes no hull files.
     """
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "config.json", raw)
     prob = build_problem(cfg)
     d = prob.design
     if cfg.kind == "pareto":
-        report = _pareto(cfg, prob, out, quiet)
+        report = _pareto(cfg, prob, out, quiet, shard, executor, address)
+        if report.get("partial"):
+            write_json(out / "report.json", report)
+            return report
         final = prob.p0
     else:
         history: list[float] = []
@@ -203,80 +208,43 @@ def _progress(quiet: bool) -> Progress:
 # ----------------------------------------------------------------------------------------------- sweeps
 
 
-def _sweep_key(raw: dict) -> str:
-    return hashlib.sha256(json.dumps(raw, sort_keys=True).encode()).hexdigest()[:16]
+def _pareto(cfg: RunConfig, prob: Problem, out: Path, quiet: bool, shard=(1, 1), executor: str = "local",
+            address: str | None = None) -> dict:
+    """ε-constraint sweep on Bf (see :mod:`hullopt.app.sweep`): this shard's chunks are solved and written
+    to ``chunks/``; when every chunk is there the report of the whole sweep, else a partial report
+    (``partial``: true, ``chunks_done``, ``chunks_total``, ``designs`` of the chunks done)."""
+    from .sweep import SweepPlan, run_chunks
 
-
-def _pareto(cfg: RunConfig, prob: Problem, out: Path, quiet: bool) -> dict:
-    """ε-constraint sweep on Bf: at each Bf* minimise the objective with the targets and Bf = Bf* held;
-    chunks of ``sweep.chunk`` values are solved as one jitted ``vmap`` and written atomically to
-    ``chunks/``; a rerun skips the chunks already there (if the config is the same)."""
-    sw = cfg.sweep
-    d = prob.design
-    targets = dict(cfg.targets)
-    targets["bf"] = 0.5 * (sw.start + sw.stop)
-    tgt = make_targets(targets, cfg.tolerances, cfg.kg)
-    d = eqx.tree_at(lambda x: x.targets, d, tgt)
-    i_bf = tgt.names.index("bf")
-    measure = objective_from(sw.measure)
-    eps = np.linspace(sw.start, sw.stop, sw.count)
-    chunks = out / "chunks"
-    chunks.mkdir(exist_ok=True)
-    key = _sweep_key({k: v for k, v in cfg.model_dump().items() if k != "solver"} | {"solver": cfg.solver.model_dump()})
-
-    @eqx.filter_jit
-    def solve_chunk(values):
-        def one(e):
-            de = eqx.tree_at(lambda x: x.targets.values, d, d.targets.values.at[i_bf].set(e))
-            r = solve_minimum(de, prob.p0, prob.lower, prob.upper, outer=cfg.solver.outer,
-                              max_steps=cfg.solver.max_steps)
-            s = de.model(r.params)
-            h = hydrostatics(s, de.draft)
-            return r, de.objective(s, de.draft), measure(s, de.draft), h
-
-        return jax.vmap(one)(values)
-
-    n_chunks = -(-len(eps) // sw.chunk)
-    designs = []
+    plan = SweepPlan(cfg, prob)
+    n_mine = len(range(shard[0] - 1, plan.n_chunks, shard[1]))
     with _progress(quiet) as bar:
-        task = bar.add_task("Pareto sweep", total=n_chunks)
-        for k in range(n_chunks):
-            path = chunks / f"chunk_{k:04d}.json"
-            values = eps[k * sw.chunk: (k + 1) * sw.chunk]
-            if path.exists():
-                data = json.loads(path.read_text())
-                if data.get("key") == key and np.allclose(data["values"], values):
-                    designs += data["designs"]
-                    bar.update(task, advance=1)
-                    continue
-            padded = np.concatenate([values, np.full(sw.chunk - len(values), values[-1])])
-            r, obj, meas, h = solve_chunk(jnp.asarray(padded))
-            rows = []
-            for i, e in enumerate(values):
-                p_i = jax.tree.map(lambda a: a[i], r.params)
-                rows.append({
-                    "bf_target": float(e),
-                    "objective": float(obj[i]),
-                    "measure": float(meas[i]),
-                    "met": bool(r.met[i]),
-                    "max_violation": float(r.max_violation[i]),
-                    "iterations": int(r.steps[i]),
-                    "params": _params_dict(p_i),
-                    "particulars": {k2: float(v[i]) for k2, v in h.to_dict().items() if k2 in ("volume", "cb",
-                                    "lcb_pct", "cp", "cwp", "wetted_surface", "bwl", "lwl")},
-                })
-            write_json(path, {"key": key, "values": values.tolist(), "designs": rows})
-            designs += rows
-            bar.update(task, advance=1)
+        task = bar.add_task("Pareto sweep" + (f" shard {shard[0]}/{shard[1]}" if shard[1] > 1 else ""), total=n_mine)
+        designs = run_chunks(plan, out, shard, executor, address, progress=lambda n: bar.update(task, advance=n))
+    if designs is None:
+        done = [k for k in range(plan.n_chunks) if plan.load(plan.path(out / "chunks", k), k) is not None]
+        rows = [r for k in done for r in plan.load(plan.path(out / "chunks", k), k)]
+        met = all(r["met"] for r in rows)
+        return {"kind": "pareto", "partial": True, "shard": f"{shard[0]}/{shard[1]}", "converged": met, "met": met,
+                "chunks_done": done, "chunks_total": plan.n_chunks, "designs": rows}
     pts = jnp.asarray([[r["measure"], r["objective"]] if r["met"] else [np.nan, np.nan] for r in designs])
     front = np.asarray(non_dominated(pts))
     for r, f in zip(designs, front):
         r["pareto"] = bool(f)
     from .plots import plot_pareto
 
+    sw = cfg.sweep
     plot_pareto(designs, sw.measure.kind, cfg.objective.kind, out / "pareto.png")
     met = all(r["met"] for r in designs)
     return {"kind": "pareto", "converged": met, "met": met, "iterations": sum(r["iterations"] for r in designs),
             "targets": {k: float(v) for k, v in cfg.targets.items()}, "designs": designs,
             "objective": {"name": cfg.objective.kind, "measure": sw.measure.kind},
             "pareto_count": int(front.sum())}
+
+
+def merge(dirs: list[Path], out: Path, quiet: bool = False) -> dict:
+    """Combine the run folders of the shards of one sweep into ``out``: the same folder and report as the
+    unsplit sweep (nothing is solved; :class:`HullError` if a chunk is missing)."""
+    from .sweep import collect_chunks
+
+    cfg, raw = collect_chunks(list(dirs), out)
+    return run(cfg, raw, out, quiet)

@@ -32,6 +32,7 @@ from ..geometry import Sections
 from ..hydro import Hydrostatics, hydrostatics
 from ..resistance import holtrop_hull, holtrop_mennen
 from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
+from ..wind import no_parts, wind_added_resistance, wind_variables
 
 # name: (relative?, default tolerance)
 TARGETS: dict[str, tuple[bool, float]] = {
@@ -106,7 +107,10 @@ class Objective(eqx.Module):
     * ``"k_aw"`` — K_AW in short head waves at ``speed`` [m/s] (patent; smooth C_U of width ``smooth``);
     * ``"mean_added_resistance"`` — the sea-state mean R_AW [N] (NMRI, ``hs`` [m], ``tp`` [s], ``heading``
       [rad], long-crested);
-    * ``"calm_resistance"`` — Holtrop–Mennen total [N] at ``speed``.
+    * ``"calm_resistance"`` — Holtrop–Mennen total [N] at ``speed``;
+    * ``"wind_added_resistance"`` — ISO 15016 ΔR_AA [N] at ``speed`` in a true wind of ``wind_speed`` [m/s]
+      from ``wind_angle`` [rad off the bow] on the hull above water plus ``parts`` (superstructure, cargo;
+      none: the bare hull).
     """
 
     kind: str = eqx.field(static=True)
@@ -115,6 +119,9 @@ class Objective(eqx.Module):
     tp: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
     heading: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
     smooth: float = eqx.field(static=True, default=1.0)
+    wind_speed: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    wind_angle: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    parts: object = None
 
     def __call__(self, sections: Sections, draft) -> Array:
         if self.kind == "k_aw":
@@ -126,10 +133,13 @@ class Objective(eqx.Module):
             return r.motion + r.reflection
         if self.kind == "calm_resistance":
             return holtrop_mennen(holtrop_hull(sections, draft), self.speed).total
+        if self.kind == "wind_added_resistance":
+            v = wind_variables(sections, draft, self.parts if self.parts is not None else no_parts())
+            return wind_added_resistance(v, self.speed, self.wind_speed, self.wind_angle)
         raise ValueError(f"unknown objective {self.kind!r}")
 
 
-OBJECTIVES = ("k_aw", "mean_added_resistance", "calm_resistance")
+OBJECTIVES = ("k_aw", "mean_added_resistance", "calm_resistance", "wind_added_resistance")
 
 
 # ----------------------------------------------------------------------------------------------- the problem
