@@ -93,9 +93,8 @@ def build_problem(cfg: RunConfig) -> Problem:
         raise HullError(f"targets: {e}") from None
     design = Design(model=model, draft=jnp.asarray(float(draft)), targets=targets,
                     objective=objective_from(cfg.objective) if cfg.objective else None,
-                    smoothness=cfg.solver.smoothness, param_scale=half)
-    if design.objective is not None:
-        design = with_objective_scale(design, p0)
+                    smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness)
+    design = with_objective_scale(design, p0)
     return Problem(design, p0, lower, half, cfg.hull.parent)
 
 

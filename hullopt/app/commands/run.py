@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from ...errors import HullError
 from .._app import app
 from ..config import load_config
 from ..output import console, print_json, table
@@ -18,13 +19,27 @@ def run_command(
     set_: Annotated[list[str] | None, typer.Option("--set", help="Override a config value: a.b=value")] = None,
     out: Annotated[Path | None, typer.Option(help="Run folder (default runs/<config name>)")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
+    shard: Annotated[str | None, typer.Option(help="Sweeps: solve only chunks k-1, k-1+N, … (k/N, e.g. 2/8); "
+                                              "combine the shards' folders with hullopt merge")] = None,
+    executor: Annotated[str, typer.Option(help="Sweeps: where chunks run: local (this machine's devices) or "
+                                          "dask")] = "local",
+    address: Annotated[str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786 (default: "
+                                                "a local cluster)")] = None,
 ) -> None:
     """Run a design config; exit code 3 when the targets cannot be met (the closest design is written)."""
     from ..run import run
+    from ..sweep import parse_shard
 
     cfg, raw = load_config(config, set_ or [])
+    k_n = parse_shard(shard)
+    if executor not in ("local", "dask"):
+        raise HullError(f"--executor {executor!r}: expected local or dask")
+    if cfg.kind != "pareto" and (shard is not None or executor != "local" or address):
+        raise HullError(f"--shard/--executor/--address apply to sweeps; {config} is a {cfg.kind!r} run")
+    if address and executor != "dask":
+        raise HullError("--address needs --executor dask")
     folder = out or Path("runs") / config.stem
-    report = run(cfg, raw, folder, quiet=json)
+    report = run(cfg, raw, folder, quiet=json, shard=k_n, executor=executor, address=address)
     if json:
         print_json(report)
     else:
@@ -34,6 +49,11 @@ def run_command(
 
 
 def _summary(report: dict, folder: Path) -> None:
+    if report.get("partial"):
+        console.print(f"shard {report['shard']}: chunks {', '.join(map(str, report['chunks_done']))} of "
+                      f"{report['chunks_total']} done in {folder}/chunks; when every shard has run, combine the "
+                      "folders with: hullopt merge DIR… --out OUT")
+        return
     if report["kind"] == "pareto":
         rows = [[f"{d['bf_target']:.3f}", d["measure"], d["objective"], "yes" if d["met"] else "NO",
                  "★" if d["pareto"] else ""] for d in report["designs"]]
