@@ -26,7 +26,8 @@ import numpy as np
 import optimistix as optx
 
 from ..geometry import Sections
-from ..hydro import hydrostatics
+from ..geometry import simpson_weights
+from ..hydro import sectional_areas
 from ._coons import coons_sections, coons_surface
 from ._unfairness import RESIDUALS
 
@@ -130,8 +131,10 @@ def fair_offsets(
         return yj.ravel().at[idx].add(bound * jnp.tanh(p)).reshape(y0.shape)
 
     def particulars(yy):
-        h = hydrostatics(to_sections(yy), draft)
-        return h.volume, h.lcb
+        sec = to_sections(yy)  # volume and LCB as hullopt.hydro.hydrostatics computes them
+        w, area = simpson_weights(sec.x), sectional_areas(sec, draft)
+        volume = w @ area
+        return volume, (w @ (sec.x * area)) / volume
 
     def unfair(yy):
         r = residuals(coons_surface(xj, zj, yy, end), hull)

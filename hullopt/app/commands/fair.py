@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+from contextlib import nullcontext
+from functools import partial
 from pathlib import Path
 from typing import Annotated
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
@@ -14,10 +17,10 @@ from ...fairing import (
     RESIDUALS, aft_body_noise, coons_surface, curve_curvature, fair_offsets, fixed_offsets, graph_curvatures, measure,
 )
 from ...hydro import hydrostatics
-from ...models import offset_surface, read_offsets
+from ...models import OffsetTable, offset_surface, read_offsets
 from .._app import app
 from ..hulls import load_hull
-from ..output import console, parse_range, print_json, table, write_json
+from ..output import console, print_json, table, write_json
 
 FAIR_HULL_HELP = ("offsets .csv (faired as given), or any other hull spec (builtin:…, mesh): its sections are "
                   "resampled on --stations × --waterlines offsets")
@@ -54,17 +57,25 @@ def _write_offsets(path: Path, x, z, y, lpp: float, note: str) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
+@partial(jax.jit, static_argnums=(3, 4))
+def _fields(x, z, y, n, m):
+    s = coons_surface(x, z, y)
+    xf, zf = jnp.linspace(x[0], x[-1], n), jnp.linspace(z[0], z[-1], m)
+    xx, zz, xs = xf[:, None], zf[None, :], x[:, None]
+    k, h = graph_curvatures(*(s(xx, zz, a, b) for a, b in ((1, 0), (0, 1), (2, 0), (1, 1), (0, 2))))
+    kappa = curve_curvature(s(xs, zz, 0, 1), s(xs, zz, 0, 2))
+    return xf, zf, s(xx, zz), h, k, s(xs, zz), kappa
+
+
 def _curvature_fields(x, z, y, n=161, m=81):
-    """Mean and Gaussian curvature on a fine (x, z) grid and the frame lines with their curvature."""
-    s = coons_surface(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y))
-    xf, zf = np.linspace(x[0], x[-1], n), np.linspace(z[0], z[-1], m)
-    xx, zz = jnp.asarray(xf)[:, None], jnp.asarray(zf)[None, :]
-    d = [s(xx, zz, a, b) for a, b in ((1, 0), (0, 1), (2, 0), (1, 1), (0, 2))]
-    k, h = graph_curvatures(*d)
-    yy = np.asarray(s(xx, zz))
-    frames = np.asarray(s(jnp.asarray(x)[:, None], zz))
-    kappa = np.asarray(curve_curvature(s(jnp.asarray(x)[:, None], zz, 0, 1), s(jnp.asarray(x)[:, None], zz, 0, 2)))
-    return xf, zf, yy, np.asarray(h), np.asarray(k), frames, kappa
+    """Mean and Gaussian curvature on a fine (x, z) grid, and the frame lines with their curvature."""
+    return [np.asarray(a) for a in _fields(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y), n, m)]
+
+
+@jax.jit
+def _all_measures(x, z, y):
+    s = coons_surface(x, z, y)
+    return {name: measure(s, name) for name in RESIDUALS}
 
 
 def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
@@ -77,6 +88,7 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
     zf = fields[0][1]
     # body plan: aft half on the left (mirrored), fore half on the right; porcupines along the normals
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), sharey=True)
+    fig.suptitle(title)
     scale = 0.08 * float(np.max(before)) / max(np.percentile(np.abs(fields[0][6][fields[0][5] > 0]), 95), 1e-12)
     for ax, (_, _, _, _, _, frames, kappa), label in zip(axes, fields, ("before", "after")):
         for i, xi in enumerate(x):
@@ -87,18 +99,16 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
                 continue
             yp, zp = side * yv[hull], zf[hull]
             ax.plot(yp, zp, color="k", lw=0.8)
-            # unit normal of the frame (dy, dz) rotated; bristles point out of the hull where convex
+            # bristles along the outward normal, outwards where the section is convex
             ty, tz = np.gradient(yp), np.gradient(zp)
             nrm = np.hypot(ty, tz) + 1e-300
-            ny, nz = tz / nrm, -ty / nrm
-            ny, nz = side * ny * np.sign(side), nz
-            ny, nz = (ny, nz) if side > 0 else (-ny, -nz)
+            ny, nz = side * tz / nrm, -side * ty / nrm  # outward normal on either side of the plan
             b = scale * kv[hull]
             for yy0, zz0, dy, dz in zip(yp, zp, b * ny, b * nz):
                 ax.plot([yy0, yy0 + dy], [zz0, zz0 + dz], color="tab:red", lw=0.5)
         ax.axvline(0, color="0.6", lw=0.5)
         ax.set_aspect("equal")
-        ax.set_title(f"{title}: body plan and section curvature ({label})")
+        ax.set_title(f"body plan and section curvature, {label}")
         ax.set_xlabel("half-breadth y [m] (aft ← | → fore)")
     axes[0].set_ylabel("z [m]")
     fig.tight_layout()
@@ -166,20 +176,19 @@ def fair(
     if not free.any():
         raise HullError("no offset is free to move (all are fixed: zero, contour, flat of side, or outside --region)")
     given = aft_body_noise(x, y, noise, seed, lpp=lpp, free=free) if noise > 0 else y
-    with console.status("fairing…") if not json else _null():
+    with console.status("fairing…") if not json else nullcontext():
         res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity)
     # hydrostatics of the spline surface the offsets define (as `hullopt hydro` reads the written table)
-    from ...models import OffsetTable
+    surface = offset_surface(OffsetTable(x=x, z=z, y=y, lpp=lpp))
+    hydro = jax.jit(lambda yy: hydrostatics(surface(yy), t))
 
     def particulars(yy):
-        h = hydrostatics(offset_surface(OffsetTable(x=x, z=z, y=yy, lpp=lpp))(jnp.asarray(yy)), t)
+        h = hydro(jnp.asarray(yy))
         return float(h.volume), float(h.lcb)
 
     (v0, lcb0), (v1, lcb1) = particulars(given), particulars(res.y)
-    all_measures = {
-        m: {"before": float(measure(coons_surface(x, z, given), m)), "after": float(measure(coons_surface(x, z, res.y), m))}
-        for m in RESIDUALS
-    }
+    before, after = (_all_measures(jnp.asarray(x), jnp.asarray(z), jnp.asarray(yy)) for yy in (given, res.y))
+    all_measures = {m: {"before": float(before[m]), "after": float(after[m])} for m in RESIDUALS}
     move = res.y - given
     report = {
         "hull": name, "measure": measure_name, "draft": t, "lpp": lpp,
@@ -215,10 +224,3 @@ def fair(
     if out is not None:
         console.print("wrote " + ", ".join(report["files"]))
 
-
-class _null:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *a):
-        return False
