@@ -158,3 +158,18 @@ def test_other_objectives_differentiate_through_the_design(wigley_design, kind):
     eps = 1e-6
     fd = (f(jax.tree.map(lambda a, b: a + eps * b, p, v)) - f(jax.tree.map(lambda a, b: a - eps * b, p, v))) / (2 * eps)
     assert np.isfinite(float(jvp)) and float(jvp) == pytest.approx(float(fd), rel=1e-5, abs=1e-9 * abs(float(f(p))))
+
+
+def test_fairness_term_is_scaled_by_the_parent_and_penalises_wiggles(wigley_design):
+    model, p0, lo, hi, parent = wigley_design
+    d = Design(model=model, draft=jnp.asarray(6.25), targets=make_targets({"cb": float(parent.cb)}),
+               objective=Objective("k_aw", jnp.asarray(15 * KNOT)), fairness=0.5, param_scale=hi)
+    d = with_objective_scale(d, p0)
+    f = eqx.filter_jit(lambda q: d.objective_value(q))
+    assert float(f(p0)) == pytest.approx(1.0 + 0.5, rel=1e-12)  # both terms are one at the parent
+    bumpy = eqx.tree_at(lambda q: q.apex, p0, jnp.array([[1.2, -1.2], [-1.2, 1.2]]))
+    from hullopt.fairing import unfairness
+
+    assert float(unfairness(model(bumpy))) > float(unfairness(model(p0)))
+    r = d.residuals(bumpy)
+    assert r.shape == (1 + 7 + 1,) and np.all(np.isfinite(np.asarray(r)))

@@ -106,6 +106,7 @@ class SweepConfig(_Strict):
 class SolverConfig(_Strict):
     max_steps: int = Field(default=200, ge=1)
     smoothness: float = Field(default=1e-6, ge=0)
+    fairness: float = Field(default=0.0, ge=0, description="weight of the unfairness penalty U/U_parent")
     outer: int = Field(default=8, ge=1, le=50)
 
 

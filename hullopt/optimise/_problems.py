@@ -147,8 +147,9 @@ OBJECTIVES = ("k_aw", "mean_added_resistance", "calm_resistance", "wind_added_re
 
 class Design(eqx.Module):
     """A design problem: ``model(params) → Sections`` at ``draft`` [m] with ``targets`` to hold, an optional
-    ``objective`` to minimise (scaled by ``objective_scale``, its value at the parent), and a small penalty
-    ``smoothness`` · |params / param_scale|² that keeps the deformation the least needed."""
+    ``objective`` to minimise (scaled by ``objective_scale``, its value at the parent), a small penalty
+    ``smoothness`` · |params / param_scale|² that keeps the deformation the least needed, and a fairness
+    penalty ``fairness`` · U/U₀ (:func:`hullopt.fairing.unfairness`, U₀ = ``fairness_scale``, the parent's)."""
 
     model: Callable
     draft: Array
@@ -157,6 +158,8 @@ class Design(eqx.Module):
     objective_scale: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
     smoothness: float = eqx.field(static=True, default=1e-6)
     param_scale: object = None
+    fairness: float = eqx.field(static=True, default=0.0)
+    fairness_scale: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
 
     def sections(self, params) -> Sections:
         return self.model(params)
@@ -164,12 +167,14 @@ class Design(eqx.Module):
     def residuals(self, params, args=None) -> Array:
         """Target residuals in units of their tolerances (so every target weighs alike in the least-squares
         cost), followed by the smoothness residuals (tolerance: infinite)."""
-        r = target_residuals(self.model(params), self.draft, self.targets) / self.targets.tol
+        s = self.model(params)
+        r = target_residuals(s, self.draft, self.targets) / self.targets.tol
         flat = ravel_pytree(self._scaled(params))[0]
-        return jnp.concatenate([r, jnp.sqrt(self.smoothness) * flat])
+        extra = [jnp.sqrt(self.fairness * self._unfairness(s) + 1e-30)[None]] if self.fairness else []
+        return jnp.concatenate([r, jnp.sqrt(self.smoothness) * flat, *extra])
 
     def fit_tolerances(self, params) -> Array:
-        n = ravel_pytree(params)[0].shape[0]
+        n = ravel_pytree(params)[0].shape[0] + (1 if self.fairness else 0)
         return jnp.concatenate([jnp.ones_like(self.targets.tol), jnp.full(n, jnp.inf)])
 
     def constraints(self, params, args=None) -> Array:
@@ -178,8 +183,14 @@ class Design(eqx.Module):
     def objective_value(self, params, args=None) -> Array:
         """The scaled objective plus the smoothness penalty (order one at the parent)."""
         flat = ravel_pytree(self._scaled(params))[0]
-        value = self.objective(self.model(params), self.draft) / self.objective_scale
-        return value + self.smoothness * flat @ flat
+        s = self.model(params)
+        value = self.objective(s, self.draft) / self.objective_scale + self.smoothness * flat @ flat
+        return value + self.fairness * self._unfairness(s) if self.fairness else value
+
+    def _unfairness(self, sections: Sections) -> Array:
+        from ..fairing import unfairness
+
+        return unfairness(sections) / self.fairness_scale
 
     def _scaled(self, params):
         if self.param_scale is None:
@@ -188,9 +199,16 @@ class Design(eqx.Module):
 
 
 def with_objective_scale(design: Design, params) -> Design:
-    """The design with ``objective_scale`` set to the objective's value for ``params`` (the parent)."""
-    value = design.objective(design.model(params), design.draft)
-    return eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(value) + 1e-30)
+    """The design with ``objective_scale`` (and ``fairness_scale``) set to their values for ``params``
+    (the parent), so that both terms start at one."""
+    from ..fairing import unfairness
+
+    s = design.model(params)
+    if design.objective is not None:
+        design = eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(design.objective(s, design.draft)) + 1e-30)
+    if design.fairness:
+        design = eqx.tree_at(lambda d: d.fairness_scale, design, unfairness(s) + 1e-30)
+    return design
 
 
 def non_dominated(points: Array) -> Array:
