@@ -1,4 +1,12 @@
-"""Feature-curve hull (seed 000): round trip, zero deformation, claims 5-7, gradients, bad input."""
+"""Feature-curve hull (seed 000): round trip, zero deformation, claims 5-7, gradients, bad input.
+
+Kept fast by compiling each function once: one jitted round-trip measure per parent, one jitted feature map,
+and for the gradients one vmapped program that returns the sections, the measures and their directional
+derivatives (``jax.jvp``), evaluated in a single batch for every finite-difference point and every
+parameter direction. The DTC is sliced and re-extracted once per module.
+"""
+
+from pathlib import Path
 
 import equinox as eqx
 import jax
@@ -6,38 +14,67 @@ import jax.flatten_util
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from helpers import check_grad
 
 from hullopt.errors import HullError
-from hullopt.geometry import section_integrals
+from hullopt.geometry import section_integrals, simpson_weights
 from hullopt.hydro import hydrostatics, volume_at
 from hullopt.models import (ApexMove, ContourEdit, Distribution, check_design, feature_model, load_parent,
                             parent_names)
 from hullopt.models._feature_frame import segment_points
-from hullopt.models._feature_library import build_parent, recipe_sections
+from hullopt.models._feature_library import RECIPES, extract_parent, recipe_sections
+from hullopt.waves import bluntness
+
+FIELDS = ("x", "keel", "deck", "ends", "apex", "aux", "real")
+DTC_DRAFT = 14.5
+
+_features = eqx.filter_jit(lambda model, params: model.features(params))
+_segments = jax.jit(segment_points, static_argnums=4)
 
 
-def _roundtrip(parent, rebuilt, draft):
-    h0, h1 = hydrostatics(parent, draft), hydrostatics(rebuilt, draft)
-    zs = np.linspace(0.03 * draft, 0.999 * float(parent.depth), 30)
-    dev = max(np.abs(np.asarray(section_integrals(parent, z).width - section_integrals(rebuilt, z).width)).max()
-              for z in zs)
-    return float(h1.volume / h0.volume - 1), float(h1.lcb_pct - h0.lcb_pct), dev / float(2 * parent.max_half_breadth)
+@eqx.filter_jit
+def _roundtrip(parent, hull, draft, zs):
+    """Relative volume error, LCB error [% Lpp] at ``draft`` and the largest half-breadth deviation at the
+    waterlines ``zs`` [fraction of B] of the rebuilt ``hull`` against the ``parent`` sections."""
+    rebuilt = hull.sections()
+
+    def measure(s):
+        si = jax.vmap(lambda z: section_integrals(s, z))(jnp.concatenate([draft[None], zs]))
+        w = simpson_weights(s.x)
+        vol = w @ si.area[0]
+        return vol, (w @ (s.x * si.area[0])) / vol, si.width[1:]
+
+    (v0, l0, w0), (v1, l1, w1) = measure(parent), measure(rebuilt)
+    dev = jnp.max(jnp.abs(w1 - w0)) / (2.0 * parent.max_half_breadth)
+    return v1 / v0 - 1.0, 100.0 * (l1 - l0) / parent.lpp, dev
+
+
+def _check_roundtrip(parent, hull, draft):
+    zs = jnp.linspace(0.03 * draft, 0.999 * float(parent.depth), 30)
+    dv, dl, dev = (float(v) for v in _roundtrip(parent, hull, jnp.asarray(draft), zs))
+    assert abs(dv) < 2e-3 and abs(dl) < 0.1 and dev < 5e-3, (dv, dl, dev)
 
 
 @pytest.mark.parametrize("name,draft", [("seed003", 4.0), ("wigley", 6.25)])
 def test_roundtrip_small(name, draft):
-    dv, dl, dev = _roundtrip(recipe_sections(name), load_parent(name).sections(), draft)
-    assert abs(dv) < 2e-3 and abs(dl) < 0.1 and dev < 5e-3
+    _check_roundtrip(recipe_sections(name), load_parent(name), draft)
 
 
-def test_roundtrip_dtc_and_library_matches_reextraction(shared):
-    parent = recipe_sections("dtc", shared)
+@pytest.fixture(scope="module")
+def dtc_sections(shared):
+    """The DTC sliced as its library recipe does (once)."""
+    return recipe_sections("dtc", shared)
+
+
+def test_roundtrip_dtc(dtc_sections):
+    _check_roundtrip(dtc_sections, load_parent("dtc"), DTC_DRAFT)
+
+
+def test_library_file_matches_reextraction(dtc_sections):
+    recipe = {k: v for k, v in RECIPES["dtc"].items() if k not in ("source", "design_draft")}
+    fresh = extract_parent(dtc_sections, "dtc", DTC_DRAFT, **recipe)
     stored = load_parent("dtc")
-    dv, dl, dev = _roundtrip(parent, stored.sections(), 14.5)
-    assert abs(dv) < 2e-3 and abs(dl) < 0.1 and dev < 5e-3
-    fresh = build_parent("dtc", shared)
-    np.testing.assert_allclose(np.asarray(fresh.sections().yz), np.asarray(stored.sections().yz), atol=1e-9)
+    for k in FIELDS:
+        np.testing.assert_allclose(np.asarray(getattr(fresh, k)), np.asarray(getattr(stored, k)), atol=1e-9, err_msg=k)
 
 
 def test_library_names():
@@ -47,44 +84,46 @@ def test_library_names():
 
 
 def test_segment_spline_keeps_apex_and_claim6_ratios():
+    q = 400
     a, b = jnp.array([0.0, 0.0]), jnp.array([4.0, 3.0])
     apex = jnp.array([0.4, -0.2])
     aux = jnp.array([[[0.5, 0.75]], [[0.4, 0.6]]])
-    pts = segment_points(a, b, apex, aux, 8)
-    c, rc = b - a, jnp.array([-3.0, 4.0])
-    u = (pts - a) @ c / 25.0
-    v = (pts - a) @ rc / 25.0
-    k = 2 * 8 - 1  # the apex is the last sample of the first half
+    c, rc = np.array([4.0, 3.0]), np.array([-3.0, 4.0])
+    uv = lambda p: (np.asarray(p - a) @ c / 25.0, np.asarray(p - a) @ rc / 25.0)  # noqa: E731 - chord frame
+    pts = _segments(a, b, apex, aux, q)
+    u, v = uv(pts)
+    k = 2 * q - 1  # the apex is the last sample of the first half
     np.testing.assert_allclose([u[k], v[k]], apex, atol=1e-14)
     assert np.argmax(np.abs(v)) == k  # the apex stays the point farthest from the chord
-    # Tangent parallel to the chord at the apex: one-sided slopes dv/du vanish as the step shrinks.
-    fine = segment_points(a, b, apex, aux, 400)
-    uf, vf = (fine - a) @ c / 25.0, (fine - a) @ rc / 25.0
-    kk = 2 * 400 - 1
-    assert abs((vf[kk] - vf[kk - 1]) / (uf[kk] - uf[kk - 1])) < 2e-3
+    # Tangent parallel to the chord at the apex: the one-sided slope dv/du vanishes as the step shrinks.
+    assert abs((v[k] - v[k - 1]) / (u[k] - u[k - 1])) < 2e-3
     np.testing.assert_allclose(pts[-1], b, atol=1e-14)
     # Claim 6: a moved apex; the auxiliary apexes keep their ratios to it.
     apex2 = jnp.array([0.55, -0.3])
-    p2 = segment_points(a, b, apex2, aux, 8)
-    u2, v2 = (p2 - a) @ c / 25.0, (p2 - a) @ rc / 25.0
-    i1 = 8 - 1  # first auxiliary apex
+    u2, v2 = uv(_segments(a, b, apex2, aux, q))
+    i1 = q - 1  # first auxiliary apex
     np.testing.assert_allclose([u2[i1] / apex2[0], v2[i1] / apex2[1]], [0.5, 0.75], atol=1e-14)
-    i2 = 2 * 8 + 8 - 1  # second half's auxiliary apex (mirrored)
+    i2 = 2 * q + q - 1  # second half's auxiliary apex (mirrored)
     np.testing.assert_allclose([(1 - u2[i2]) / (1 - apex2[0]), v2[i2] / apex2[1]], [0.4, 0.6], atol=1e-14)
 
 
 @pytest.fixture(scope="module")
 def dtc_model():
-    h = load_parent("dtc")
+    """Two apex moves (claim 5: linear in the fore body, smooth in the run), a distribution of all curves
+    (claim 7) and two contour edits: the flat of bottom and the deck side line in the fore body (the latter
+    moves the upper segments' chord ends, so it changes the waterline and Bf)."""
     moves = [ApexMove(-1, 200.0, 300.0, 350.0, "linear"), ApexMove(-1, 0.0, 40.0, 150.0, "smooth")]
-    return feature_model(h, moves, [Distribution(180.0, 340.0, "all", 2)], [ContourEdit("fob_y", 150.0, 300.0)])
+    edits = [ContourEdit("fob_y", 150.0, 300.0), ContourEdit("deck_y", 250.0, 345.0)]
+    return feature_model(load_parent("dtc"), moves, [Distribution(180.0, 340.0, "all", 2)], edits)
 
 
 def test_zero_parameters_give_the_parent_exactly(dtc_model):
-    yz = np.asarray(dtc_model(dtc_model.zeros()).yz)
-    assert np.array_equal(yz, np.asarray(dtc_model.hull.sections().yz))  # bit for bit, eagerly
-    jitted = np.asarray(eqx.filter_jit(dtc_model)(dtc_model.zeros()).yz)  # XLA may fuse: round-off only
-    np.testing.assert_allclose(jitted, yz, rtol=0, atol=1e-12 * float(dtc_model.hull.lpp))
+    zeros = dtc_model.zeros()
+    f = _features(dtc_model, zeros)
+    for k in FIELDS:  # the feature curves, bit for bit under jit
+        assert np.array_equal(np.asarray(getattr(f, k)), np.asarray(getattr(dtc_model.hull, k))), k
+    # The user's path (check_design runs eagerly): the sections bit for bit.
+    assert np.array_equal(np.asarray(check_design(dtc_model, zeros).yz), np.asarray(dtc_model.hull.sections().yz))
 
 
 def test_claim5_ratios(dtc_model):
@@ -92,7 +131,7 @@ def test_claim5_ratios(dtc_model):
     x = np.asarray(h.x)
     p = eqx.tree_at(lambda t: t.apex, dtc_model.zeros(), jnp.array([[0.8, -0.5], [0.0, 0.0]]))
     before = np.asarray(h.apex_points())[:, -1]
-    after = np.asarray(dtc_model.features(p).apex_points())[:, -1]
+    after = np.asarray(_features(dtc_model, p).apex_points())[:, -1]
     move = after - before
     i1, k, i2 = (int(np.argmin(abs(x - v))) for v in (200.0, 300.0, 350.0))
     np.testing.assert_allclose(move[k], [0.8, -0.5], atol=1e-12)
@@ -100,59 +139,88 @@ def test_claim5_ratios(dtc_model):
     e1, e2 = np.r_[x[i1], before[i1]], np.r_[x[i2], before[i2]]
     pts = np.column_stack([x, before])
     f = lambda i: np.linalg.norm(e1 + (pts[i] - e1) @ (e2 - e1) / np.sum((e2 - e1) ** 2) * (e2 - e1) - e2)  # noqa
+    assert i2 - k > 2
     for i in range(k + 1, i2):  # between the moved apex and E2: ratio L2 / L1 of projected distances to E2
         np.testing.assert_allclose(move[i], move[k] * f(i) / f(k), rtol=1e-9, atol=1e-12)
 
 
 def test_patent_worked_example_cb_held_lcb_forward():
     from hullopt.app.commands.features import read_design
-    from pathlib import Path
 
     model, p, _ = read_design(Path(__file__).parents[1] / "configs" / "deform_example.toml")
-    h0 = hydrostatics(model.hull.sections(), 14.5)
-    h1 = hydrostatics(check_design(model, p), 14.5)
+    hydro = jax.jit(hydrostatics)
+    h0 = hydro(model.hull.sections(), DTC_DRAFT)
+    h1 = hydro(check_design(model, p), DTC_DRAFT)
     assert abs(float(h1.cb - h0.cb)) < 1e-3
     assert 0.25 < float(h1.lcb_pct - h0.lcb_pct) < 0.35
 
 
 def test_fair_for_moderate_moves(dtc_model):
-    """No new curvature sign changes inside the moved segments (uppermost line, fore body)."""
+    """No new curvature sign changes inside the moved segments (uppermost line, both moves)."""
     p = eqx.tree_at(lambda t: t.apex, dtc_model.zeros(), jnp.array([[0.5, -0.5], [-0.5, 0.5]]))
-    base = None
+    changes = []
     for params in (dtc_model.zeros(), p):
-        f = dtc_model.features(params)
-        from hullopt.models._feature_frame import segment_points as sp
-
-        pts = np.asarray(sp(f.ends[:, -2], f.ends[:, -1], f.apex[:, -1], f.aux[:, -1], 6))
+        f = _features(dtc_model, params)
+        pts = np.asarray(_segments(f.ends[:, -2], f.ends[:, -1], f.apex[:, -1], f.aux[:, -1], 6))
         d1 = np.diff(pts, axis=1)
         cross = d1[:, :-1, 0] * d1[:, 1:, 1] - d1[:, :-1, 1] * d1[:, 1:, 0]
         sig = np.where(np.abs(cross) > 1e-9 * np.abs(cross).max(), np.sign(cross), 0)
-        changes = [np.sum(np.abs(np.diff(s[s != 0])) > 0) for s in sig]
-        base = changes if base is None else base
-    assert all(c <= b for c, b in zip(changes, base))
+        changes.append(np.array([np.sum(np.abs(np.diff(s[s != 0])) > 0) for s in sig]))
+    moved = np.asarray(dtc_model.move_w).max(0) > 0
+    assert moved.sum() > 10
+    assert np.all(changes[1] <= changes[0])
 
 
-def test_gradients_volume_lcb(dtc_model):
-    p0 = dtc_model.zeros()
-    flat, unravel = jax.flatten_util.ravel_pytree(p0)
-    x0 = np.asarray(flat) + 0.01
+@pytest.fixture(scope="module")
+def dtc_derivatives(dtc_model):
+    """Volume/1e5 [m³], LCB [% Lpp] and head-sea Bf at T = 14.5 m of the DTC design at a point away from the
+    parent, and their derivatives w.r.t. every parameter two ways: forward mode (``jax.jvp`` along each unit
+    vector) and central finite differences — every row from one jitted program."""
+    flat, unravel = jax.flatten_util.ravel_pytree(dtc_model.zeros())
 
-    @jax.jit
-    def vol(v):
-        return volume_at(dtc_model(unravel(v)), 14.5) / 1e5
+    def measures(v):
+        s = dtc_model(unravel(v))
+        h = hydrostatics(s, DTC_DRAFT)
+        return jnp.stack([h.volume / 1e5, h.lcb_pct, bluntness(s, DTC_DRAFT)])
 
-    @jax.jit
-    def lcb(v):
-        return hydrostatics(dtc_model(unravel(v)), 14.5).lcb_pct
-
-    check_grad(vol, x0, rtol=1e-5, atol=1e-7)
-    check_grad(lcb, x0, rtol=1e-5, atol=1e-7)
+    run = jax.jit(lambda v, d: jax.jvp(measures, (v,), (d,)))
+    x0 = jnp.asarray(flat) + 0.01
+    step = 1e-6 * jnp.maximum(jnp.abs(x0), 1.0)
+    eye = jnp.eye(flat.size, dtype=flat.dtype)
+    zero = jnp.zeros_like(x0)
+    ad = np.stack([np.asarray(run(x0, e)[1]) for e in eye], 1)  # (3, n)
+    fd = np.stack([(np.asarray(run(x0 + h * e, zero)[0]) - np.asarray(run(x0 - h * e, zero)[0])) / (2 * float(h))
+                   for h, e in zip(step, eye)], 1)
+    return ad, fd, np.asarray(run(x0, zero)[0])
 
 
 def test_vmap_over_parameters(dtc_model):
     p = jax.tree.map(lambda a: jnp.stack([a, a + 0.01]), dtc_model.zeros())
-    v = jax.jit(jax.vmap(lambda q: volume_at(dtc_model(q), 14.5)))(p)
+    v = jax.jit(jax.vmap(lambda q: volume_at(dtc_model(q), DTC_DRAFT)))(p)
     assert v.shape == (2,) and float(v[0]) != float(v[1])
+
+
+def _assert_fd(ad, fd):
+    assert np.all(np.isfinite(ad)), "gradient has NaN/inf"
+    np.testing.assert_allclose(ad, fd, rtol=1e-5, atol=1e-7 * max(1.0, np.abs(fd).max()))
+
+
+def test_gradients_volume_lcb(dtc_derivatives):
+    ad, fd, _ = dtc_derivatives
+    _assert_fd(ad[0], fd[0])
+    _assert_fd(ad[1], fd[1])
+    assert np.all(np.abs(ad[:2]).max(0) > 1e-4)  # every parameter moves volume or LCB: no vacuous column
+
+
+def test_gradient_waterline_bluntness(dtc_derivatives, dtc_model):
+    ad, fd, m = dtc_derivatives
+    assert 0.0 < m[2] < 2.0 / 3.0  # a fine entrance: blunter only with a semicircular bow (2/3)
+    _assert_fd(ad[2], fd[2])
+    # The fore-body parameters act on the waterline (the run is not lit in head seas: exactly 0 there).
+    flat, unravel = jax.flatten_util.ravel_pytree(dtc_model.zeros())
+    g = unravel(jnp.asarray(ad[2]))
+    assert np.all(np.abs(np.asarray(g.apex[0])) > 1e-4) and np.all(np.asarray(g.apex[1]) == 0)
+    assert np.all(np.abs(np.asarray(g.distribution)) > 1e-4) and abs(float(g.contour[1])) > 1e-4  # deck_y
 
 
 def test_bad_designs():
@@ -178,11 +246,10 @@ def test_bad_designs():
 
 def test_cli_features_and_deform(tmp_path):
     from hullopt.app.cli import main
-    from pathlib import Path
 
     cfg = Path(__file__).parents[1] / "configs" / "deform_example.toml"
     assert main(["deform", "wigley", str(cfg), "--out", str(tmp_path / "h.stl")]) == 2  # lines absent on wigley
-    assert main(["features", "wigley", "--out", str(tmp_path)]) == 0
+    assert main(["features", "dtc", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "features.png").is_file() and (tmp_path / "contours.json").is_file()
     bad = tmp_path / "bad.toml"
     bad.write_text('parent = "dtc"\n[[apex_move]]\nsegment = -1\nx_fixed1 = 0\nx_moved = 40\nx_fixed2 = 150\nd = [0.1, 0.1]\nwrong = 1\n')
