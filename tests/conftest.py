@@ -33,8 +33,9 @@ def shared() -> Path:
 
 @pytest.fixture(autouse=True)
 def _compilation_cache(tmp_path_factory, monkeypatch):
-    """CLI calls in tests use a throw-away persistent compilation cache, never the user's."""
-    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path_factory.getbasetemp() / "jax-cache"))
+    """CLI calls in tests use a throw-away persistent compilation cache, never the user's; one folder for the
+    whole session (shared by the xdist workers), so a program compiled by one test is loaded by the next."""
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path_factory.getbasetemp().parent / "jax-cache"))
 
 
 @pytest.fixture

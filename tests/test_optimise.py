@@ -54,23 +54,23 @@ def test_fit_many_target_pairs_in_one_vmap(wigley_design):
     infeasible targets, one vmapped solve: each member reports its own status."""
     model, p0, lo, hi, parent = wigley_design
     cb0 = float(parent.cb)
-    cases = np.array([[cb0 * 1.02, 0.5], [cb0 * 1.08, -1.5], [cb0 * 0.94, 1.0], [cb0 * 1.05, 0.0], [0.75, 0.0]])
+    cases = np.array([[cb0 * 1.08, -1.5], [cb0 * 0.94, 1.0], [cb0 * 1.02, 0.5], [0.75, 0.0]])
     base = Design(model=model, draft=jnp.asarray(6.25), targets=make_targets({"cb": cb0, "lcb_pct": 0.0}),
                   param_scale=hi)
 
     @eqx.filter_jit
     def solve(values):
         d = eqx.tree_at(lambda x: x.targets.values, base, values)
-        r = solve_fit(d, p0, lo, hi, max_steps=150)
+        r = solve_fit(d, p0, lo, hi, max_steps=80)
         h = hydrostatics(d.model(r.params), d.draft)
         return r.met, h.cb, h.lcb_pct
 
     met, cb, lcb = jax.vmap(solve)(jnp.asarray(cases))
     met, cb, lcb = np.asarray(met), np.asarray(cb), np.asarray(lcb)
-    assert met[:4].all() and not met[4]  # Cb 0.75 on a Wigley's length, breadth and draft: out of reach
-    np.testing.assert_allclose(cb[:4], cases[:4, 0], atol=1e-4)
-    np.testing.assert_allclose(lcb[:4], cases[:4, 1], atol=0.01)
-    assert cb[4] < 0.7  # the closest design found, reported as not met
+    assert met[:3].all() and not met[3]  # Cb 0.75 on a Wigley's length, breadth and draft: out of reach
+    np.testing.assert_allclose(cb[:3], cases[:3, 0], atol=1e-4)
+    np.testing.assert_allclose(lcb[:3], cases[:3, 1], atol=0.01)
+    assert cb[3] < 0.7  # the closest design found, reported as not met
 
 
 def test_fit_volume_and_lcb_stepwise_with_progress(wigley_design):
