@@ -2,6 +2,7 @@
 
 import json
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -76,7 +77,8 @@ def test_bad_measure_and_nothing_free():
 
 def test_coons_sections_hydrostatics_match_the_offset_model():
     x, z, y = wigley_offsets(21, 9)  # parabolic lines: the not-a-knot surface is the Wigley up to twist
-    a = hydrostatics(coons_sections(coons_surface(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y)), L, 81, 61), T)
+    a = jax.jit(lambda yy: hydrostatics(coons_sections(coons_surface(jnp.asarray(x), jnp.asarray(z), yy), L, 81, 61), T))(
+        jnp.asarray(y))
     exact_volume = (2 / 3) * (2 / 3) * L * B * T  # Wigley: Cb = 4/9
     assert float(a.volume) == pytest.approx(exact_volume, rel=2e-3)
     assert float(a.lcb) == pytest.approx(L / 2, abs=1e-9)
