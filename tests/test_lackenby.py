@@ -69,6 +69,17 @@ def test_zero_change_is_the_identity(parent, h0, kw):
     np.testing.assert_allclose(np.asarray(s.x), np.asarray(parent.x), rtol=0, atol=1e-12)
 
 
+def test_parallel_middle_body_is_held():
+    s = with_parallel_body(0.2)
+    h0 = hydro(s, T)
+    out = lackenby(s, T, cb=1.02 * float(h0.cb), lcb_pct=-0.5)
+    h = hydro(out, T)
+    assert abs(float(h.cb) - 1.02 * float(h0.cb)) < 1e-9 and abs(float(h.lcb_pct) + 0.5) < 1e-9
+    x, x0 = np.asarray(out.x), np.asarray(s.x)
+    parallel = np.abs(x0 - 50.0) <= 10.0 + 1e-9
+    assert np.array_equal(x[parallel], x0[parallel]) and np.all(x[~parallel][1:-1] != x0[~parallel][1:-1])
+
+
 def test_half_body_integrals_of_the_wigley(parent):
     """y = 1 − ξ²: Cp = 2/3, x̄ = 3/8, K² = 1/5 (Simpson exact up to the polyline), A = 1/6, h = 3/5."""
     _, _, info = lackenby_basis(parent, T)
@@ -141,7 +152,8 @@ def test_split_formula_balances_volume_and_moment():
     ],
 )
 def test_bad_input(parent, sections, kw, match):
-    s = {"wigley": parent, "even": wigley(100.0, 10.0, T, 10.0, n=40, m=21), "box": box(100.0, 10.0, 8.0, n=9)}[sections]
+    s = {"wigley": parent, "even": wigley(100.0, 10.0, T, 10.0, n=40, m=21),
+         "box": box(100.0, 10.0, 8.0, n=9)}[sections]
     kw = dict(kw)
     draft = kw.pop("draft", T)
     with pytest.raises(HullError, match=match):

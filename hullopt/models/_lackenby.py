@@ -6,7 +6,8 @@ used by hull-design programs (e.g. Schneekluth & Bertram, *Ship Design for Effic
 Notation, per half body (aft, fore), in half-lengths from midship: ``ξ ∈ [0, 1]`` (0 at midship, 1 at the
 perpendicular), the sectional-area curve ``y(ξ) = A/A_mid``, its prismatic coefficient ``Cp = ∫y dξ``,
 centroid ``x̄ = ∫ξ y dξ / Cp``, radius of gyration ``K² = ∫ξ² y dξ / Cp`` and parallel middle body ``p``
-(stations next to midship with the midship area). Lackenby's shift, with the parallel body held (δp = 0)::
+(stations next to midship with the midship area). Lackenby's shift, with the parallel body held
+(δp = 0)::
 
     δξ = (1 − ξ) [δp/(1 − p) + (ξ − p)/A · (δCp − δp (1 − Cp)/(1 − p))]  =  c (1 − ξ)(ξ − p),   ξ ≥ p
     A  = Cp (1 − 2x̄) − p (1 − Cp),          c = δCp / A
@@ -48,6 +49,7 @@ def _particulars(x, area, bwl, draft, lpp):
 
 
 _simpson = jax.jit(simpson_weights)
+_particulars_jit = jax.jit(_particulars)
 
 
 @jax.jit
@@ -73,7 +75,7 @@ def _half_body(xi, y):
 def lackenby_basis(sections: Sections, draft) -> tuple[np.ndarray, np.ndarray, dict]:
     """The static part of a Lackenby shift: ``G (n, 2)`` with ``x_new = x + G @ (c_A, c_F)`` [m], the
     full-section areas ``(n,)`` [m²] at ``draft`` and the half-body integrals (``cp``, ``xbar``, ``k2``,
-    ``p``, ``lever``, ``a`` — each ``(aft, fore)``). HullError if the hull has no midship station or too few
+    ``p``, ``lever``, ``a`` — each ``(aft, fore)`` — and the waterline breadth ``bwl`` [m]). HullError if the hull has no midship station or too few
     stations in a half body."""
     x = np.asarray(sections.x, dtype=np.float64)
     lpp = float(sections.lpp)
@@ -86,8 +88,9 @@ def lackenby_basis(sections: Sections, draft) -> tuple[np.ndarray, np.ndarray, d
                         "the section it holds; this hull has none")
     i_mid = int(at_mid[0])
     if i_mid < 2 or x.size - i_mid < 3:
-        raise HullError("sections.x: a Lackenby shift needs at least 2 stations in each half body besides midship")
-    area = np.asarray(_section_data(sections, jnp.asarray(draft, dtype=sections.yz.dtype))[0])
+        raise HullError("sections.x: a Lackenby shift needs at least 2 stations in each half body besides "
+                        "midship")
+    area, bwl = (np.asarray(v) for v in _section_data(sections, jnp.asarray(draft, dtype=sections.yz.dtype)))
     a_mid = area[i_mid]
     if not a_mid > 0.0:
         raise HullError(f"draft {float(draft):g} m: the midship section is dry, nothing to shift")
@@ -106,7 +109,7 @@ def lackenby_basis(sections: Sections, draft) -> tuple[np.ndarray, np.ndarray, d
         g[idx, k] = (1.0 if k else -1.0) * mid * shift
         halves[k] = {"cp": cp, "xbar": xbar, "k2": k2, "p": p, "a": a,
                      "lever": cp * (2.0 * (1.0 + p) * xbar - 3.0 * k2 - p) / a}
-    info = {key: np.array([halves[0][key], halves[1][key]]) for key in halves[0]}
+    info = {key: np.array([halves[0][key], halves[1][key]]) for key in halves[0]} | {"bwl": bwl}
     return g, area, info
 
 
@@ -155,8 +158,8 @@ def lackenby(sections: Sections, draft, *, cb: float | None = None, lcb_pct: flo
     g, area, info = lackenby_basis(sections, draft)
     x = np.asarray(sections.x, dtype=np.float64)
     lpp = float(sections.lpp)
-    bwl = float(_section_data(sections, jnp.asarray(draft, dtype=sections.yz.dtype))[1])
-    cb0, lcb0 = np.asarray(jax.jit(_particulars)(*(jnp.asarray(a, dtype=jnp.float64) for a in (x, area, bwl, draft, lpp))))
+    bwl = float(info["bwl"])
+    cb0, lcb0 = np.asarray(_particulars_jit(*(jnp.asarray(a, dtype=jnp.float64) for a in (x, area, bwl, draft, lpp))))
     cb_t = cb0 if cb is None else float(cb)
     lcb_t = lcb0 if lcb_pct is None else float(lcb_pct)
     cm = float(area[np.argmin(np.abs(x - lpp / 2.0))]) / (bwl * draft)
