@@ -80,3 +80,24 @@ def test_open_mesh_and_bad_offsets_from_the_console(tmp_path, shared):
         p = subprocess.run([sys.executable, "-m", "hullopt", "hydro", hull, "--draft", "1"],
                            capture_output=True, text=True, env={"HULLOPT_CACHE": str(tmp_path), "PATH": ""})
         assert p.returncode == 2 and message in p.stderr and "Traceback" not in p.stderr, p.stderr
+
+
+def test_each_command_is_registered_by_the_module_the_registry_names():
+    """``hullopt CMD`` imports only CMD's module: the registry must name every command and its module."""
+    import importlib
+
+    from hullopt.app import commands
+    from hullopt.app._app import app
+
+    for name, module in commands.COMMANDS.items():
+        mod = importlib.import_module(f"hullopt.app.commands.{module}")
+        assert any(c.callback.__module__ == mod.__name__ and (c.name or c.callback.__name__) == name
+                   for c in app.registered_commands), name
+    assert {c.name or c.callback.__name__ for c in app.registered_commands} == set(commands.COMMANDS)
+
+
+def test_help_lists_every_command():
+    out = subprocess.run([sys.executable, "-m", "hullopt", "--help"], capture_output=True, text=True, check=True)
+    from hullopt.app.commands import COMMANDS
+
+    assert all(f" {name} " in out.stdout for name in COMMANDS)

@@ -73,17 +73,22 @@ def test_fit_many_target_pairs_in_one_vmap(wigley_design):
     assert cb[3] < 0.7  # the closest design found, reported as not met
 
 
-def test_fit_volume_and_lcb_stepwise_with_progress(wigley_design):
+def test_traced_fit_records_its_history_and_agrees_with_the_optimistix_solve(wigley_design):
     model, p0, lo, hi, parent = wigley_design
     d = Design(model=model, draft=jnp.asarray(6.25), param_scale=hi,
                targets=make_targets({"volume": float(parent.volume) * 1.05, "lcb_pct": -1.0}))
-    costs = []
-    r = solve_fit(d, p0, lo, hi, stepwise=True, callback=lambda n, p, c: costs.append(c))
-    h = hydrostatics(model(r.params), 6.25)
-    assert bool(r.met) and bool(r.solver_ok)
+    traced, plain = eqx.filter_jit(lambda: (solve_fit(d, p0, lo, hi, traced=True), solve_fit(d, p0, lo, hi)))()
+    h = hydrostatics(model(traced.params), 6.25)
+    assert bool(traced.met) and bool(traced.solver_ok)
     assert float(h.volume) == pytest.approx(float(parent.volume) * 1.05, rel=5e-4)
     assert float(h.lcb_pct) == pytest.approx(-1.0, abs=0.01)
-    assert costs[-1] < 1e-3 * costs[0]
+    costs = np.asarray(traced.history)
+    n = int(traced.steps)
+    assert np.isfinite(costs[: n + 1]).all() and np.isnan(costs[n + 1:]).all()
+    assert costs[n] < 1e-3 * costs[0] and np.all(np.diff(costs[: n + 1]) <= 1e-12 * costs[0])  # LM never climbs
+    assert costs[n] == pytest.approx(float(traced.objective), rel=1e-9)
+    # the same solution as optimistix's own loop (which polishes longer: same targets, close parameters)
+    np.testing.assert_allclose(np.asarray(traced.residuals[:2]), np.asarray(plain.residuals[:2]), atol=1e-3)
 
 
 def test_objective_gradient_matches_finite_differences(wigley_design):

@@ -25,6 +25,20 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path):
     assert json.loads((out / "config.json").read_text())["targets"]["cb"] == 0.48
 
 
+def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, tmp_path, monkeypatch):
+    """The second run of a config neither traces nor compiles (kept program + compilation cache)."""
+    from hullopt.app import programs
+
+    args = ["run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.47", "--json"]
+    code, first, err = cli(*args, "--out", str(tmp_path / "a"))
+    assert code == 0, err
+    monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("the kept program was not used"))
+    code, again, err = cli(*args, "--out", str(tmp_path / "b"))
+    assert code == 0, err
+    assert json.loads(again) == json.loads(first)
+    assert (tmp_path / "b" / "hull.stl").read_bytes() == (tmp_path / "a" / "hull.stl").read_bytes()
+
+
 def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
     out = tmp_path / "far"
     code, stdout, _ = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.75",

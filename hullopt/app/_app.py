@@ -9,3 +9,9 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
+
+
+@app.callback()
+def _main() -> None:
+    """Differentiable hull-form optimiser: hydrostatics, added resistance, wind, fitting, fairing."""
+    # A callback keeps the app a group of commands even when only the invoked command is registered.

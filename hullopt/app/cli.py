@@ -33,9 +33,9 @@ def main(argv: list[str] | None = None) -> int:
     """Run the CLI; a user's mistake (:class:`HullError`) is one line on stderr and exit code 2."""
     configure_jax()
     from ._app import app
-    from .commands import register_all
+    from .commands import register
 
-    register_all()
+    register(sys.argv[1:] if argv is None else argv)
     try:
         app(args=argv)  # usage errors: the parser prints them and exits with code 2
     except SystemExit as e:

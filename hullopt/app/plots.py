@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 
 from ..geometry import atomic_write_bytes
-from ..hydro import sectional_areas
 
 
 def _figure(*args, **kw):
@@ -50,10 +49,13 @@ def plot_body_plans(before, after, path: Path, every: int | None = None) -> Path
     return _save(plt, fig, path)
 
 
-def plot_sectional_areas(before, after, draft, path: Path) -> Path:
+def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
+    """Sectional-area curves of the parent (dashed) and the design: ``areas (2, n)`` [m²] at stations
+    ``x_before``, ``x_after (n,)`` [m from AP]."""
     plt, fig, ax = _figure(figsize=(8, 4))
-    for s, label, style in ((before, "parent", dict(color="0.6", ls="--")), (after, "design", dict(color="C0"))):
-        ax.plot(np.asarray(s.x), np.asarray(sectional_areas(s, draft)), label=label, **style)
+    for x, a, label, style in ((x_before, areas[0], "parent", dict(color="0.6", ls="--")),
+                               (x_after, areas[1], "design", dict(color="C0"))):
+        ax.plot(np.asarray(x), np.asarray(a), label=label, **style)
     ax.set_xlabel("x from AP [m]")
     ax.set_ylabel(f"sectional area at T = {float(draft):g} m [m²]")
     ax.legend()
@@ -61,12 +63,13 @@ def plot_sectional_areas(before, after, draft, path: Path) -> Path:
     return _save(plt, fig, path)
 
 
-def plot_convergence(history: list[float], path: Path) -> Path:
+def plot_convergence(history, path: Path, xlabel: str = "step") -> Path:
+    """The solver's cost after each step (or round), log scale."""
     plt, fig, ax = _figure(figsize=(6, 4))
-    if history:
-        ax.semilogy(np.arange(1, len(history) + 1), np.maximum(history, 1e-300), marker=".")
-    ax.set_xlabel("step")
-    ax.set_ylabel("sum of squared scaled residuals")
+    if len(history):
+        ax.semilogy(np.arange(len(history)), np.maximum(history, 1e-300), marker=".")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("cost (sum of squared scaled residuals)" if xlabel == "step" else "augmented Lagrangian")
     ax.grid(alpha=0.3)
     return _save(plt, fig, path)
 

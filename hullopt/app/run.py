@@ -8,6 +8,7 @@ constrained minimum, or a Pareto sweep in resumable chunks) and write the run fo
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,14 +16,15 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
 from ..drawing import write_offsets_wide
 from ..errors import HullError
 from ..geometry import export_mesh, to_trimesh
-from ..hydro import hydrostatics
+from ..hydro import hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model, load_parent
 from ..optimise import (
+    TARGETS,
     Design,
     Objective,
     achieved,
@@ -34,6 +36,7 @@ from ..optimise import (
 )
 from .config import ObjectiveConfig, RunConfig
 from .output import console, write_json
+from .programs import cached_call
 
 KNOT = 1852.0 / 3600.0
 
@@ -56,7 +59,10 @@ def objective_from(cfg: ObjectiveConfig) -> Objective:
 
 
 def build_problem(cfg: RunConfig) -> Problem:
-    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design)."""
+    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design).
+
+    No hull is evaluated here: the objective and fairness scales (their values at the parent) are set by
+    :func:`~hullopt.optimise.with_objective_scale` inside the jitted solve programs."""
     hull = load_parent(cfg.hull.parent)
     draft = cfg.hull.draft or hull.design_draft
     if draft is None:
@@ -94,7 +100,6 @@ def build_problem(cfg: RunConfig) -> Problem:
     design = Design(model=model, draft=jnp.asarray(float(draft)), targets=targets,
                     objective=objective_from(cfg.objective) if cfg.objective else None,
                     smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness)
-    design = with_objective_scale(design, p0)
     return Problem(design, p0, lower, half, cfg.hull.parent)
 
 
@@ -103,19 +108,52 @@ def _params_dict(p: FeatureParams) -> dict:
             "contour_edit_amplitude": np.asarray(p.contour).tolist()}
 
 
-def _particulars(design: Design, params) -> dict:
-    s = design.model(params)
-    return {k: float(v) for k, v in hydrostatics(s, design.draft).to_dict().items()}
+class Outcome(eqx.Module):
+    """Everything a run folder shows of a parent and a final design, computed in one jitted program."""
+
+    before: object  # Sections of the parent
+    after: object  # Sections of the final design
+    parent: object  # Hydrostatics of the parent at the draft
+    final: object  # Hydrostatics of the final design
+    achieved: object  # the target particulars of the final design
+    areas: object  # sectional-area curves (2, n) [m²]: parent, final
+    objective: object  # the objective of the final design (None without one)
+    objective_parent: object  # ... and of the parent
 
 
-def _target_report(design: Design, params) -> dict:
-    s = design.model(params)
-    a = achieved(hydrostatics(s, design.draft), s, design.targets.names, design.targets.kg)
+def measure(d: Design, p0, final) -> Outcome:
+    before, after = d.model(p0), d.model(final)
+    h0, h1 = hydrostatics(before, d.draft), hydrostatics(after, d.draft)
+    areas = jnp.stack([sectional_areas(before, d.draft), sectional_areas(after, d.draft)])
+    obj = (d.objective(after, d.draft), d.objective(before, d.draft)) if d.objective is not None else (None, None)
+    return Outcome(before, after, h0, h1, achieved(h1, after, d.targets.names, d.targets.kg), areas, *obj)
+
+
+def solve_and_measure(d: Design, p0, lower, upper, kind: str, max_steps: int, outer: int):
+    """The solve of a fit or minimum run and the :class:`Outcome`, as one program (one trace, one compile;
+    :func:`~hullopt.app.programs.cached_call` keeps it for the next run)."""
+    d = with_objective_scale(d, p0)
+    if kind == "fit":
+        res = solve_fit(d, p0, lower, upper, traced=True, max_steps=max_steps)
+    else:
+        res = solve_minimum(d, p0, lower, upper, outer=outer, max_steps=max_steps)
+    return res, measure(d, p0, res.params)
+
+
+def _file_digest(name: str) -> str | None:
+    """SHA-256 of a parent given as a file (its content shapes the program), None for a library parent."""
+    path = Path(name)
+    return hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None
+
+
+def _particulars(h) -> dict:
+    return {k: float(v) for k, v in h.to_dict().items()}
+
+
+def _target_report(d: Design, achieved_values) -> dict:
     out = {}
-    for k, t, tol, v in zip(design.targets.names, np.asarray(design.targets.values), np.asarray(design.targets.tol),
-                            np.asarray(a)):
-        from ..optimise import TARGETS
-
+    for k, t, tol, v in zip(d.targets.names, np.asarray(d.targets.values), np.asarray(d.targets.tol),
+                            np.asarray(achieved_values)):
         err = v / t - 1.0 if TARGETS[k][0] else v - t
         out[k] = {"target": float(t), "achieved": float(v), "error": float(err), "tolerance": float(tol),
                   "met": bool(abs(err) <= tol)}
@@ -134,6 +172,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     (``"local"`` or ``"dask"``) and ``address`` (the Dask scheduler) apply to sweeps: a shard whose sweep is
     not complete yet returns a partial report and writes no hull files.
     """
+    from .plots import plot_convergence
+
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "config.json", raw)
     prob = build_problem(cfg)
@@ -143,24 +183,14 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
         if report.get("partial"):
             write_json(out / "report.json", report)
             return report
-        final = prob.p0
+        m = eqx.filter_jit(measure)(d, prob.p0, prob.p0)
     else:
-        history: list[float] = []
         with _progress(quiet) as bar:
-            task = bar.add_task(f"{cfg.kind} {prob.parent}", total=cfg.solver.max_steps)
-            if cfg.kind == "fit":
-                def cb(step, params, cost):
-                    history.append(cost)
-                    bar.update(task, completed=step, description=f"fit: cost {cost:.3e}")
-
-                res = solve_fit(d, prob.p0, prob.lower, prob.upper, stepwise=True, callback=cb,
-                                max_steps=cfg.solver.max_steps)
-            else:
-                bar.update(task, description="minimise (augmented Lagrangian, compiling…)")
-                res = eqx.filter_jit(solve_minimum)(d, prob.p0, prob.lower, prob.upper, outer=cfg.solver.outer,
-                                                    max_steps=cfg.solver.max_steps)
-            bar.update(task, completed=cfg.solver.max_steps)
-        final = res.params
+            name = "fit (Levenberg–Marquardt)" if cfg.kind == "fit" else "minimise (augmented Lagrangian)"
+            bar.add_task(f"{name}: {prob.parent}", total=None)
+            res, m = jax.device_get(cached_call(
+                "run", solve_and_measure, (d, prob.p0, prob.lower, prob.upper),
+                (cfg.kind, cfg.solver.max_steps, cfg.solver.outer), key=[raw, _file_digest(cfg.hull.parent)]))
         met = bool(res.met)
         report = {
             "kind": cfg.kind,
@@ -168,40 +198,41 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
             "met": met,
             "iterations": int(res.steps),
             "max_violation": float(res.max_violation),
-            "targets": _target_report(d, final),
-            "params": _params_dict(final),
+            "targets": _target_report(d, m.achieved),
+            "params": _params_dict(res.params),
         }
         if d.objective is not None:
-            report["objective"] = {"name": d.objective.kind, "value": float(d.objective(d.model(final), d.draft)),
-                                   "parent": float(d.objective_scale)}
+            report["objective"] = {"name": d.objective.kind, "value": float(m.objective),
+                                   "parent": float(m.objective_parent)}
         if not met:
             worst = max(report["targets"].items(), key=lambda kv: abs(kv[1]["error"]) / kv[1]["tolerance"])
             report["message"] = (f"the targets cannot be met within the bounds: {worst[0]} is off by "
                                  f"{worst[1]['error']:.3g} (tolerance {worst[1]['tolerance']:.3g}); "
                                  "the closest design found is saved")
-        from .plots import plot_convergence
-
-        plot_convergence(history, out / "convergence.png")
-    report["achieved"] = _particulars(d, final)
-    report["parent"] = _particulars(d, prob.p0)
-    _write_hull(d, prob.p0, final, out)
+        history = np.asarray(res.history)
+        plot_convergence(history[np.isfinite(history)], out / "convergence.png",
+                         "step" if cfg.kind == "fit" else "augmented-Lagrangian round")
+    report["achieved"] = _particulars(m.final)
+    report["parent"] = _particulars(m.parent)
+    _write_hull(m, d.draft, out)
     write_json(out / "report.json", report)
     return report
 
 
-def _write_hull(d: Design, p0, final, out: Path) -> None:
+def _write_hull(m: Outcome, draft, out: Path) -> None:
     from .plots import plot_body_plans, plot_sectional_areas
 
-    before, after = d.model(p0), d.model(final)
-    export_mesh(to_trimesh(after), out / "hull.stl")
-    write_offsets_wide(after, out / "offsets.csv", name="the designed hull")
-    plot_body_plans(before, after, out / "body_plan.png")
-    plot_sectional_areas(before, after, d.draft, out / "sectional_area.png")
+    export_mesh(to_trimesh(m.after), out / "hull.stl")
+    write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull")
+    plot_body_plans(m.before, m.after, out / "body_plan.png")
+    plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
 
 
-def _progress(quiet: bool) -> Progress:
-    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), console=console, disable=quiet, transient=True)
+def _progress(quiet: bool, counted: bool = False) -> Progress:
+    """A transient progress display: a spinner with the elapsed time, plus a bar and "k/N" when ``counted``."""
+    counts = [BarColumn(), MofNCompleteColumn()] if counted else []
+    return Progress(SpinnerColumn(), TextColumn("{task.description}"), *counts, TimeElapsedColumn(),
+                    console=console, disable=quiet, transient=True)
 
 
 # ----------------------------------------------------------------------------------------------- sweeps
@@ -216,7 +247,7 @@ def _pareto(cfg: RunConfig, prob: Problem, out: Path, quiet: bool, shard=(1, 1),
 
     plan = SweepPlan(cfg, prob)
     n_mine = len(range(shard[0] - 1, plan.n_chunks, shard[1]))
-    with _progress(quiet) as bar:
+    with _progress(quiet, counted=True) as bar:
         task = bar.add_task("Pareto sweep" + (f" shard {shard[0]}/{shard[1]}" if shard[1] > 1 else ""), total=n_mine)
         designs = run_chunks(plan, out, shard, executor, address, progress=lambda n: bar.update(task, advance=n))
     if designs is None:

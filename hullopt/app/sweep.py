@@ -27,7 +27,7 @@ from jax.sharding import PartitionSpec as P
 
 from ..errors import HullError
 from ..hydro import hydrostatics
-from ..optimise import Design, make_targets, solve_minimum
+from ..optimise import Design, make_targets, solve_minimum, with_objective_scale
 from .config import RunConfig
 from .output import write_json
 
@@ -73,6 +73,7 @@ def solve_values(problem, values, i_bf: int, outer: int, max_steps: int, mesh):
     over the mesh's devices (sharding constraints; XLA partitions the computation). ``problem = (design,
     measure, p0, lower, upper)``. Module level, so the runs of one process share the compiled function."""
     d, measure, p0, lower, upper = problem
+    d = with_objective_scale(d, p0)
     batch = jax.sharding.NamedSharding(mesh, P("d"))
     values = jax.lax.with_sharding_constraint(values, batch)
     out = jax.vmap(lambda e: _solve_one(d, measure, p0, lower, upper, e, i_bf, outer, max_steps))(values)

@@ -6,7 +6,7 @@ from ._bounds import to_unbounded as to_unbounded
 from ._jaxopt import minimise_lbfgsb as minimise_lbfgsb
 from ._solvers import SolveResult as SolveResult
 from ._solvers import fit as fit
-from ._solvers import fit_stepwise as fit_stepwise
+from ._solvers import fit_traced as fit_traced
 from ._solvers import minimise_constrained as minimise_constrained
 from ._problems import OBJECTIVES as OBJECTIVES
 from ._problems import TARGETS as TARGETS

@@ -203,6 +203,8 @@ def with_objective_scale(design: Design, params) -> Design:
     (the parent), so that both terms start at one."""
     from ..fairing import unfairness
 
+    if design.objective is None and not design.fairness:
+        return design
     s = design.model(params)
     if design.objective is not None:
         design = eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(design.objective(s, design.draft)) + 1e-30)
@@ -221,12 +223,12 @@ def non_dominated(points: Array) -> Array:
     return ok & ~dominated
 
 
-def solve_fit(design: Design, p0, lower, upper, *, stepwise: bool = False, **kw):
-    """Auto-fit: meet the targets with the least deformation (Levenberg–Marquardt, bounded). With
-    ``stepwise`` one jitted step at a time (``callback=`` for progress); else one ``vmap``-able solve."""
-    from ._solvers import fit, fit_stepwise
+def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
+    """Auto-fit: meet the targets with the least deformation (Levenberg–Marquardt, bounded). With ``traced``
+    the cost of each step is kept in ``history`` (:func:`~hullopt.optimise.fit_traced`); both ``vmap``."""
+    from ._solvers import fit, fit_traced
 
-    return (fit_stepwise if stepwise else fit)(design.residuals, p0, lower, upper, tol=design.fit_tolerances(p0), **kw)
+    return (fit_traced if traced else fit)(design.residuals, p0, lower, upper, tol=design.fit_tolerances(p0), **kw)
 
 
 def solve_minimum(design: Design, p0, lower, upper, **kw):

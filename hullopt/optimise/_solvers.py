@@ -1,6 +1,7 @@
 """Thin solver adapters over optimistix (the core); no domain code here.
 
-* :func:`fit` — nonlinear least squares by Levenberg–Marquardt (targets to meet);
+* :func:`fit` — nonlinear least squares by Levenberg–Marquardt (targets to meet); :func:`fit_traced`, the same
+  as an explicit loop that records the cost of each step;
 * :func:`minimise_constrained` — an objective with equality constraints by an augmented Lagrangian whose
   inner problems are solved by BFGS.
 
@@ -27,7 +28,8 @@ class SolveResult(eqx.Module):
     """Outcome of a solve. ``params`` is the solution (a pytree like the start), ``residuals`` the constraint
     (or target) residuals, ``max_violation`` the largest ``|residual| / tol`` — so ``met`` (≤ 1) means every
     one is within its tolerance —, ``objective`` the objective value (the sum of squares for a fit),
-    ``solver_ok`` the solver's own success flag, ``steps`` the number of (inner) steps."""
+    ``solver_ok`` the solver's own success flag, ``steps`` the number of (inner) steps, ``history`` the cost
+    after each step or round where the solver records it (NaN-padded to a fixed length)."""
 
     params: object
     residuals: Array
@@ -36,6 +38,7 @@ class SolveResult(eqx.Module):
     met: Array
     solver_ok: Array
     steps: Array
+    history: Array | None = None
 
 
 def fit(
@@ -92,7 +95,7 @@ def minimise_constrained(
 
     Augmented Lagrangian: ``f + λ·c + μ/2 |c|²``, ``outer`` rounds of BFGS with ``λ ← λ + μ c`` and
     ``μ ← growth · μ`` between them (a fixed number of rounds, so the whole solve is one ``vmap``-able
-    computation).
+    computation). ``history``: the augmented Lagrangian at the end of each round.
     """
     u0 = to_unbounded(p0, lower, upper)
     n_c = jnp.shape(constraints(p0, args))[0]
@@ -110,50 +113,60 @@ def minimise_constrained(
         sol = optx.minimise(lagrangian, solver, u, (lam, mu, args), max_steps=max_steps, throw=False)
         c = constraints(from_unbounded(sol.value, lower, upper), args)
         return (sol.value, lam + mu * c, mu * growth, steps + sol.stats["num_steps"],
-                sol.result == optx.RESULTS.successful), None
+                sol.result == optx.RESULTS.successful), lagrangian(sol.value, (lam, mu, args))
 
     dtype = ravel_pytree(u0)[0].dtype
     init = (u0, jnp.zeros(n_c, dtype), jnp.asarray(mu0, dtype), jnp.asarray(0), jnp.asarray(True))
-    (u, _, _, steps, ok), _ = jax.lax.scan(round_, init, None, length=outer)
+    (u, _, _, steps, ok), history = jax.lax.scan(round_, init, None, length=outer)
     p = from_unbounded(u, lower, upper)
     c = constraints(p, args)
     viol = jnp.max(jnp.abs(c) / tol) if n_c else jnp.asarray(0.0, dtype)
-    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps)
+    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps, history)
 
 
-def fit_stepwise(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rtol: float = 1e-6,
-                 atol: float = 1e-9, max_steps: int = 200, callback: Callable | None = None) -> SolveResult:
-    """:func:`fit`, one jitted Levenberg–Marquardt step at a time, calling ``callback(step, params, cost)``
-    after each (for progress bars and convergence histories); not ``vmap``-able. It also stops, as converged,
-    when the cost has fallen by less than 1e-4 (relative) in each of 5 steps: what is left is the slow
-    polishing of a tiny regularisation, which the solver's own step test may take hundreds of steps to end."""
+def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rtol: float = 1e-6,
+               atol: float = 1e-9, max_steps: int = 200, stall: int = 5) -> SolveResult:
+    """:func:`fit` as an explicit Levenberg–Marquardt loop (``lax.while_loop``: jit- and vmap-able) that records
+    the cost after each step in ``history`` (``(max_steps + 1,)``, entry 0 the start, NaN after the last step).
+
+    It also stops, as converged, when the cost has fallen by less than 1e-4 (relative) in each of ``stall``
+    steps: what is left is the slow polishing of a tiny regularisation, which the solver's own step test may
+    take hundreds of steps to end. Not differentiable in ``args`` (use :func:`fit` for that)."""
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
+    tags = frozenset()
 
     def fn(u, args):
         return residuals(from_unbounded(u, lower, upper), args), None
 
-    u = to_unbounded(p0, lower, upper)
-    f_struct, aux_struct = jax.eval_shape(lambda: fn(u, args))
-    state = solver.init(fn, u, args, {}, f_struct, aux_struct, frozenset())
-    step = eqx.filter_jit(lambda u, s: solver.step(fn, u, args, {}, s, frozenset()))
-    done_fn = eqx.filter_jit(lambda u, s: solver.terminate(fn, u, args, {}, s, frozenset()))
-    cost = eqx.filter_jit(lambda u: jnp.sum(fn(u, args)[0] ** 2))
-    n, done, result = 0, False, optx.RESULTS.successful
-    best, still = float(cost(u)), 0
-    while n < max_steps and still < 5:
-        done, result = done_fn(u, state)
-        if bool(done):
-            break
-        u, state, _ = step(u, state)
-        n += 1
-        c = float(cost(u))
-        still = still + 1 if c >= best * (1.0 - 1e-4) else 0
-        best = min(best, c)
-        if callback is not None:
-            callback(n, from_unbounded(u, lower, upper), c)
-    done = bool(done) or still >= 5
+    def cost(u):
+        return jnp.sum(fn(u, args)[0] ** 2)
+
+    u0 = to_unbounded(p0, lower, upper)
+    fn = eqx.filter_closure_convert(fn, u0, args)  # so the solver state's static part is the same each step
+    f_struct, aux_struct = jax.eval_shape(lambda: fn(u0, args))
+    state0 = solver.init(fn, u0, args, {}, f_struct, aux_struct, tags)
+    done0, result0 = solver.terminate(fn, u0, args, {}, state0, tags)
+    dynamic0, static = eqx.partition(state0, eqx.is_array)
+    c0 = cost(u0)
+    history0 = jnp.full(max_steps + 1, jnp.nan, c0.dtype).at[0].set(c0)
+
+    def cond(carry):
+        _, _, n, _, still, _, done, result = carry
+        return ~done & (result == optx.RESULTS.successful) & (n < max_steps) & (still < stall)
+
+    def body(carry):
+        u_old, dynamic, n, best, still, history, _, _ = carry
+        u, state, _ = solver.step(fn, u_old, args, {}, eqx.combine(static, dynamic), tags)
+        c = cost(u)
+        still = jnp.where(c >= best * (1.0 - 1e-4), still + 1, 0)
+        done, result = solver.terminate(fn, u_old, args, {}, state, tags)  # as optimistix: old y, new state
+        dynamic = eqx.partition(state, eqx.is_array)[0]
+        return u, dynamic, n + 1, jnp.minimum(best, c), still, history.at[n + 1].set(c), done, result
+
+    init = (u0, dynamic0, jnp.asarray(0), c0, jnp.asarray(0), history0, done0, result0)
+    u, _, n, _, still, history, done, result = jax.lax.while_loop(cond, body, init)
     p = from_unbounded(u, lower, upper)
     r = residuals(p, args)
     viol = jnp.max(jnp.abs(r) / tol)
-    ok = jnp.asarray(bool(done) and result == optx.RESULTS.successful)
-    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, jnp.asarray(n))
+    ok = (done | (still >= stall)) & (result == optx.RESULTS.successful)
+    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, n, history)

@@ -1,0 +1,107 @@
+"""Compiled programs kept between runs, so that a warm ``hullopt run`` neither traces nor compiles.
+
+JAX's persistent compilation cache saves the XLA compile, but every new process still traces and lowers the
+Python program (seconds for a solve through the feature-hull model). :func:`cached_call` also keeps the
+lowered program: a ``jax.export`` serialization (StableHLO) of the jitted function, keyed by what determines
+it — the caller's key (the resolved config), the shapes of the array inputs, the source of this package and
+the versions of jax, jaxlib, equinox, optimistix and lineax. A later process deserializes it and calls it;
+its compile then comes from the compilation cache. Array inputs stay arguments (not constants), so the
+program file is small.
+
+Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
+``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import pickle
+import re
+from collections.abc import Callable
+from importlib import metadata
+from pathlib import Path
+
+import equinox as eqx
+import jax
+
+from ..geometry import atomic_write_bytes
+
+_PACKAGE = Path(__file__).resolve().parents[1]
+_LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
+
+
+def programs_dir() -> Path | None:
+    """Where programs are kept: beside the persistent compilation cache, or None when that is off."""
+    cc = jax.config.jax_compilation_cache_dir
+    return Path(cc).parent / f"programs-{Path(cc).name}" if cc else None
+
+
+@functools.cache
+def _code_digest() -> str:
+    """Digest of this package's source and data and of the versions of the libraries it traces through."""
+    h = hashlib.sha256()
+    for path in sorted(p for p in _PACKAGE.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+        h.update(str(path.relative_to(_PACKAGE)).encode())
+        h.update(path.read_bytes())
+    for lib in _LIBRARIES:
+        h.update(f"{lib}={metadata.version(lib)}".encode())
+    h.update(f"{jax.config.jax_enable_x64} {jax.config.jax_numpy_dtype_promotion}".encode())
+    return h.hexdigest()
+
+
+def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object):
+    """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
+
+    ``args`` is a pytree holding the array inputs (non-array leaves are baked into the program, so they must be
+    determined by ``key``); ``static`` are hashable Python values passed after them; ``key`` is any
+    JSON-serialisable value that, with the array shapes, determines the program. Without a programs folder this
+    is a plain ``eqx.filter_jit`` call.
+    """
+    folder = programs_dir()
+    if folder is None:
+        return eqx.filter_jit(fn)(*args, *static)
+    dynamic, fixed = eqx.partition(args, eqx.is_array)
+    leaves, in_tree = jax.tree.flatten(dynamic)
+    signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest()]
+    digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]
+    path = folder / f"{name}-{digest}.bin"
+    try:
+        kept = pickle.loads(path.read_bytes())
+        exported, skeleton = jax.export.deserialize(kept["program"]), kept["outputs"]
+    except Exception:  # absent, stale or unreadable: build it again
+        exported, skeleton = _export(fn, leaves, in_tree, fixed, static)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            atomic_write_bytes(path, pickle.dumps({"program": exported.serialize(), "outputs": skeleton}))
+        except OSError:
+            pass  # a read-only cache: run without keeping the program
+    out_leaves = exported.call(*leaves)
+    return jax.tree.unflatten(jax.tree.structure(skeleton), out_leaves)
+
+
+def _export(fn, leaves, in_tree, fixed, static):
+    """The ``jax.export`` of ``fn`` on flat array inputs, and the skeleton of its outputs (their pytree with
+    the leaves numbered)."""
+    out_tree = []
+
+    def flat(*xs):
+        out = fn(*eqx.combine(jax.tree.unflatten(in_tree, xs), fixed), *static)
+        ys, tree = jax.tree.flatten(out)
+        out_tree.append(tree)
+        return ys
+
+    checks = []
+    for _ in range(2):
+        try:
+            exported = jax.export.export(jax.jit(flat), disabled_checks=checks)(*leaves)
+            break
+        except ValueError as e:
+            # LAPACK kernels (QR, LU) have no cross-version guarantee; the key pins the jaxlib version
+            targets = set(re.findall(r"custom_call @(\w+)", str(e)))
+            if not targets or checks:
+                raise
+            checks = [jax.export.DisabledSafetyCheck.custom_call(t) for t in sorted(targets)]
+    skeleton = jax.tree.unflatten(out_tree[-1], range(out_tree[-1].num_leaves))
+    return exported, skeleton

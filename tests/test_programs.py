@@ -1,0 +1,67 @@
+"""Kept programs (jax.export) of the app layer: a warm run reuses the traced program, never a stale one."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from hullopt.app import programs
+
+
+class Out(eqx.Module):
+    total: jax.Array
+    scaled: dict
+    name: str = eqx.field(static=True)
+
+
+def model(p, k):
+    """A small program with a LAPACK kernel (QR) in it, as the Levenberg–Marquardt solve has."""
+    q, r = jnp.linalg.qr(p["a"])
+    return Out(jnp.sum(p["a"]) * k, {"b": p["b"] * k, "r": r}, name=f"k={k}")
+
+
+@pytest.fixture
+def folder(tmp_path, monkeypatch):
+    monkeypatch.setattr(programs, "programs_dir", lambda: tmp_path / "programs")
+    return tmp_path / "programs"
+
+
+def args():
+    return ({"a": jnp.arange(12.0).reshape(4, 3), "b": jnp.asarray([1.0, 2.0])},)
+
+
+def test_a_kept_program_is_reused_without_tracing(folder, monkeypatch):
+    first = programs.cached_call("t", model, args(), (3,), key={"config": 1})
+    files = list(folder.glob("t-*.bin"))
+    assert len(files) == 1
+    monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("traced again"))
+    again = programs.cached_call("t", model, args(), (3,), key={"config": 1})
+    assert isinstance(again, Out) and again.name == "k=3"
+    for x, y in zip(jax.tree.leaves(first), jax.tree.leaves(again)):
+        np.testing.assert_array_equal(x, y)
+    np.testing.assert_allclose(again.scaled["b"], [3.0, 6.0])
+    np.testing.assert_allclose(again.scaled["r"], jnp.linalg.qr(args()[0]["a"])[1])
+
+
+def test_another_key_static_value_or_shape_is_another_program(folder):
+    programs.cached_call("t", model, args(), (3,), key={"config": 1})
+    programs.cached_call("t", model, args(), (3,), key={"config": 2})
+    out = programs.cached_call("t", model, args(), (4,), key={"config": 1})
+    assert out.name == "k=4" and float(out.total) == pytest.approx(4 * 66.0)
+    bigger = ({"a": jnp.ones((5, 3)), "b": jnp.ones(2)},)
+    assert float(programs.cached_call("t", model, bigger, (3,), key={"config": 1}).total) == pytest.approx(45.0)
+    assert len(list(folder.glob("t-*.bin"))) == 4
+
+
+def test_a_corrupt_program_file_is_rebuilt(folder):
+    programs.cached_call("t", model, args(), (3,), key="k")
+    (path,) = folder.glob("t-*.bin")
+    path.write_bytes(b"not a program")
+    assert float(programs.cached_call("t", model, args(), (3,), key="k").total) == pytest.approx(3 * 66.0)
+    assert path.read_bytes() != b"not a program"
+
+
+def test_without_a_compilation_cache_nothing_is_kept(monkeypatch):
+    monkeypatch.setattr(programs, "programs_dir", lambda: None)
+    assert float(programs.cached_call("t", model, args(), (2,), key=0).total) == pytest.approx(132.0)
