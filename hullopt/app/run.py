@@ -84,10 +84,11 @@ def build_problem(cfg: RunConfig) -> Problem:
             raise HullError(f"design.distribution[{i}].c: {len(c)} values for {g.modes} modes")
         dist0[i, : len(c)] = c
         dist_b[i] = g.bound
-    p0 = FeatureParams(jnp.asarray(np.array([m.d for m in d.apex_move]).reshape(-1, 2)), jnp.asarray(dist0),
-                       jnp.asarray(np.array([e.amplitude for e in d.contour_edit])))
-    half = FeatureParams(jnp.asarray(np.array([[m.bound] * 2 for m in d.apex_move]).reshape(-1, 2)),
-                         jnp.asarray(dist_b), jnp.asarray(np.array([e.bound for e in d.contour_edit])))
+    # numpy leaves: building a problem runs no JAX op (each eager op costs a compile or a cache read)
+    p0 = FeatureParams(np.array([m.d for m in d.apex_move], float).reshape(-1, 2), dist0,
+                       np.array([e.amplitude for e in d.contour_edit], float))
+    half = FeatureParams(np.array([[m.bound] * 2 for m in d.apex_move], float).reshape(-1, 2), dist_b,
+                         np.array([e.bound for e in d.contour_edit], float))
     lower = jax.tree.map(lambda h: -h, half)
     for name, v, b in (("apex_move d", p0.apex, half.apex), ("distribution c", p0.distribution, half.distribution),
                        ("contour_edit amplitude", p0.contour, half.contour)):
@@ -97,7 +98,7 @@ def build_problem(cfg: RunConfig) -> Problem:
         targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg)
     except ValueError as e:
         raise HullError(f"targets: {e}") from None
-    design = Design(model=model, draft=jnp.asarray(float(draft)), targets=targets,
+    design = Design(model=model, draft=np.asarray(float(draft)), targets=targets,
                     objective=objective_from(cfg.objective) if cfg.objective else None,
                     smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness)
     return Problem(design, p0, lower, half, cfg.hull.parent)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 import optimistix as optx
 from jaxtyping import Array, Float
 
@@ -48,7 +49,7 @@ class Hydrostatics(eqx.Module):
 
     def to_dict(self) -> dict[str, float | list[float]]:
         """Plain floats (or lists for a table), keyed as in ``hullopt hydro --json``."""
-        return {k: jnp.asarray(v).tolist() for k, v in vars(self).items()}
+        return {k: np.asarray(v).tolist() for k, v in vars(self).items()}
 
 
 def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
