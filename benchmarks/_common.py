@@ -10,10 +10,10 @@ import time
 from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results"
+
+
 def _find_shared() -> Path:
     """The reference folder: $HULLOPT_SHARED, else ``../shared`` beside the checkout, else /work/shared."""
-    import os
-
     candidates = [os.environ.get("HULLOPT_SHARED"), Path(__file__).resolve().parents[1].parent / "shared",
                   "/work/shared"]
     for c in candidates:

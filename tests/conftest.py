@@ -8,6 +8,7 @@ import pytest
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_dtype_promotion", "strict")
 
+
 def _find_shared() -> Path:
     """The reference folder: $HULLOPT_SHARED, else ``../shared`` beside the checkout, else /work/shared."""
     import os
