@@ -38,10 +38,25 @@ def grid_triangles(n: int, m: int) -> np.ndarray:
     return np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
 
 
-def _area_fraction_below(z: Array, level: Array) -> Array:
-    """Fraction of a planar triangle's area where the linear field with vertex values ``z (..., 3)`` is
-    ≤ ``level``. Exact; finite gradients everywhere."""
-    za, zb, zc = jnp.moveaxis(jnp.sort(z, axis=-1), -1, 0)
+def _sort3(a: Array, b: Array, c: Array) -> tuple[Array, Array, Array]:
+    """Ascending order of three arrays elementwise: a stable bubble-sort network of compare–swaps (the same
+    values and the same tangents as ``jnp.sort`` along a length-3 axis, but elementwise selects instead of a
+    sort op, which under ``vmap`` is an order of magnitude slower)."""
+
+    def swap(p, q):
+        s = q < p  # swap only when strictly out of order: stable, like jnp.sort
+        return jnp.where(s, q, p), jnp.where(s, p, q)
+
+    a, b = swap(a, b)
+    b, c = swap(b, c)
+    a, b = swap(a, b)
+    return a, b, c
+
+
+def _fraction_below(za: Array, zb: Array, zc: Array, level: Array) -> Array:
+    """Fraction of a planar triangle's area where the linear field with vertex values ``za, zb, zc`` is
+    ≤ ``level`` (any order; elementwise). Exact; finite gradients everywhere."""
+    za, zb, zc = _sort3(za, zb, zc)
     lo = (level > za) & (level <= zb)
     hi = (level > zb) & (level < zc)
     den_lo = (zb - za) * (zc - za)
@@ -51,8 +66,19 @@ def _area_fraction_below(z: Array, level: Array) -> Array:
     return jnp.where(level >= zc, 1.0, f_lo + f_hi)
 
 
+def _area_fraction_below(z: Array, level: Array) -> Array:
+    """Fraction of a planar triangle's area where the linear field with vertex values ``z (..., 3)`` is
+    ≤ ``level``. Exact; finite gradients everywhere."""
+    return _fraction_below(z[..., 0], z[..., 1], z[..., 2], level)
+
+
 def _triangle_areas(tri: Array) -> Array:
-    cross = jnp.cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
+    return _area(*(tri[..., k, :] for k in range(3)))
+
+
+def _area(a: Array, b: Array, c: Array) -> Array:
+    """Areas of triangles with vertices ``a, b, c (..., 3)``."""
+    cross = jnp.cross(b - a, c - a)
     sq = jnp.sum(cross**2, axis=-1)
     ok = sq > 0.0
     return jnp.where(ok, 0.5 * jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)  # double where: no NaN gradient
@@ -64,10 +90,18 @@ def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
     End caps (an immersed transom, a flat end) are not part of it; see :func:`transom_area`.
     Triangles lying in the centre plane (joints between disjoint parts of a section) are excluded.
     """
-    tri = surface_grid(sections).reshape(-1, 3)[grid_triangles(sections.n, sections.m)]
-    in_centreplane = jnp.all(tri[..., 1] == 0.0, axis=-1)
-    frac = _area_fraction_below(tri[..., 2], jnp.asarray(draft))
-    return 2.0 * jnp.sum(jnp.where(in_centreplane, 0.0, frac * _triangle_areas(tri)))
+    level = jnp.asarray(draft)
+    g = surface_grid(sections)
+    # The triangles of grid_triangles, from shifted views of the grid (no gather, no (…, 3, 3) array: this
+    # stays elementwise and fuses, which matters under vmap): (i, j), (i+1, j), (i+1, j+1), (i, j+1).
+    p00, p10, p11, p01 = g[:-1, :-1], g[1:, :-1], g[1:, 1:], g[:-1, 1:]
+
+    def part(a, b, c):
+        in_centreplane = (a[..., 1] == 0.0) & (b[..., 1] == 0.0) & (c[..., 1] == 0.0)
+        frac = _fraction_below(a[..., 2], b[..., 2], c[..., 2], level)
+        return jnp.sum(jnp.where(in_centreplane, 0.0, frac * _area(a, b, c)))
+
+    return 2.0 * (part(p00, p11, p10) + part(p00, p01, p11))
 
 
 def _cap_faces(loop_yz: np.ndarray, offset: int, outward_x: float) -> np.ndarray:
