@@ -37,23 +37,29 @@ def _half_spline(u: Array, v: Array, f: Array) -> tuple[Array, Array]:
     k = u.shape[-1]
     h = jnp.diff(u, axis=-1)  # (..., K-1)
     d = jnp.diff(v, axis=-1) / h
-    # Unknowns M_1..M_{K-1} (M_0 = 0): interior rows j = 1..K-2, then the clamped row.
-    rows = []
-    zero = jnp.zeros_like(h[..., 0])
-    for j in range(1, k):
-        row = [zero] * (k - 1)
-        if j < k - 1:
-            if j > 1:
-                row[j - 2] = h[..., j - 1]
-            row[j - 1] = 2.0 * (h[..., j - 1] + h[..., j])
-            row[j] = h[..., j]
-        else:
-            row[j - 2] = h[..., j - 1]
-            row[j - 1] = 2.0 * h[..., j - 1]
-        rows.append(jnp.stack(row, -1))
-    mat = jnp.stack(rows, -2)
+    # Unknowns M_1..M_{K-1} (M_0 = 0): interior rows j = 1..K-2, then the clamped row. The system is
+    # tridiagonal and strictly diagonally dominant, so it is solved by the Thomas algorithm (no pivoting),
+    # unrolled over the K − 1 rows: elementwise, where a batched LU solve (jnp.linalg.solve) of many tiny
+    # systems is slow, above all under vmap.
     rhs = jnp.concatenate([6.0 * (d[..., 1:] - d[..., :-1]), -6.0 * d[..., -1:]], -1)
-    m = jnp.linalg.solve(mat, rhs[..., None])[..., 0]
+    n_rows = k - 1
+    sub = [None] + [h[..., j - 1] for j in range(2, k)]  # row r = j − 1 couples M_{j−1}
+    diag = [2.0 * (h[..., j - 1] + h[..., j]) for j in range(1, k - 1)] + [2.0 * h[..., k - 2]]
+    sup = [h[..., j] for j in range(1, k - 1)]  # M_{j+1} in rows 0 … K−3
+    cp, dp = [], []
+    for r in range(n_rows):
+        if r == 0:
+            den, num = diag[0], rhs[..., 0]
+        else:
+            den = diag[r] - sub[r] * cp[r - 1]
+            num = rhs[..., r] - sub[r] * dp[r - 1]
+        cp.append(sup[r] / den if r < n_rows - 1 else None)
+        dp.append(num / den)
+    sol = [None] * n_rows
+    sol[-1] = dp[-1]
+    for r in range(n_rows - 2, -1, -1):
+        sol[r] = dp[r] - cp[r] * sol[r + 1]
+    m = jnp.stack(sol, -1)
     m = jnp.concatenate([jnp.zeros_like(m[..., :1]), m], -1)  # (..., K)
     g = f
     hh = (h * h / 6.0)[..., None]
