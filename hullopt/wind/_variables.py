@@ -86,8 +86,31 @@ def _cuts(polys: Array, u: Array, axis: int) -> tuple[Array, Array, Array]:
     return lo, hi, empty
 
 
+def _profile_cuts(x: Array, bot: Array, top: Array, u: Array) -> tuple[Array, Array, Array]:
+    """:func:`_cuts` of the hull profile of :func:`~hullopt.wind.projections` (the polygon ``(x, bot)``
+    forward, then ``(x, top)`` back, ``x`` strictly increasing, ``bot ≤ top``) by the lines ``x = u``, in
+    closed form: between stations the line meets the bottom and the top edge of that interval only (the two
+    end edges are vertical), so the cut is the two edges' values there — with the same formulas as
+    :func:`_cuts`. ``(G, 1)`` each. Where the lines and the stations are unbatched (the stations of a hull
+    model), the interval search is done once for a whole vmapped batch and only the edge values are per design."""
+    n = x.shape[0]
+    i = jnp.clip(jnp.searchsorted(x, u, side="right") - 1, 0, n - 2)
+    x0, x1 = x[i], x[i + 1]
+    t_bot = (u - x0) / (x1 - x0)  # bottom edge i, from x_i to x_{i+1}
+    t_top = (u - x1) / (x0 - x1)  # top edge i, from x_{i+1} back to x_i
+    b0, b1, t0, t1 = bot[i], bot[i + 1], top[i], top[i + 1]
+    v_bot = b0 + t_bot * (b1 - b0)
+    v_top = t1 + t_top * (t0 - t1)
+    empty = ~((u >= x[0]) & (u <= x[-1]))
+    lo = jnp.where(empty, _BIG, jnp.minimum(v_bot, v_top))
+    hi = jnp.where(empty, _BIG, jnp.maximum(v_bot, v_top))
+    return lo[:, None], hi[:, None], empty[:, None]
+
+
 def _union(lo: Array, hi: Array) -> tuple[Array, Array]:
     """Disjoint pieces ``[a, b]`` (``(G, S)``) whose union is the union of the intervals on each row."""
+    if lo.shape[-1] == 1:  # one shape: nothing to merge (and no sort or gather)
+        return lo, hi
     order = jnp.argsort(lo, axis=-1)
     lo, hi = jnp.take_along_axis(lo, order, -1), jnp.take_along_axis(hi, order, -1)
     reach = jax.lax.cummax(hi, axis=hi.ndim - 1)
@@ -103,13 +126,19 @@ class _Strips(eqx.Module):
     empty: Array
 
 
-def _strips(polys: list[Array], axis: int) -> _Strips:
-    flat = [p.reshape(-1, *p.shape[-2:]) for p in polys]
-    edges = jnp.sort(jnp.concatenate([p[..., axis].ravel() for p in flat]))
+def _strips(polys: list[Array], axis: int, profile: tuple[Array, Array, Array] | None = None) -> _Strips:
+    """Strips between all vertex abscissae of ``polys`` and the cuts there. With ``profile = (x, bot, top)``
+    the first polygon is the hull profile of :func:`~hullopt.wind.projections` (``polys[0]`` may then be
+    None), cut in closed form (:func:`_profile_cuts`)."""
+    flat = [None if p is None else p.reshape(-1, *p.shape[-2:]) for p in polys]
+    coords = [p[..., axis].ravel() for p in flat[1:]]
+    coords.insert(0, jnp.concatenate([profile[0], profile[0][::-1]]) if profile is not None else flat[0][..., axis].ravel())
+    edges = jnp.sort(jnp.concatenate(coords))
     mid, h = 0.5 * (edges[1:] + edges[:-1]), edges[1:] - edges[:-1]
     u = jnp.stack([mid - _G * h, mid + _G * h], -1).ravel()
     w = jnp.repeat(0.5 * h, 2)
-    cuts = [_cuts(p, u, axis) for p in flat]
+    cuts = [_profile_cuts(*profile, u) if (k == 0 and profile is not None) else _cuts(p, u, axis)
+            for k, p in enumerate(flat)]
     lo, hi, empty = (jnp.concatenate([c[i] for c in cuts], axis=-1) for i in range(3))
     return _Strips(u, w, lo, hi, empty)
 
@@ -209,6 +238,12 @@ class WindVariables(eqx.Module):
 
 def variables_from_projections(pr: Projections) -> WindVariables:
     """:class:`WindVariables` of given projections (see :func:`wind_variables`)."""
+    return _variables(pr, pr.hull_side[: pr.present.shape[0], 0])
+
+
+def _variables(pr: Projections, x: Array) -> WindVariables:
+    """:func:`variables_from_projections` with the stations ``x`` of the hull profile given apart (the same
+    values as ``pr.hull_side[:n, 0]``; kept unbatched under vmap when they are a model's fixed stations)."""
     parts: Parts = pr.parts
     kinds = parts.kinds
     ss = [1 + i for i, k in enumerate(kinds) if k == "superstructure"]
@@ -216,13 +251,15 @@ def variables_from_projections(pr: Projections) -> WindVariables:
     solid = [0] + [1 + i for i, k in enumerate(kinds) if k != "mast"]
 
     # Length and mid-length from the profile's stations that bound area above water, and the parts.
-    hx = pr.hull_side[: pr.present.shape[0], 0]
+    n = pr.present.shape[0]
+    hx = x
     px = pr.part_side[..., 0].ravel()
     x_lo = jnp.minimum(jnp.min(jnp.where(pr.present, hx, jnp.inf)), jnp.min(px, initial=jnp.inf))
     x_hi = jnp.maximum(jnp.max(jnp.where(pr.present, hx, -jnp.inf)), jnp.max(px, initial=-jnp.inf))
     length, x_mid = x_hi - x_lo, 0.5 * (x_hi + x_lo)
 
-    side = _strips([pr.hull_side[None], pr.part_side], axis=0)
+    profile = (x, pr.hull_side[:n, 1], pr.hull_side[n:, 1][::-1])
+    side = _strips([None, pr.part_side], axis=0, profile=profile)
     a_l, mx_l, mh_l = _union_integrals(side, [0, *od])
     a_od, _, _ = _union_integrals(side, od)
     a_ss, mx_ss, _ = _union_integrals(side, ss)
@@ -269,4 +306,4 @@ def wind_variables(sections: Sections, draft, parts: Parts, levels: int = 24) ->
     Pure JAX: jit/grad/vmap-able in the sections, the draft and the parts' polygons. See the module
     docstring for the conventions and :func:`~hullopt.wind.projections` for the geometry.
     """
-    return variables_from_projections(projections(sections, draft, parts, levels))
+    return _variables(projections(sections, draft, parts, levels), sections.x)
