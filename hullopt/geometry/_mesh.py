@@ -123,7 +123,8 @@ def to_trimesh(sections: Sections) -> trimesh.Trimesh:
     volume this adds is negligible (2·1e-7·size × the centre-plane area); exclude faces with
     ``|y| ≤ 1e-7·size`` when summing areas.
     """
-    g = np.array(surface_grid(sections), dtype=np.float64)
+    yz = np.asarray(sections.yz, dtype=np.float64)  # numpy throughout: an export runs no JAX op
+    g = np.concatenate([np.broadcast_to(np.asarray(sections.x, np.float64)[:, None, None], (*yz.shape[:2], 1)), yz], -1)
     n, m, _ = g.shape
     eps = centreline_offset(g)
     g[..., 1] = np.maximum(g[..., 1], eps)

@@ -27,6 +27,7 @@ Pure JAX, vectorised over stations and segments; differentiable in every input.
 from __future__ import annotations
 
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 
@@ -128,7 +129,7 @@ def apex_points(ends: Array, apex: Array) -> Array:
     """Absolute (y, z) of the apexes ``(n, S, 2)`` from the chord-frame ``(β, η)``."""
     a, b = ends[..., :-1, :], ends[..., 1:, :]
     c = b - a
-    rc = jnp.stack([-c[..., 1], c[..., 0]], -1)
+    rc = c[..., ::-1] * np.array([-1.0, 1.0])  # c turned +90°; operators only, so numpy in gives numpy out
     return a + apex[..., :1] * c + apex[..., 1:] * rc
 
 

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -122,9 +123,10 @@ class FeatureHull(eqx.Module):
 
 def feature_hull(features: dict, name: str = "hull", design_draft: float | None = None, q: int = 2) -> FeatureHull:
     """A :class:`FeatureHull` from the arrays of :func:`extract_features` (or a parent file)."""
-    f = {k: jnp.asarray(np.asarray(features[k], dtype=np.float64)) for k in ("x", "keel", "deck", "ends", "apex", "aux")}
+    # numpy leaves: reading a parent and building a design on it run no JAX op (each costs a compile)
+    f = {k: np.asarray(features[k], dtype=np.float64) for k in ("x", "keel", "deck", "ends", "apex", "aux")}
     return FeatureHull(
-        lpp=jnp.asarray(float(features["lpp"])), real=jnp.asarray(np.asarray(features["real"], bool)),
+        lpp=np.asarray(float(features["lpp"])), real=np.asarray(features["real"], bool),
         q=int(q), name=name, design_draft=design_draft, **f,
     )
 
@@ -241,6 +243,7 @@ class FeatureModel(eqx.Module):
 
     def features(self, params: FeatureParams) -> FeatureHull:
         """The deformed feature hull (steps 1–3 of the module docstring)."""
+        self = jax.tree.map(jnp.asarray, self)  # numpy leaves (built without JAX ops) as JAX constants
         h = self.hull
         x = h.x
         f = self.base
@@ -280,9 +283,10 @@ def _channels(h: FeatureHull) -> list[tuple[str, tuple[int, ...]]]:
     return [(k, tuple(getattr(h, k).shape[1:])) for k in ("keel", "deck", "ends", "apex", "aux")]
 
 
-def _flatten(h: FeatureHull) -> Array:
+def _flatten(h: FeatureHull) -> np.ndarray:
+    """The hull's channels side by side, ``(n, C)`` (numpy: static preprocessing)."""
     n = h.x.shape[0]
-    return jnp.concatenate([getattr(h, k).reshape(n, -1) for k, _ in _channels(h)], -1)
+    return np.concatenate([np.asarray(getattr(h, k)).reshape(n, -1) for k, _ in _channels(h)], -1)
 
 
 def _columns(h: FeatureHull) -> dict[str, np.ndarray]:
@@ -438,7 +442,7 @@ def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> Fe
     Raises :class:`HullError` on an inconsistent design (fixed ends not on the apex line, …)."""
     moves, distributions, edits = tuple(moves), tuple(distributions), tuple(edits)
     x = np.asarray(hull.x)
-    base = np.asarray(_flatten(hull))
+    base = _flatten(hull)
     mw = [_move_weights(hull, m) for m in moves]
     masks = []
     for d in distributions:
@@ -452,13 +456,13 @@ def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> Fe
     c = base.shape[1]
     return FeatureModel(
         hull=hull,
-        base=jnp.asarray(base),
-        slopes=jnp.asarray(_pchip_slopes(x, base)),
-        move_w=jnp.asarray(np.array([w for _, w in mw]).reshape(len(mw), len(x))),
+        base=base,
+        slopes=np.asarray(_pchip_slopes(x, base)),
+        move_w=np.array([w for _, w in mw]).reshape(len(mw), len(x)),
         move_seg=tuple(s for s, _ in mw),
-        dist_mask=jnp.asarray(np.array(masks).reshape(len(masks), c)),
-        dist_range=jnp.asarray(np.array([[d.x_a, d.x_b] for d in distributions]).reshape(len(distributions), 2)),
-        edit_w=jnp.asarray(np.array([_edit_weights(hull, e) for e in edits]).reshape(len(edits), len(x), c)),
+        dist_mask=np.array(masks).reshape(len(masks), c),
+        dist_range=np.array([[d.x_a, d.x_b] for d in distributions], float).reshape(len(distributions), 2),
+        edit_w=np.array([_edit_weights(hull, e) for e in edits]).reshape(len(edits), len(x), c),
         design=(moves, distributions, edits),
     )
 

@@ -25,6 +25,7 @@ from collections.abc import Callable
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array
 
@@ -71,9 +72,9 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
     names = tuple(values)
     return Targets(
         names=names,
-        values=jnp.asarray([float(values[k]) for k in names]),
-        tol=jnp.asarray([float(tol.get(k, TARGETS[k][1])) for k in names]),
-        kg=None if kg is None else jnp.asarray(float(kg)),
+        values=np.array([float(values[k]) for k in names]),
+        tol=np.array([float(tol.get(k, TARGETS[k][1])) for k in names]),
+        kg=None if kg is None else np.asarray(float(kg)),
     )
 
 
@@ -155,11 +156,11 @@ class Design(eqx.Module):
     draft: Array
     targets: Targets
     objective: Objective | None = None
-    objective_scale: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
+    objective_scale: Array = eqx.field(default_factory=lambda: np.asarray(1.0))
     smoothness: float = eqx.field(static=True, default=1e-6)
     param_scale: object = None
     fairness: float = eqx.field(static=True, default=0.0)
-    fairness_scale: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
+    fairness_scale: Array = eqx.field(default_factory=lambda: np.asarray(1.0))
 
     def sections(self, params) -> Sections:
         return self.model(params)
