@@ -123,6 +123,7 @@ class Outcome(eqx.Module):
 
 
 def measure(d: Design, p0, final) -> Outcome:
+    """The :class:`Outcome` of the parameters ``p0`` (the parent) and ``final`` at the design's draft."""
     before, after = d.model(p0), d.model(final)
     h0, h1 = hydrostatics(before, d.draft), hydrostatics(after, d.draft)
     areas = jnp.stack([sectional_areas(before, d.draft), sectional_areas(after, d.draft)])
