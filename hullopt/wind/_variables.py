@@ -93,6 +93,7 @@ def _profile_cuts(x: Array, bot: Array, top: Array, u: Array) -> tuple[Array, Ar
     end edges are vertical), so the cut is the two edges' values there — with the same formulas as
     :func:`_cuts`. ``(G, 1)`` each. Where the lines and the stations are unbatched (the stations of a hull
     model), the interval search is done once for a whole vmapped batch and only the edge values are per design."""
+    x = jnp.asarray(x)  # a model's stations may be a numpy array: index it as a JAX one
     n = x.shape[0]
     i = jnp.clip(jnp.searchsorted(x, u, side="right") - 1, 0, n - 2)
     x0, x1 = x[i], x[i + 1]
@@ -105,6 +106,27 @@ def _profile_cuts(x: Array, bot: Array, top: Array, u: Array) -> tuple[Array, Ar
     lo = jnp.where(empty, _BIG, jnp.minimum(v_bot, v_top))
     hi = jnp.where(empty, _BIG, jnp.maximum(v_bot, v_top))
     return lo[:, None], hi[:, None], empty[:, None]
+
+
+def _front_integrals(h: Array, w: Array) -> tuple[Array, Array]:
+    """Area and ∫h dA of the hull's front view alone (no parts), in closed form: the same values as
+    :func:`_union_integrals` of :func:`_strips` of the polygon ``(w, h)`` up, ``(−w, h)`` back down (``h``
+    nondecreasing, ``w`` the half-breadths at the levels ``h``). The strip edges are then the levels, each
+    twice (their zero-width strips add nothing, neither to the values nor to the gradients), and between
+    levels ``i`` and ``i+1`` the line ``h = u`` meets the right and the left edge ``i`` only — with the same
+    formulas as :func:`_cuts`; no sort or gather over batched data."""
+    h0, h1, w0, w1 = h[:-1], h[1:], w[:-1], w[1:]
+    mid, dh = 0.5 * (h1 + h0), h1 - h0
+    u = jnp.stack([mid - _G * dh, mid + _G * dh], -1)  # (K, 2)
+    wt = jnp.repeat(0.5 * dh, 2).reshape(-1, 2)
+    t_r = _div(u - h0[:, None], dh[:, None])  # right edge i: (w_i, h_i) → (w_{i+1}, h_{i+1})
+    du_l = h0 - h1
+    t_l = _div(u - h1[:, None], du_l[:, None])  # left edge i: (−w_{i+1}, h_{i+1}) → (−w_i, h_i)
+    v_r = w0[:, None] + t_r * (w1 - w0)[:, None]
+    v_l = -w1[:, None] + t_l * (-w0 - -w1)[:, None]
+    ok = (dh != 0)[:, None] & (t_r >= 0) & (t_r <= 1) & (t_l >= 0) & (t_l <= 1)
+    length = jnp.where(ok, jnp.maximum(v_r, v_l) - jnp.minimum(v_r, v_l), 0.0)
+    return jnp.sum(wt * length), jnp.sum(wt * u * length)
 
 
 def _union(lo: Array, hi: Array) -> tuple[Array, Array]:
@@ -265,8 +287,12 @@ def _variables(pr: Projections, x: Array) -> WindVariables:
     a_ss, mx_ss, _ = _union_integrals(side, ss)
     s_outline = _outline_length(side, solid)
 
-    front = _strips([pr.hull_front[None], pr.part_front], axis=1)
-    a_t, mh_t, _ = _union_integrals(front, [0, *od])
+    if parts.p:
+        front = _strips([pr.hull_front[None], pr.part_front], axis=1)
+        a_t, mh_t, _ = _union_integrals(front, [0, *od])
+    else:
+        k1 = pr.hull_front.shape[0] // 2
+        a_t, mh_t = _front_integrals(pr.hull_front[:k1, 1], pr.hull_front[:k1, 0])
     fy = jnp.concatenate([pr.hull_front[:, 0], pr.part_front[..., 0].ravel()])
     breadth = jnp.max(fy) - jnp.min(fy)
 
