@@ -10,13 +10,16 @@ from __future__ import annotations
 import os
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 import numpy as np
-import trimesh
 from jaxtyping import Array, Float
 
 from ._sections import Sections
+
+if TYPE_CHECKING:
+    import trimesh  # imported where used: it takes ~0.5 s, and most commands need no mesh
 
 EXPORT_FORMATS = ("stl", "obj", "ply", "glb", "x3d")
 
@@ -123,6 +126,8 @@ def to_trimesh(sections: Sections) -> trimesh.Trimesh:
     volume this adds is negligible (2·1e-7·size × the centre-plane area); exclude faces with
     ``|y| ≤ 1e-7·size`` when summing areas.
     """
+    import trimesh
+
     yz = np.asarray(sections.yz, dtype=np.float64)  # numpy throughout: an export runs no JAX op
     g = np.concatenate([np.broadcast_to(np.asarray(sections.x, np.float64)[:, None, None], (*yz.shape[:2], 1)), yz], -1)
     n, m, _ = g.shape

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import trimesh
+
+if TYPE_CHECKING:
+    import trimesh  # imported where used: it takes ~0.5 s, and most commands need no mesh
 
 
 def split_for_print(mesh: trimesh.Trimesh, pieces: int, scale: float = 1.0) -> list[trimesh.Trimesh]:
@@ -16,6 +20,7 @@ def split_for_print(mesh: trimesh.Trimesh, pieces: int, scale: float = 1.0) -> l
     Raises ``ValueError`` if the mesh is not a closed manifold or a piece comes out open.
     """
     import manifold3d
+    import trimesh
 
     if pieces < 1:
         raise ValueError(f"pieces must be at least 1, got {pieces}")

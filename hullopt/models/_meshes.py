@@ -14,13 +14,16 @@ import gzip
 import io
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 import numpy as np
-import trimesh
 
 from ..errors import HullError
 from ..geometry import Sections
+
+if TYPE_CHECKING:
+    import trimesh  # imported where used: it takes ~0.5 s, and most commands need no mesh
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -57,6 +60,8 @@ class MeshTransform:
 def read_mesh(path: str | Path, transform: MeshTransform = MeshTransform()) -> trimesh.Trimesh:
     """Read a closed hull mesh and transform it into our axes; :class:`HullError` if it is unreadable,
     empty or open (not watertight)."""
+    import trimesh
+
     path = Path(path)
     name = path.name.lower()
     gz = name.endswith(".gz")
