@@ -16,10 +16,11 @@ from dataclasses import dataclass, field
 
 import jax.numpy as jnp
 import numpy as np
-from skimage import color, draw, measure, morphology
 
 from ..errors import HullError
 from ._variables import WindVariables
+
+# skimage (0.15 s to import) is imported in the functions that use it: most runs read no drawing.
 
 
 @dataclass(frozen=True)
@@ -66,6 +67,8 @@ class PartSpec:
 
 def render(polygons, colours, scale: ViewScale, shape: tuple[int, int]) -> np.ndarray:
     """Draw filled polygons ``(k, 2)`` in metres (u, h) into a white RGB ``uint8`` image of ``shape``."""
+    from skimage import draw
+
     img = np.full((*shape, 3), 255, dtype=np.uint8)
     for poly, col in zip(polygons, colours):
         poly = np.asarray(poly, dtype=float)
@@ -89,6 +92,8 @@ def _rgb(image: np.ndarray) -> np.ndarray:
 
 def ship_mask(image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
     """Binary mask of the ship above the waterline: grey level below ``threshold``."""
+    from skimage import color
+
     rgb = _rgb(image)
     mask = color.rgb2gray(rgb) < threshold
     rows = np.arange(rgb.shape[0])[:, None]
@@ -99,6 +104,8 @@ def ship_mask(image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
 def part_mask(image, part: PartSpec, scale: ViewScale, ship: np.ndarray) -> np.ndarray:
     """Mask of one part above the waterline: its colour (within ``tolerance`` per channel, any lightness),
     or the ship's pixels inside its polygon."""
+    from skimage import draw
+
     if part.colour is not None:
         diff = np.abs(_rgb(image).astype(float) - np.asarray(part.colour, dtype=float))
         above = np.arange(ship.shape[0])[:, None] < scale.waterline_row - 0.5
@@ -136,12 +143,16 @@ def box_counting_dimension(outline: np.ndarray) -> float:
 
 def outline(mask: np.ndarray) -> np.ndarray:
     """The boundary pixels of a mask (the mask less its erosion)."""
+    from skimage import morphology
+
     return mask & ~morphology.erosion(mask)
 
 
 def mask_moments(mask: np.ndarray, scale: ViewScale, x_ref: float, order: int = 3) -> np.ndarray:
     """Raw moments ``Σ x^p h^q · pixel area`` [m^(2+p+q)] about (x_ref, waterline), p + q ≤ order
     (``skimage.measure.moments_coords`` on the pixel centres in metres)."""
+    from skimage import measure
+
     rows, cols = np.nonzero(mask)
     u, h = scale.to_metres(rows, cols)
     coords = np.stack([u - x_ref, h], axis=-1)
@@ -170,6 +181,8 @@ def drawing_variables(side_image, front_image, side: ViewScale, front: ViewScale
     groups named in ``parts`` when they are given. ``part_*`` follow ``parts`` (a ``hull`` part, if any,
     is listed first as in the geometry); ``part_front_area`` is NaN (parts are picked in the side view).
     """
+    from skimage import measure
+
     ship = ship_mask(side_image, side, threshold)
     front_ship = ship_mask(front_image, front, threshold)
     for what, m in (("side", ship), ("front", front_ship)):
