@@ -65,3 +65,19 @@ def test_a_corrupt_program_file_is_rebuilt(folder):
 def test_without_a_compilation_cache_nothing_is_kept(monkeypatch):
     monkeypatch.setattr(programs, "programs_dir", lambda: None)
     assert float(programs.cached_call("t", model, args(), (2,), key=0).total) == pytest.approx(132.0)
+
+
+def test_programs_unused_for_30_days_are_pruned_when_one_is_written(folder):
+    import os
+    import time
+
+    programs.cached_call("t", model, args(), (3,), key="used")
+    (used,) = folder.glob("t-*.bin")
+    stale = folder / "t-stale.bin"
+    stale.write_bytes(b"old")
+    month_ago = time.time() - 31 * 86400
+    for p in (used, stale):
+        os.utime(p, (month_ago, month_ago))
+    programs.cached_call("t", model, args(), (3,), key="used")  # read: marks it in use
+    programs.cached_call("t", model, args(), (3,), key="new")  # written: prunes
+    assert used.exists() and not stale.exists() and len(list(folder.glob("t-*.bin"))) == 2

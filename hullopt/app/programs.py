@@ -9,7 +9,8 @@ its compile then comes from the compilation cache. Array inputs stay arguments (
 program file is small.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
-``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted.
+``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
+unused for 30 days are deleted when a new one is written.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import hashlib
 import json
 import pickle
 import re
+import time
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
@@ -70,15 +72,28 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     try:
         kept = pickle.loads(path.read_bytes())
         exported, skeleton = jax.export.deserialize(kept["program"]), kept["outputs"]
+        path.touch()  # in use: keep it (see _prune)
     except Exception:  # absent, stale or unreadable: build it again
         exported, skeleton = _export(fn, leaves, in_tree, fixed, static)
         try:
             folder.mkdir(parents=True, exist_ok=True)
             atomic_write_bytes(path, pickle.dumps({"program": exported.serialize(), "outputs": skeleton}))
+            _prune(folder)
         except OSError:
             pass  # a read-only cache: run without keeping the program
     out_leaves = exported.call(*leaves)
     return jax.tree.unflatten(jax.tree.structure(skeleton), out_leaves)
+
+
+def _prune(folder: Path, days: float = 30.0) -> None:
+    """Delete kept programs unused for ``days`` (older code versions and configs leave theirs behind)."""
+    cutoff = time.time() - days * 86400.0
+    for old in folder.glob("*.bin"):
+        try:
+            if old.stat().st_mtime < cutoff:
+                old.unlink()
+        except OSError:
+            pass  # another process pruned or is writing it
 
 
 def _export(fn, leaves, in_tree, fixed, static):
