@@ -15,6 +15,7 @@ unused for 30 days are deleted when a new one is written.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import json
@@ -72,7 +73,6 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     try:
         kept = pickle.loads(path.read_bytes())
         exported, skeleton = jax.export.deserialize(kept["program"]), kept["outputs"]
-        path.touch()  # in use: keep it (see _prune)
     except Exception:  # absent, stale or unreadable: build it again
         exported, skeleton = _export(fn, leaves, in_tree, fixed, static)
         try:
@@ -81,6 +81,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
             _prune(folder)
         except OSError:
             pass  # a read-only cache: run without keeping the program
+    else:
+        with contextlib.suppress(OSError):
+            path.touch()  # in use: keep it (see _prune)
     out_leaves = exported.call(*leaves)
     return jax.tree.unflatten(jax.tree.structure(skeleton), out_leaves)
 
@@ -89,11 +92,9 @@ def _prune(folder: Path, days: float = 30.0) -> None:
     """Delete kept programs unused for ``days`` (older code versions and configs leave theirs behind)."""
     cutoff = time.time() - days * 86400.0
     for old in folder.glob("*.bin"):
-        try:
+        with contextlib.suppress(OSError):  # another process may have pruned it already
             if old.stat().st_mtime < cutoff:
                 old.unlink()
-        except OSError:
-            pass  # another process pruned or is writing it
 
 
 def _export(fn, leaves, in_tree, fixed, static):
