@@ -123,7 +123,7 @@ def _front_integrals(h: Array, w: Array) -> tuple[Array, Array]:
     du_l = h0 - h1
     t_l = _div(u - h1[:, None], du_l[:, None])  # left edge i: (−w_{i+1}, h_{i+1}) → (−w_i, h_i)
     v_r = w0[:, None] + t_r * (w1 - w0)[:, None]
-    v_l = -w1[:, None] + t_l * (-w0 - -w1)[:, None]
+    v_l = -w1[:, None] + t_l * (w1 - w0)[:, None]
     ok = (dh != 0)[:, None] & (t_r >= 0) & (t_r <= 1) & (t_l >= 0) & (t_l <= 1)
     length = jnp.where(ok, jnp.maximum(v_r, v_l) - jnp.minimum(v_r, v_l), 0.0)
     return jnp.sum(wt * length), jnp.sum(wt * u * length)
@@ -274,10 +274,9 @@ def _variables(pr: Projections, x: Array) -> WindVariables:
 
     # Length and mid-length from the profile's stations that bound area above water, and the parts.
     n = pr.present.shape[0]
-    hx = x
     px = pr.part_side[..., 0].ravel()
-    x_lo = jnp.minimum(jnp.min(jnp.where(pr.present, hx, jnp.inf)), jnp.min(px, initial=jnp.inf))
-    x_hi = jnp.maximum(jnp.max(jnp.where(pr.present, hx, -jnp.inf)), jnp.max(px, initial=-jnp.inf))
+    x_lo = jnp.minimum(jnp.min(jnp.where(pr.present, x, jnp.inf)), jnp.min(px, initial=jnp.inf))
+    x_hi = jnp.maximum(jnp.max(jnp.where(pr.present, x, -jnp.inf)), jnp.max(px, initial=-jnp.inf))
     length, x_mid = x_hi - x_lo, 0.5 * (x_hi + x_lo)
 
     profile = (x, pr.hull_side[:n, 1], pr.hull_side[n:, 1][::-1])
