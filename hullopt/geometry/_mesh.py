@@ -24,10 +24,12 @@ if TYPE_CHECKING:
 EXPORT_FORMATS = ("stl", "obj", "ply", "glb", "x3d")
 
 
-def surface_grid(sections: Sections) -> Float[Array, "n m 3"]:
-    """Port-side hull surface points ``(x, y, z)`` [m] on the structured station × point grid."""
-    x = jnp.broadcast_to(sections.x[:, None], sections.yz.shape[:-1])
-    return jnp.concatenate([x[..., None], sections.yz], axis=-1)
+def surface_grid(sections: Sections, xp=jnp) -> Float[Array, "n m 3"]:
+    """Port-side hull surface points ``(x, y, z)`` [m] on the structured station × point grid; ``xp = numpy``
+    for a numpy grid (exports, which run no JAX op)."""
+    yz = xp.asarray(sections.yz)
+    x = xp.broadcast_to(xp.asarray(sections.x)[:, None], yz.shape[:-1])
+    return xp.concatenate([x[..., None], yz], axis=-1)
 
 
 def grid_triangles(n: int, m: int) -> np.ndarray:
@@ -67,16 +69,6 @@ def _fraction_below(za: Array, zb: Array, zc: Array, level: Array) -> Array:
     f_lo = jnp.where(lo, (level - za) ** 2 / jnp.where(lo, den_lo, 1.0), 0.0)
     f_hi = jnp.where(hi, 1.0 - (zc - level) ** 2 / jnp.where(hi, den_hi, 1.0), 0.0)
     return jnp.where(level >= zc, 1.0, f_lo + f_hi)
-
-
-def _area_fraction_below(z: Array, level: Array) -> Array:
-    """Fraction of a planar triangle's area where the linear field with vertex values ``z (..., 3)`` is
-    ≤ ``level``. Exact; finite gradients everywhere."""
-    return _fraction_below(z[..., 0], z[..., 1], z[..., 2], level)
-
-
-def _triangle_areas(tri: Array) -> Array:
-    return _area(*(tri[..., k, :] for k in range(3)))
 
 
 def _area(a: Array, b: Array, c: Array) -> Array:
@@ -128,8 +120,7 @@ def to_trimesh(sections: Sections) -> trimesh.Trimesh:
     """
     import trimesh
 
-    yz = np.asarray(sections.yz, dtype=np.float64)  # numpy throughout: an export runs no JAX op
-    g = np.concatenate([np.broadcast_to(np.asarray(sections.x, np.float64)[:, None, None], (*yz.shape[:2], 1)), yz], -1)
+    g = surface_grid(sections, np).astype(np.float64)
     n, m, _ = g.shape
     eps = centreline_offset(g)
     g[..., 1] = np.maximum(g[..., 1], eps)

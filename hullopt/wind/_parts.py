@@ -15,7 +15,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..errors import HullError
-from ..geometry import Sections, closed_half_polygon
+from ..geometry import Sections, closed_half_polygon, level_widths
 
 KINDS = ("superstructure", "cargo", "mast")
 """Part kinds: ``superstructure`` (bridge, deckhouse, funnel: A_SS, C_BR, H_BR), ``cargo`` (containers, hatch
@@ -153,25 +153,7 @@ class Projections(eqx.Module):
 
 def _level_half_breadths(sections: Sections, levels) -> Array:
     """Envelope over stations of the half-breadth at each level (sum over the crossings of a station)."""
-    # The ``width`` of :func:`~hullopt.geometry.polygon_integrals` alone (the same values to rounding): per edge once the
-    # signed slope dy/dz and the signed ends (rather than a division per edge and level), then per level a
-    # crossing test and one multiply-add; edges on the leading axis, so the sum over them and the max over
-    # stations are plain elementwise passes (much cheaper under vmap than the old (level, station, edge) order).
-    closed = closed_half_polygon(sections.yz)
-    p1 = jnp.roll(closed, -1, axis=-2)
-    y0, z0, y1, z1 = closed[..., 0], closed[..., 1], p1[..., 0], p1[..., 1]
-    dz = z1 - z0
-    moving = dz != 0
-    sg = jnp.sign(dz)
-    slope = sg * jnp.where(moving, (y1 - y0) / jnp.where(moving, dz, 1.0), 0.0)  # signed
-    half0, half1 = jnp.where(moving, 0.5 * sg * y0, 0.0), jnp.where(moving, 0.5 * sg * y1, 0.0)
-    per_edge = (sg * y0, slope, z0, z1, jnp.minimum(z0, z1), jnp.maximum(z0, z1), half0, half1)
-    a, b, z0, z1, lo, hi, half0, half1 = (q.T[:, :, None] for q in per_edge)  # (m+1, n, 1)
-    lv = jnp.asarray(levels)[None, None, :]  # (1, 1, K+1)
-    width = jnp.where((lo < lv) & (lv < hi), a + (lv - z0) * b, 0.0)
-    # An end exactly on the level counts half, so a vertex on the level is not lost or doubled.
-    width = width + (jnp.where(z0 == lv, half0, 0.0) + jnp.where(z1 == lv, half1, 0.0))
-    return jnp.max(jnp.sum(width, axis=0), axis=0)
+    return jnp.max(level_widths(closed_half_polygon(sections.yz), levels), axis=0)
 
 
 def projections(sections: Sections, draft, parts: Parts, levels: int = 24) -> Projections:
