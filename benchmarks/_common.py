@@ -12,17 +12,7 @@ from pathlib import Path
 RESULTS = Path(__file__).parent / "results"
 
 
-def _find_shared() -> Path:
-    """The reference folder: $HULLOPT_SHARED, else ``../shared`` beside the checkout, else /work/shared."""
-    candidates = [os.environ.get("HULLOPT_SHARED"), Path(__file__).resolve().parents[1].parent / "shared",
-                  "/work/shared"]
-    for c in candidates:
-        if c and (Path(c) / "hulls").is_dir():
-            return Path(c)
-    return Path(__file__).resolve().parents[1].parent / "shared"
-
-
-SHARED = _find_shared()
+HULLS = Path(__file__).resolve().parents[1] / "examples" / "hulls"  # real hulls (see SOURCES.md there)
 
 
 def machine() -> dict:

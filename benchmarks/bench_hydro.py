@@ -22,12 +22,12 @@ jax.config.update("jax_enable_x64", True)
 
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import SHARED, save, timeit  # noqa: E402
+from _common import HULLS, save, timeit  # noqa: E402
 
 from hullopt.hydro import hydrostatic_table, hydrostatics  # noqa: E402
 from hullopt.models import MeshTransform, read_mesh, slice_mesh  # noqa: E402
 
-DTC = SHARED / "hulls" / "DTC-scaled.stl.gz"
+DTC = HULLS / "DTC-scaled.stl.gz"
 DRAFTS = np.linspace(2.0, 20.0, 20)
 
 

@@ -22,12 +22,12 @@ import equinox as eqx  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import manifold3d  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import SHARED, save, timeit  # noqa: E402
+from _common import HULLS, save, timeit  # noqa: E402
 
 from hullopt.hydro import gz_curve, stability  # noqa: E402
 from hullopt.models import MeshTransform, read_mesh, slice_mesh  # noqa: E402
 
-DTC = SHARED / "hulls" / "DTC-scaled.stl.gz"
+DTC = HULLS / "DTC-scaled.stl.gz"
 VOLUME, KG = 173467.0, 20.0
 HEELS = np.arange(0.0, 91.0, 5.0)
 

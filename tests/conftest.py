@@ -9,27 +9,15 @@ jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_dtype_promotion", "strict")
 
 
-def _find_shared() -> Path:
-    """The reference folder: $HULLOPT_SHARED, else ``../shared`` beside the checkout, else /work/shared."""
-    import os
-
-    candidates = [os.environ.get("HULLOPT_SHARED"), Path(__file__).resolve().parents[1].parent / "shared",
-                  "/work/shared"]
-    for c in candidates:
-        if c and (Path(c) / "hulls").is_dir():
-            return Path(c)
-    return Path(__file__).resolve().parents[1].parent / "shared"
-
-
-SHARED = _find_shared()
+REPO = Path(__file__).resolve().parents[1]
+HULLS = REPO / "examples" / "hulls"  # real hull meshes, with their provenance in SOURCES.md
+DATA = REPO / "tests" / "data"  # reference tables, with their provenance in SOURCES.md
 
 
 @pytest.fixture(scope="session")
-def shared() -> Path:
-    """The read-only reference folder ``../shared`` (hulls, data, seeds)."""
-    if not SHARED.is_dir():
-        pytest.fail(f"reference folder {SHARED} is missing")
-    return SHARED
+def hulls() -> Path:
+    """The example hull files (``examples/hulls``: DTC, KCS, KVLCC2, Wigley)."""
+    return HULLS
 
 
 @pytest.fixture(autouse=True)

@@ -60,9 +60,9 @@ def test_roundtrip_small(name, draft):
 
 
 @pytest.fixture(scope="module")
-def dtc_sections(shared):
+def dtc_sections(hulls):
     """The DTC sliced as its library recipe does (once)."""
-    return recipe_sections("dtc", shared)
+    return recipe_sections("dtc", hulls)
 
 
 def test_roundtrip_dtc(dtc_sections):

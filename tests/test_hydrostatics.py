@@ -138,7 +138,7 @@ def test_gradients_wrt_offsets_match_finite_differences(seed003):
     assert np.all(np.isfinite(jvp))
 
 
-def test_dtc_against_published_particulars(shared):
+def test_dtc_against_published_particulars(hulls):
     """DTC (el Moctar et al. 2012): ∇ 173,467 m³, Cb 0.661, S 22,032 m², LCB 174.059 m at T = 14.5 m.
 
     Tolerances: the OpenFOAM surface itself holds 173,398 m³ (−0.04 %) by trimesh; we allow 0.15 % on
@@ -147,7 +147,7 @@ def test_dtc_against_published_particulars(shared):
     """
     from hullopt.app.hulls import load_hull
 
-    hull = load_hull(f"{shared}/hulls/DTC-scaled.stl.gz?scale=59.407&lpp=355&n=151&m=80").sections
+    hull = load_hull(f"{hulls}/DTC-scaled.stl.gz?scale=59.407&lpp=355&n=151&m=80").sections
     h = hydro(hull, 14.5)
     assert float(h.volume) == pytest.approx(173467, rel=1.5e-3)
     assert float(h.cb) == pytest.approx(0.661, abs=2e-3)

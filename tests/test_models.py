@@ -158,9 +158,9 @@ def test_mesh_with_bulb_only_station_and_bulb_and_hull_station(tmp_path):
     assert to_trimesh(s).is_watertight
 
 
-def test_bad_meshes(tmp_path, shared):
+def test_bad_meshes(tmp_path, hulls):
     with pytest.raises(HullError, match="open"):
-        read_mesh(shared / "hulls" / "wigley_openfoam.stl.gz")
+        read_mesh(hulls / "wigley_openfoam.stl.gz")
     junk = tmp_path / "junk.stl"
     junk.write_bytes(b"\x00\x01 not a mesh")
     with pytest.raises(HullError, match="junk.stl"):

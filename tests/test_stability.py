@@ -165,7 +165,7 @@ def test_gz_gradient_matches_finite_differences():
 
 
 @pytest.mark.slow
-def test_dtc_gz_against_navaltoolbox(shared, tmp_path):
+def test_dtc_gz_against_navaltoolbox(hulls, tmp_path):
     """The DTC (model mesh ×59.407) at its design displacement, KG 20 m: GZ from our sections against
     NavalToolbox's GZ on the same mesh (free trim both) up to 60°. (Past 70° NavalToolbox's draft
     collapses to 0 and its GZ departs; see benchmarks/bench_stability.py, where a trimesh cut confirms ours.)"""
@@ -173,7 +173,7 @@ def test_dtc_gz_against_navaltoolbox(shared, tmp_path):
     from hullopt.app.hulls import load_hull
     from hullopt.models import MeshTransform, read_mesh
 
-    path = shared / "hulls" / "DTC-scaled.stl.gz"
+    path = hulls / "DTC-scaled.stl.gz"
     s = load_hull(f"{path}?scale=59.407&lpp=355&n=101&m=64").sections
     vol, kg = 173467.0, 20.0
     deg = [10.0, 30.0, 50.0]

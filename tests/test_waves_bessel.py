@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import scipy.special as sp
 
+from conftest import DATA
 from hullopt.waves import alpha_t, k0, k0e, k1, k1e
 
 X = np.geomspace(1e-6, 700.0, 4001)
@@ -30,15 +31,15 @@ def test_derivatives_match_recurrences():
     np.testing.assert_allclose(d2, sp.k0(x) + sp.k1(x) / x, rtol=1e-11)
 
 
-def _reference(shared):
-    with open(shared / "data/added_resistance/alpha_T_bessel_reference.csv") as f:
+def _reference():
+    with open(DATA / "alpha_T_bessel_reference.csv") as f:
         rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
     head, body = rows[0], rows[1:]
     return {k: np.array([float(r[i]) for r in body]) for i, k in enumerate(head)}
 
 
-def test_alpha_t_and_k1_against_reference_table(shared):
-    ref = _reference(shared)
+def test_alpha_t_and_k1_against_reference_table():
+    ref = _reference()
     x = ref["x"]
     # the table gives 13 significant digits
     np.testing.assert_allclose(np.asarray(jax.jit(k1)(x)), ref["K1"], rtol=2e-12)

@@ -1,7 +1,5 @@
 """Wind variables from geometry: closed forms, unions, gradients against finite differences, checks, data."""
 
-import filecmp
-from importlib import resources
 
 import equinox as eqx
 import jax
@@ -29,14 +27,6 @@ def parts_for(height):
     return box_parts(["bridge", "stack", "mast"], ["superstructure", "cargo", "mast"],
                      [20.0, 60.0, 180.0], [35.0, 150.0, 181.0], D, [D + height, D + 12.0, D + 20.0],
                      [24.0, 30.0, 1.0])
-
-
-def test_package_data_identical_to_shared(shared):
-    ours = resources.files("hullopt").joinpath("data", "wind")
-    names = sorted(p.name for p in (shared / "data" / "wind").iterdir())
-    assert names and sorted(p.name for p in ours.iterdir() if p.name.endswith(".csv")) == names
-    for n in names:
-        assert filecmp.cmp(shared / "data" / "wind" / n, str(ours.joinpath(n)), shallow=False), n
 
 
 def test_polygon_moments_closed_forms():

@@ -1,7 +1,8 @@
 """Parents for the feature-curve hull: extraction from any sections, generation without a parent
 (embodiments 2 and 3), and the recipes of the library's parents (``hullopt/data/parents/*.json``).
 
-The library files are made once by :func:`build_library` (the DTC needs ``../shared``); at run time only the
+The library files are made once by :func:`build_library` (the DTC reads the repository's
+``examples/hulls``); at run time only the
 JSON files are read. Recipes:
 
 * ``dtc`` — the Duisburg Test Case container ship (el Moctar et al. 2012), sliced at 61 stations × 96 points,
@@ -81,10 +82,11 @@ def generate_hull(lpp: float, breadth: float, depth: float, draft: float, parall
 
 
 
-def dtc_sections(shared: Path) -> Sections:
+def dtc_sections(hulls: Path) -> Sections:
+    """The DTC sliced as its recipe says, from ``hulls/DTC-scaled.stl.gz`` (the repository's ``examples/hulls``)."""
     from ..models import MeshTransform, read_mesh, slice_mesh
 
-    mesh = read_mesh(shared / "hulls" / "DTC-scaled.stl.gz", MeshTransform(scale=59.407))
+    mesh = read_mesh(hulls / "DTC-scaled.stl.gz", MeshTransform(scale=59.407))
     return slice_mesh(mesh, 355.0, 61, 96)
 
 
@@ -98,15 +100,15 @@ RECIPES = {
 }
 
 
-def recipe_sections(name: str, shared: Path | None = None) -> Sections:
+def recipe_sections(name: str, hulls: Path | None = None) -> Sections:
     """The parent sections a library recipe extracts from."""
     from ._builtins import wigley
     from ._offsets import offsets_to_sections, read_offsets
 
     if name == "dtc":
-        if shared is None:
-            raise HullError("the dtc recipe needs the reference folder (../shared)")
-        return dtc_sections(shared)
+        if hulls is None:
+            raise HullError("the dtc recipe needs the folder of example hulls (examples/hulls)")
+        return dtc_sections(hulls)
     if name == "wigley":
         return wigley(100.0, 10.0, 6.25, 10.0, n=41, m=41)
     if name == "seed003":
@@ -115,15 +117,15 @@ def recipe_sections(name: str, shared: Path | None = None) -> Sections:
     raise HullError(f"no sections for recipe {name!r}")
 
 
-def build_parent(name: str, shared: Path | None = None) -> FeatureHull:
-    """Make a library parent from its recipe (numpy; the DTC reads ``shared``)."""
+def build_parent(name: str, hulls: Path | None = None) -> FeatureHull:
+    """Make a library parent from its recipe (numpy; the DTC reads ``hulls``)."""
     r = dict(RECIPES[name])
     r.pop("source")
     if name == "tanker":
         h = generate_hull(320.0, 58.0, 30.0, 20.8)
         return feature_hull(_arrays(h), "tanker", 20.8, h.q)
     draft = r.pop("design_draft")
-    return extract_parent(recipe_sections(name, shared), name, draft, **r)
+    return extract_parent(recipe_sections(name, hulls), name, draft, **r)
 
 
 def _arrays(h: FeatureHull) -> dict:
@@ -131,15 +133,15 @@ def _arrays(h: FeatureHull) -> dict:
             "lpp": float(h.lpp)}
 
 
-def build_library(shared: Path, out: Path = PARENTS_DIR) -> list[Path]:
+def build_library(hulls: Path, out: Path = PARENTS_DIR) -> list[Path]:
     """Write every library parent to ``out`` (run once; ``python -m hullopt.models._feature_library``)."""
     out.mkdir(parents=True, exist_ok=True)
-    return [save_features(build_parent(k, shared), out / f"{k}.json", source=RECIPES[k]["source"]) for k in RECIPES]
+    return [save_features(build_parent(k, hulls), out / f"{k}.json", source=RECIPES[k]["source"]) for k in RECIPES]
 
 
 if __name__ == "__main__":  # pragma: no cover - the one-off build of the package data
     import jax
 
     jax.config.update("jax_enable_x64", True)
-    for p in build_library(Path(__file__).resolve().parents[3] / "shared"):
+    for p in build_library(Path(__file__).resolve().parents[2] / "examples" / "hulls"):
         print("wrote", p)
