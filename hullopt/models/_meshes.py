@@ -57,23 +57,41 @@ class MeshTransform:
         return out
 
 
-def read_mesh(path: str | Path, transform: MeshTransform = MeshTransform()) -> trimesh.Trimesh:
-    """Read a closed hull mesh and transform it into our axes; :class:`HullError` if it is unreadable,
-    empty or open (not watertight)."""
+def _load_raw(path: Path, tolerance: float | None = None) -> trimesh.Trimesh:
+    """The file's triangles as they are: a mesh trimesh reads (also ``.gz``), or an IGES/STEP surface
+    tessellated by :func:`~hullopt.models._cad.read_cad` at ``tolerance`` [m, largest triangle edge at the
+    file's scale; ignored for meshes]; :class:`HullError` if unreadable."""
     import trimesh
 
-    path = Path(path)
+    from ._cad import is_cad, read_cad
+
+    if is_cad(path):
+        return read_cad(path, tolerance)
     name = path.name.lower()
     gz = name.endswith(".gz")
     ext = Path(name[:-3] if gz else name).suffix.lstrip(".")
     if ext not in trimesh.available_formats():
-        raise HullError(f"{path}: unknown file type {ext!r}; expected an offsets .csv or a mesh trimesh reads")
+        raise HullError(
+            f"{path}: unknown file type {ext!r}; expected an offsets .csv, an IGES/STEP file or a mesh trimesh reads"
+        )
     try:
         raw = path.read_bytes()
         data = gzip.decompress(raw) if gz else raw
-        mesh = trimesh.load(io.BytesIO(data), file_type=ext, force="mesh")
+        return trimesh.load(io.BytesIO(data), file_type=ext, force="mesh")
     except Exception as e:  # trimesh raises many types for a bad file
         raise HullError(f"{path}: cannot read the mesh ({type(e).__name__}: {e})") from None
+
+
+def read_mesh(
+    path: str | Path, transform: MeshTransform = MeshTransform(), tolerance: float | None = None
+) -> trimesh.Trimesh:
+    """Read a closed hull mesh (or an IGES/STEP surface, tessellated with largest triangle edge ``tolerance``
+    [m, at the file's scale]) and transform it into our axes; :class:`HullError` if it is unreadable,
+    empty or open (not watertight)."""
+    import trimesh
+
+    path = Path(path)
+    mesh = _load_raw(path, tolerance)
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise HullError(f"{path}: the file holds no triangles")
     mesh.merge_vertices()
