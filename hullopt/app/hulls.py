@@ -3,7 +3,10 @@
 * ``builtin:wigley?L=100&B=10&T=6.25&D=10`` or ``builtin:box?L=100&B=20&D=10`` (``n``, ``m``: resolution);
 * ``path/to/offsets.csv`` (``?n=121&m=81``: stations and points of the spline surface);
 * ``path/to/hull.stl[.gz]`` or any mesh trimesh reads, with
-  ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96``.
+  ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96``;
+* ``path/to/hull.igs`` (``.iges``, ``.stp``, ``.step``: CAD surfaces, needs ``pip install 'hullopt[cad]'``), with
+  the mesh parameters and ``tol``: the largest triangle edge of the tessellation [m, at the file's scale, in
+  metres whatever the file's unit; default 1/200 of the model's largest extent].
 """
 
 from __future__ import annotations
@@ -92,8 +95,11 @@ def load_hull(spec: str) -> LoadedHull:
     lpp = _take(params, "lpp", spec, float, 0.0) or None
     n = _take(params, "n", spec, int, 201)
     m = _take(params, "m", spec, int, 96)
-    _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m"])
-    mesh = read_mesh(path, transform)
+    tol = _take(params, "tol", spec, float, 0.0) or None  # IGES/STEP tessellation size [m, file's scale]
+    if tol is not None and not (np.isfinite(tol) and tol > 0):
+        raise HullError(f"hull {spec!r}: tol must be a positive length in m (largest triangle edge of a CAD surface)")
+    _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol"])
+    mesh = read_mesh(path, transform, tolerance=tol)
     if lpp is None:
         lpp = float(mesh.bounds[1, 0])  # no Lpp given: take the FP at the forward end
     if not (np.isfinite(lpp) and lpp > 0):
