@@ -57,7 +57,7 @@ def test_export_formats(cli, tmp_path):
         (["hydro", "builtin:ship?L=1"], "unknown builtin 'ship'"),
         (["hydro", "builtin:box?L=100&B=-1&D=10", "--draft", "1"], "B must be a positive number"),
         (["hydro", WIGLEY, "--draft", "0"], "--draft 0 m is outside the hull"),
-        (["hydro", WIGLEY, "--draft", "11"], "--draft 11 m is outside the hull"),
+        (["hydro", WIGLEY, "--draft", "11"], "--draft 11 m is above the deck"),
         (["hydro", WIGLEY, "--displacement", "99999999"], "more than the hull displaces"),
         (["hydro", WIGLEY, "--drafts", "1:2"], "expected START:STOP:COUNT"),
         (["hydro", "nofile.stl"], "no such file"),

@@ -23,6 +23,15 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path):
               "convergence.png"):
         assert (out / f).stat().st_size > 0, f
     assert json.loads((out / "config.json").read_text())["targets"]["cb"] == 0.48
+    # The run folder is a hull spec: its design, rebuilt from config.json and report.json, at the run's draft.
+    code, stdout, err = cli("hydro", str(out), "--json")
+    assert code == 0, err
+    again = json.loads(stdout)
+    assert again["draft"] == 6.25
+    for k in ("volume", "cb", "lcb_pct", "wetted_surface"):
+        assert again[k] == pytest.approx(report["achieved"][k], rel=1e-9, abs=1e-9), k
+    code, _, err = cli("hydro", f"{out}?design=1")
+    assert code == 2 and "?design applies to sweeps" in err
 
 
 def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, tmp_path, monkeypatch):
@@ -71,6 +80,11 @@ def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
         dominated = any(q[0] <= p[0] and q[1] <= p[1] and q != p for q in pts)
         assert d["pareto"] == (not dominated)
     assert (out / "pareto.png").stat().st_size > 0
+    code, stdout, err = cli("hydro", f"{out}?design=2", "--json")  # one design of the sweep as a hull
+    assert code == 0, err
+    assert json.loads(stdout)["cb"] == pytest.approx(designs[2]["particulars"]["cb"], rel=1e-9)
+    code, _, err = cli("hydro", str(out))
+    assert code == 2 and "needs ?design=K with K in 0…3" in err
     # Kill simulation: chunk 1 lost, chunk 0 kept (marked, to see that it is not recomputed).
     c0, c1 = out / "chunks" / "chunk_0000.json", out / "chunks" / "chunk_0001.json"
     data = json.loads(c0.read_text())

@@ -1,6 +1,10 @@
 """Hull specs on the command line and in configs: one string names a hull and how to read it.
 
 * ``builtin:wigley?L=100&B=10&T=6.25&D=10`` or ``builtin:box?L=100&B=20&D=10`` (``n``, ``m``: resolution);
+* ``parent:dtc`` — a feature-curve parent: the library's (``dtc``, ``tanker``, ``wigley``, ``seed003``) or a
+  parent ``.json`` written by ``hullopt features`` (``?q=``: points per segment);
+* ``runs/NAME`` — a run folder: its design hull, rebuilt exactly from ``config.json`` and ``report.json``
+  (``?design=K`` picks design K of a sweep);
 * ``path/to/offsets.csv`` (``?n=121&m=81``: stations and points of the spline surface);
 * ``path/to/hull.stl[.gz]`` or any mesh trimesh reads, with
   ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96``;
@@ -64,6 +68,8 @@ def _done(params: dict[str, str], spec: str, allowed: list[str]) -> None:
 def load_hull(spec: str) -> LoadedHull:
     """Read the hull named by ``spec`` (see the module docstring); :class:`HullError` on any problem."""
     base, params = _split(spec)
+    if base.startswith("parent:"):
+        return _parent(base.removeprefix("parent:"), params, spec)
     if base.startswith("builtin:"):
         name = base.removeprefix("builtin:")
         if name not in BUILTINS:
@@ -75,8 +81,13 @@ def load_hull(spec: str) -> LoadedHull:
         return LoadedHull(fn(**args, **res), f"{name} " + " ".join(f"{k}={v:g}" for k, v in args.items()),
                           args.get("T"))
     path = Path(base)
+    if path.is_dir():
+        return _run_folder(path, params, spec)
     if not path.is_file():
-        raise HullError(f"hull {spec!r}: no such file {base!r} (and not a builtin:NAME)")
+        from ..models import parent_names
+
+        hint = f"; the library parent is parent:{base}" if base in parent_names() else ""
+        raise HullError(f"hull {spec!r}: no such file or run folder {base!r} (nor builtin:NAME, parent:NAME){hint}")
     if path.suffix.lower() == ".csv":
         table = read_offsets(path)
         res = {k: _take(params, key, spec, int, d) for k, key, d in (("n_stations", "n", 121), ("n_points", "m", 81))}
@@ -105,3 +116,53 @@ def load_hull(spec: str) -> LoadedHull:
     if not (np.isfinite(lpp) and lpp > 0):
         raise HullError(f"hull {spec!r}: lpp must be positive")
     return LoadedHull(slice_mesh(mesh, lpp, n, m), path.name)
+
+
+def _parent(name: str, params: dict[str, str], spec: str) -> LoadedHull:
+    """A feature-curve parent (library name or parent .json) as a hull."""
+    from ..models import load_parent
+
+    q = _take(params, "q", spec, int, 0) or None
+    _done(params, spec, ["q"])
+    try:
+        fh = load_parent(name)
+    except HullError as e:
+        raise HullError(f"hull {spec!r}: {e}") from None
+    return LoadedHull(fh.sections(q), f"parent {fh.name}", fh.design_draft)
+
+
+def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
+    """The design hull of a run folder: the run's model at its final parameters (a sweep: ``design=K``)."""
+    import json
+
+    from pydantic import ValidationError
+
+    from .config import RunConfig
+    from .run import build_problem, params_from_dict
+
+    design = _take(params, "design", spec, int, -1)
+    _done(params, spec, ["design"])
+    try:
+        raw = json.loads((folder / "config.json").read_text())
+        report = json.loads((folder / "report.json").read_text())
+    except (OSError, ValueError) as e:
+        raise HullError(f"hull {spec!r}: {folder} is not a run folder with config.json and report.json "
+                        f"({type(e).__name__}: {e})") from None
+    try:
+        cfg = RunConfig.model_validate(raw)
+    except ValidationError as e:
+        raise HullError(f"hull {spec!r}: {folder / 'config.json'} is not a valid run config ({e.errors()[0]['msg']})") from None
+    if "designs" in report:
+        designs = report["designs"]
+        if not 0 <= design < len(designs):
+            raise HullError(f"hull {spec!r}: a sweep's run folder needs ?design=K with K in 0…{len(designs) - 1}")
+        values, label = designs[design]["params"], f" design {design}"
+    else:
+        if design != -1:
+            raise HullError(f"hull {spec!r}: ?design applies to sweeps; {folder} is a {report.get('kind')!r} run")
+        if "params" not in report:
+            raise HullError(f"hull {spec!r}: {folder / 'report.json'} has no params (an unfinished shard?)")
+        values, label = report["params"], ""
+    prob = build_problem(cfg)
+    sections = prob.design.model(params_from_dict(values, prob.p0))
+    return LoadedHull(sections, f"{folder.name}{label}", float(prob.design.draft))

@@ -109,6 +109,18 @@ def _params_dict(p: FeatureParams) -> dict:
             "contour_edit_amplitude": np.asarray(p.contour).tolist()}
 
 
+def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
+    """The parameters of a report's ``params`` (the inverse of what a run writes), shaped ``like`` the
+    problem's start point; :class:`HullError` if they do not fit the problem."""
+    try:
+        leaves = [np.asarray(values[k], float).reshape(np.shape(ref)) for k, ref in
+                  (("apex_move_d", like.apex), ("distribution_c", like.distribution),
+                   ("contour_edit_amplitude", like.contour))]
+    except (KeyError, ValueError, TypeError) as e:
+        raise HullError(f"the report's params do not fit the run's design ({type(e).__name__}: {e})") from None
+    return FeatureParams(*leaves)
+
+
 class Outcome(eqx.Module):
     """Everything a run folder shows of a parent and a final design, computed in one jitted program."""
 

@@ -113,11 +113,12 @@ def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:
     area = 0.5 * h * (a_y + b_y)
     moment_z = h / 6.0 * (2 * a_y * a_z + a_y * b_z + b_y * a_z + 2 * b_y * b_z)
     moment_y = h / 6.0 * (a_y**2 + a_y * b_y + b_y**2)
-    width = jnp.where(crosses, jnp.sign(dz) * yc, 0.0)
-    # An end exactly on the level counts half, so a vertex on the waterline is not lost or doubled.
-    on0 = (z0 == level) & (dz != 0)
-    on1 = (z1 == level) & (dz != 0)
-    width = width + 0.5 * jnp.sign(dz) * (jnp.where(on0, y0, 0.0) + jnp.where(on1, y1, 0.0))
+    # Width: an edge counts where lo < level ≤ hi (its upper end included, its lower end not), so a vertex
+    # on the level is counted once and every width is its limit from below — at the deck-edge height the
+    # waterline is the deck edge's breadth, as the deck closes the section.
+    up_to = (jnp.minimum(z0, z1) < level) & (level <= jnp.maximum(z0, z1))
+    sw = _safe_div(level - z0, dz, up_to)
+    width = jnp.where(up_to, jnp.sign(dz) * (y0 + sw * (y1 - y0)), 0.0)
     return EdgeIntegrals(area, moment_z, moment_y, width)
 
 
@@ -134,11 +135,8 @@ def level_widths(poly: Float[Array, "... k 2"], levels: Float[Array, " K"]) -> F
     # per edge (before broadcasting to the levels): signed start, signed slope, z range, signed half ends
     a, b = sg * y0, sg * _safe_div(y1 - y0, dz, moving)
     lo, hi = jnp.minimum(z0, z1), jnp.maximum(z0, z1)
-    half0, half1 = jnp.where(moving, 0.5 * sg * y0, 0.0), jnp.where(moving, 0.5 * sg * y1, 0.0)
     lv = jnp.asarray(levels)
-    width = jnp.where((lo < lv) & (lv < hi), a + (lv - z0) * b, 0.0)
-    # An end exactly on the level counts half, so a vertex on the level is not lost or doubled.
-    width = width + jnp.where(z0 == lv, half0, 0.0) + jnp.where(z1 == lv, half1, 0.0)
+    width = jnp.where((lo < lv) & (lv <= hi), a + (lv - z0) * b, 0.0)  # the crossing rule of clipped_edge_integrals
     return jnp.sum(width, axis=0)
 
 

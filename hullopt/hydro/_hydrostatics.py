@@ -76,7 +76,8 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
     """Hydrostatics at ``draft`` [m above the baseline]; see :class:`Hydrostatics`.
 
     Exact for the polyline sections; along x, Simpson's rule on the station positions.
-    The draft must lie above the keel and below the deck (the caller checks: see :func:`check_draft`).
+    The draft must lie above the keel and at most at the deck, where the waterplane is the deck edge's (the
+    caller checks: see :func:`check_draft`).
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     x, lpp = sections.x, sections.lpp

@@ -57,7 +57,7 @@ def read_design(path: Path, parent: str | None = None):
     name = parent or cfg.get("parent")
     if not name:
         raise HullError(f"{path}: give the parent (a key 'parent = \"dtc\"' or the PARENT argument)")
-    hull = load_parent(name)
+    hull = load_parent(name.removeprefix("parent:"))
     moves, d = [], []
     for k, it in enumerate(_items(cfg, "apex_move", str(path))):
         w = f"{path}: [[apex_move]] #{k + 1}"
@@ -129,23 +129,23 @@ def plot_features(hull, path: Path, title: str = "") -> None:
 
 @app.command()
 def features(
-    hull: Annotated[str, typer.Argument(help=f"A library parent ({', '.join(parent_names())}) or any hull spec "
-                                             "(offsets .csv, mesh, builtin:…)")],
+    hull: Annotated[str, typer.Argument(help=f"A parent (parent:NAME or NAME: {', '.join(parent_names())}; a "
+                                             "parent .json) or any hull spec (offsets .csv, mesh, builtin:…)")],
     out: Annotated[Path, typer.Option(help="Folder for features.json, contours.json and features.png")] = Path("."),
     level: Annotated[int, typer.Option(help="Levels of auxiliary apexes (1 = the patent's frame)")] = 2,
 ) -> None:
     """Extract contour lines and feature curves (inflection, apex, auxiliary-apex lines) and plot them."""
-    if not out.is_dir():
-        raise HullError(f"--out {out}: no such folder")
     if not 1 <= level <= 4:
         raise HullError(f"--level {level}: expected 1 to 4")
-    if hull in parent_names() or hull.endswith(".json"):
-        fh = load_parent(hull)
+    name = hull.removeprefix("parent:")
+    if name in parent_names() or name.endswith(".json"):
+        fh = load_parent(name)
     else:
         loaded = load_hull(hull)
         fh = extract_parent(loaded.sections, loaded.name, loaded.design_draft, level=level)
     from ...models import save_features
 
+    out.mkdir(parents=True, exist_ok=True)
     save_features(fh, out / "features.json")
     write_json(out / "contours.json", {k: v for k, v in fh.contour_lines().items()})
     plot_features(fh, out / "features.png")
@@ -156,7 +156,8 @@ def features(
 
 @app.command()
 def deform(
-    parent: Annotated[str, typer.Argument(help=f"Library parent ({', '.join(parent_names())}) or a parent .json")],
+    parent: Annotated[str, typer.Argument(help=f"Parent (parent:NAME or NAME: {', '.join(parent_names())}; "
+                                               "or a parent .json)")],
     params: Annotated[Path, typer.Argument(help="Design TOML: [[apex_move]], [[distribution]], [[contour_edit]]")],
     out: Annotated[Path, typer.Option(help=f"Output mesh (.{', .'.join(EXPORT_FORMATS)})")] = Path("hull.stl"),
     draft: Annotated[float | None, typer.Option(help="Draft for the report [m] (default: the parent's)")] = None,
@@ -164,8 +165,6 @@ def deform(
     """Deform a parent by apex-line moves (claim 5), distributions (claim 7) and contour edits; write a mesh."""
     if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:
         raise HullError(f"--out {out}: unknown mesh format {out.suffix!r}; expected .{', .'.join(EXPORT_FORMATS)}")
-    if not out.parent.is_dir():
-        raise HullError(f"--out {out}: the folder {str(out.parent)!r} does not exist")
     if not params.is_file():
         raise HullError(f"{params}: no such design file")
     model, p, _ = read_design(params, parent)
@@ -176,5 +175,6 @@ def deform(
         for key, label in (("volume", "∇ [m³]"), ("cb", "Cb"), ("lcb_pct", "LCB [% Lpp fwd of midship]")):
             console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}")
     mesh = to_trimesh(sec)
+    out.parent.mkdir(parents=True, exist_ok=True)
     export_mesh(mesh, out)
     console.print(f"wrote {out} ({len(mesh.faces):,} faces)")

@@ -16,7 +16,9 @@ from .._app import app
 from ..hulls import LoadedHull, load_hull
 from ..output import console, parse_range, print_json, table
 
-HULL_HELP = "offsets .csv, a mesh file (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=), or builtin:wigley?L=..&B=..&T=..&D=.."
+HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
+             "a run folder, offsets .csv, a mesh (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=&half=) "
+             "or a CAD surface (igs, step; ?tol=)")
 
 # (key, label, unit, scale for display)
 ROWS = [
@@ -31,10 +33,13 @@ ROWS = [
 
 
 def check_draft(hull: LoadedHull, draft: float, what: str = "--draft") -> float:
-    """A draft must lie above the baseline (and the keel) and at or below the deck."""
+    """A draft must lie above the baseline (and the keel) and at most at the deck (there the waterplane is the
+    deck edge's: the deck closes the sections); above the deck the hull is submerged."""
     lo, hi = max(0.0, float(hull.sections.keel)), float(hull.sections.depth)
     if not (np.isfinite(draft) and lo < draft <= hi):
-        raise HullError(f"{what} {draft:g} m is outside the hull: expected a draft in ({lo:g}, {hi:g}] m")
+        where = "above the deck" if np.isfinite(draft) and draft > hi else "outside the hull"
+        raise HullError(f"{what} {draft:g} m is {where}: expected a draft in ({lo:g}, {hi:g}] m "
+                        f"(keel or baseline to deck)")
     return float(draft)
 
 
@@ -101,8 +106,7 @@ def export(
     """Export the closed, watertight hull mesh (both sides, deck, transom)."""
     if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:
         raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
-    if not out.parent.is_dir():
-        raise HullError(f"{out}: the folder {str(out.parent)!r} does not exist")
     mesh = to_trimesh(load_hull(hull).sections)
+    out.parent.mkdir(parents=True, exist_ok=True)
     export_mesh(mesh, out)
     console.print(f"wrote {out} ({len(mesh.faces):,} faces, watertight: {mesh.is_watertight}, volume {mesh.volume:,.1f} m³)")

@@ -163,7 +163,7 @@ def lines(
         console.print(f"wrote {p}")
     if curves is not None:
         lo = max(0.0, float(h.sections.keel))
-        drafts = np.linspace(lo, float(h.sections.depth), 21)[1:]
+        drafts = np.linspace(lo, float(h.sections.depth), 22)[1:-1]  # 20 drafts, the deck left out
         for t in drafts:
             check_draft(h, float(t), "draft")
         plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name)
