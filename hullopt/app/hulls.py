@@ -109,8 +109,9 @@ def load_hull(spec: str) -> LoadedHull:
     tol = _take(params, "tol", spec, float, 0.0) or None  # IGES/STEP tessellation size [m, file's scale]
     if tol is not None and not (np.isfinite(tol) and tol > 0):
         raise HullError(f"hull {spec!r}: tol must be a positive length in m (largest triangle edge of a CAD surface)")
-    _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol"])
-    mesh = read_mesh(path, transform, tolerance=tol)
+    half = _take(params, "half", spec, str, "auto")  # auto|yes|no: a half hull open at the centre plane
+    _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol", "half"])
+    mesh = read_mesh(path, transform, half=half, tolerance=tol)
     if lpp is None:
         lpp = float(mesh.bounds[1, 0])  # no Lpp given: take the FP at the forward end
     if not (np.isfinite(lpp) and lpp > 0):
