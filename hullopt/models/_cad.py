@@ -29,8 +29,11 @@ if TYPE_CHECKING:
 
 CAD_SUFFIXES = (".igs", ".iges", ".stp", ".step")
 _OCC_UNIT = 1e-3  # [m] OpenCASCADE's session length unit (xstep.cascade.unit = MM), into which files are read
-_CURVATURE_POINTS = 24  # elements per 2π of surface curvature (a radius R gets edges of at most 2πR/24)
-_DEFAULT_SIZE = 1 / 200  # default largest element edge, as a fraction of the model's largest extent
+_DEFAULT_SIZE = 1 / 200  # default largest triangle edge, as a fraction of the model's largest extent L
+# Curved parts: edges of at most 2πR/N for a radius of curvature R, with N = _CURVATURE_SCALE · L / size
+# (N = 32 at the default size): the refinement follows the size, so halving the size halves every edge and
+# the area and volume errors fall about fourfold (a fixed N would leave the bilge and the bulb as they were).
+_CURVATURE_SCALE = 32 * _DEFAULT_SIZE
 
 
 def is_cad(path: str | Path) -> bool:
@@ -51,8 +54,10 @@ def read_cad(
     Args:
         path: the ``.igs``/``.iges``/``.stp``/``.step`` file.
         tolerance: largest triangle edge [m, at the file's scale, after the unit conversion]. Curved parts are
-            refined further, to at most 2πR/24 for a radius of curvature R. ``None`` (default): 1/200 of the
-            model's largest extent (7.69 m KCS model: 38 mm, about 30,000 triangles for its half hull).
+            refined in proportion: an edge is at most ``tolerance · min(1, 39 R / L)`` for a local radius of
+            curvature R and the model's largest extent L. ``None`` (default): L/200 (the 7.69 m KCS model:
+            38 mm, about 40,000 triangles for its half hull; ∇ at the design draft 0.06 % below the converged
+            value). Area and volume errors fall about fourfold when the tolerance is halved.
         sew_tolerance: faces whose edges lie within this distance [m, at the file's scale] are sewn together
             (OpenCASCADE sewing), so neighbouring faces share their edges' vertices (a conforming mesh).
 
@@ -118,12 +123,15 @@ def _tessellate(gmsh, path: Path, tolerance: float | None, sew_tolerance: float)
         msg = " ".join(str(e).split()) or "OpenCASCADE could not read it"
         raise HullError(f"{path}: cannot read the CAD file ({msg})") from None
     if not gmsh.model.getEntities(2):
-        raise HullError(f"{path}: the CAD file holds no surfaces")
+        raise HullError(f"{path}: no surfaces read from the CAD file (not an IGES/STEP file, or one without surfaces)")
     lo, hi = np.reshape(gmsh.model.getBoundingBox(-1, -1), (2, 3))
-    size = tolerance / _OCC_UNIT if tolerance is not None else _DEFAULT_SIZE * float(np.max(hi - lo))
+    extent = float(np.max(hi - lo))  # [mm]
+    if not extent > 0:
+        raise HullError(f"{path}: the CAD surfaces have no extent")
+    size = tolerance / _OCC_UNIT if tolerance is not None else _DEFAULT_SIZE * extent
     gmsh.option.setNumber("Mesh.MeshSizeMax", size)
     gmsh.option.setNumber("Mesh.MeshSizeMin", size / 50)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", _CURVATURE_POINTS)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", max(8, round(_CURVATURE_SCALE * extent / size)))
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: the fastest robust one on trimmed NURBS
     try:
