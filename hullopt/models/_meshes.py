@@ -229,10 +229,13 @@ def _openings(mesh: trimesh.Trimesh, path: Path, is_half: bool) -> MeshOpenings:
     rest = ~centre & ~top
     seam = np.zeros(len(be), bool)
     if rest.any():
-        seam[rest] = _near_other_edges(p, np.flatnonzero(rest), gap)
-    keep = np.flatnonzero(rest & ~seam)  # holes, and edges across (x = const) to judge with their neighbours
-    if len(keep):
-        # connected parts of what is left: a hole unless it is all across and joins the top or centre plane
+        seam[rest] = _near_other_edges(p, be, np.flatnonzero(rest), gap)
+    hole = rest & ~seam & ~across
+    keep = np.flatnonzero(rest)
+    where = []
+    if len(keep) and not seam[keep].all():
+        # connected parts of what is left: a hole if it holds a hole edge, or is all across (x = const) and
+        # does not join the top or the centre plane (a step in the top edge does); a hole's seams go with it
         nodes, inv = np.unique(be[keep], return_inverse=True)
         inv = inv.reshape(-1, 2)
         g = coo_matrix((np.ones(len(keep)), (inv[:, 0], inv[:, 1])), shape=(len(nodes), len(nodes)))
@@ -240,17 +243,16 @@ def _openings(mesh: trimesh.Trimesh, path: Path, is_half: bool) -> MeshOpenings:
         part = label[inv[:, 0]]
         legit = np.zeros(len(v), bool)
         legit[be[top | centre].ravel()] = True
-        where = []
         for c in np.unique(part):
             mine = keep[part == c]
-            if across[mine].all() and legit[be[mine].ravel()].any():
-                continue  # a step in the top edge
+            if not hole[mine].any() and (~across[mine] | legit[be[mine]].any(axis=1)).any():
+                continue  # seams, and steps in the top edge
             q = p[mine].reshape(-1, 3)
             lo, hi = q.min(axis=0), q.max(axis=0)
             where.append((lo[0], f"x {lo[0]:.3f} to {hi[0]:.3f} m, y {lo[1]:.3f} to {hi[1]:.3f} m, "
                                  f"z {lo[2]:.3f} to {hi[2]:.3f} m"))
-    if len(keep) and where:
-        bad = p[keep].reshape(-1, 3)
+    if where:
+        bad = p[hole].reshape(-1, 3)
         where = [w for _, w in sorted(where)]
         more = f" (and {len(where) - 3} more)" if len(where) > 3 else ""
         hint = ""
@@ -277,11 +279,14 @@ def _section_tops(mesh: trimesh.Trimesh, x: np.ndarray) -> np.ndarray:
     return res
 
 
-def _near_other_edges(p: np.ndarray, which: np.ndarray, gap: float) -> np.ndarray:
-    """For the boundary edges ``p[which]`` ((k, 2, 3) all edges): whether the points at 1/4, 1/2 and 3/4 of
-    each lie within ``gap`` of some other boundary edge (a seam, or a sliver narrower than ``gap``)."""
+def _near_other_edges(p: np.ndarray, ids: np.ndarray, which: np.ndarray, gap: float) -> np.ndarray:
+    """For the boundary edges ``p[which]`` (``p``: all of them, (k, 2, 3); ``ids``: their vertices, (k, 2)):
+    whether the points at 1/4, 1/2 and 3/4 of each lie within ``gap`` of another boundary edge running
+    within 30° of parallel to it — the other side of a seam or of a sliver narrower than ``gap``. The edge
+    that continues the boundary past a shared vertex does not count (its nearest point is that vertex)."""
     a, d = p[:, 0], p[:, 1] - p[:, 0]
     dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    unit = d / np.sqrt(dd)[:, None]
     seg_lo = np.minimum(p[:, 0, 0], p[:, 1, 0]) - gap
     seg_hi = np.maximum(p[:, 0, 0], p[:, 1, 0]) + gap
     pts = np.concatenate([a[which] + f * d[which] for f in (0.25, 0.5, 0.75)])
@@ -289,12 +294,16 @@ def _near_other_edges(p: np.ndarray, which: np.ndarray, gap: float) -> np.ndarra
     near = np.zeros(len(pts), bool)
     order = np.argsort(pts[:, 0])
     for chunk in np.array_split(order, max(1, len(order) // 256)):
-        q = pts[chunk]
+        q, me = pts[chunk], own[chunk]
         cand = np.flatnonzero((seg_hi >= q[:, 0].min()) & (seg_lo <= q[:, 0].max()))
         w = q[:, None, :] - a[cand][None]
         t = np.clip(np.einsum("ijk,jk->ij", w, d[cand]) / dd[cand], 0.0, 1.0)
         dist = np.linalg.norm(w - t[..., None] * d[cand][None], axis=-1)
-        dist[own[chunk][:, None] == cand[None, :]] = np.inf
+        at_shared = ((t <= 0.0) & np.any(ids[cand, 0][None, :, None] == ids[me][:, None, :], axis=-1)) | (
+            (t >= 1.0) & np.any(ids[cand, 1][None, :, None] == ids[me][:, None, :], axis=-1)
+        )
+        parallel = np.abs(unit[me] @ unit[cand].T) >= np.cos(np.radians(30.0))
+        dist[(me[:, None] == cand[None, :]) | at_shared | ~parallel] = np.inf
         near[chunk] = dist.min(axis=1, initial=np.inf) <= gap
     return near.reshape(3, -1).all(axis=0)
 
