@@ -165,3 +165,17 @@ def test_bad_tolerances_are_refused(hulls):
         read_cad(hulls / KCS_IGES, tolerance=-1.0)
     with pytest.raises(HullError, match="tol must be a positive"):
         load_hull(f"{hulls / KCS_IGES}?scale=31.6&tol=-0.01")
+
+
+@pytest.mark.slow
+def test_kcs_iges_hull_spec_end_to_end_matches_the_closed_mesh(hulls):
+    """The IGES as a hull spec (half hull, no deck: read_mesh closes it) against the closed KCS mesh: ∇ at
+    the design draft, full scale (each sliced into sections as every mesh is)."""
+    from hullopt.app.hulls import load_hull
+    from hullopt.hydro import volume_at
+
+    iges = load_hull(f"{hulls / KCS_IGES}?scale={SCALE}&lpp=230")
+    closed = load_hull(f"{hulls / KCS_CLOSED}?scale={SCALE}&lpp=230")
+    v_iges, v_closed = (float(volume_at(h.sections, T_DESIGN)) for h in (iges, closed))
+    assert v_iges == pytest.approx(v_closed, rel=3e-3)
+    assert v_iges == pytest.approx(52030.0, rel=3e-3)  # published
