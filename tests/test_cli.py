@@ -71,11 +71,15 @@ def test_bad_input_one_line_error(cli, args, message):
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
 
 
-def test_open_mesh_and_bad_offsets_from_the_console(tmp_path, hulls):
+def test_open_mesh_and_bad_offsets_from_the_console(tmp_path):
     """As a user runs it: a separate process, exit code 2, one line on stderr."""
     bad = tmp_path / "bad.csv"
     bad.write_text("x,0,1\n0,1,1\n0,1,1\n")
-    for hull, message in ((str(hulls / "wigley_openfoam.stl.gz"), "open (not watertight)"),
+    holed = trimesh.creation.box(extents=[100, 10, 10]).subdivide().subdivide()
+    c = holed.triangles_center
+    holed.update_faces(np.arange(len(c)) != np.argmin(np.linalg.norm(c - [0, 5, 1], axis=1)))  # a hole in the side
+    holed.export(tmp_path / "holed.stl")
+    for hull, message in ((str(tmp_path / "holed.stl"), "the mesh has a hole at x "),
                           (str(bad), "duplicate station")):
         p = subprocess.run([sys.executable, "-m", "hullopt", "hydro", hull, "--draft", "1"],
                            capture_output=True, text=True, env={"HULLOPT_CACHE": str(tmp_path), "PATH": ""})
