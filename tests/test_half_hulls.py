@@ -19,7 +19,7 @@ import trimesh
 from hullopt.app.hulls import load_hull
 from hullopt.errors import HullError
 from hullopt.hydro import hydrostatics
-from hullopt.models import MeshTransform, read_mesh
+from hullopt.models import MeshTransform, read_mesh, slice_mesh
 
 KVLCC2 = "kvlcc2_model_half_open_from_igs.stl.gz"
 
@@ -146,3 +146,61 @@ def test_real_hole_is_named_by_where_it_is(tmp_path, dtc_whole):
         assert 174 < r["x"][0] < 176 and 184 < r["x"][1] < 186, r
         assert 4 < r["z"][0] < 6 and 10 < r["z"][1] < 12, r
         assert r["y"][0] == pytest.approx(25.5, abs=0.1), r
+
+
+def _box(extents, centre) -> trimesh.Trimesh:
+    b = trimesh.creation.box(extents=extents)
+    b.apply_translation(centre)
+    return b
+
+
+def _without_deck(mesh: trimesh.Trimesh, z_min: float) -> trimesh.Trimesh:
+    up = (mesh.face_normals[:, 2] > 0.99) & (mesh.triangles_center[:, 2] > z_min)
+    out = mesh.copy()
+    out.update_faces(~up)
+    return out
+
+
+def test_half_hull_with_a_separate_bulb_and_an_open_top(tmp_path):
+    """A box hull with a round bulb ahead of and below it (stations through the bulb alone, and through bulb
+    and hull, whose cuts of a half hull are two pieces on the centre plane): its port half, open at the
+    centre plane, with and without the deck, gives the whole's hydrostatics to rounding."""
+    bulb = trimesh.creation.cylinder(radius=2.0, height=20, sections=64)
+    bulb.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+    bulb.apply_translation([105, 0, 2.5])
+    solid = trimesh.boolean.union([_box([100, 10, 10], [50, 0, 5]), bulb, _box([20, 1.0, 0.4], [105, 0, 4.6])],
+                                  engine="manifold")
+    half = trimesh.intersections.slice_mesh_plane(solid, plane_normal=[0, 1, 0], plane_origin=[0, 0, 0], cap=False)
+    meshes = {"whole": solid, "half": half, "half, no deck": _without_deck(half, 9.99)}
+    found = {}
+    for name, mesh in meshes.items():
+        path = tmp_path / f"{name.replace(', ', '_').replace(' ', '_')}.stl"
+        mesh.export(path)
+        read = read_mesh(path)
+        found[name] = read.metadata["hullopt"]
+        s = slice_mesh(read, 100.0, 201, 120)
+        meshes[name] = [hydrostatics(s, t) for t in (4.0, 8.0)]
+    assert not found["whole"].half and found["half"].half and not found["half"].open_top
+    assert found["half, no deck"].half and found["half, no deck"].open_top
+    for name in ("half", "half, no deck"):
+        for ours, whole in zip(meshes[name], meshes["whole"]):
+            for key in ("volume", "lcb", "kb", "bmt", "bml", "awp"):
+                assert float(getattr(ours, key)) == pytest.approx(float(getattr(whole, key)), rel=1e-9), (name, key)
+
+
+def test_open_top_with_a_step_in_it(tmp_path):
+    """A box with a raised forecastle, both without their decks: the top edge steps up (edges across the
+    length, x = const) — not a hole; sections end at the top edge, at each part's own height."""
+    stepped = trimesh.boolean.union([_box([100, 10, 10], [50, 0, 5]), _box([20, 10, 14], [90, 0, 7])],
+                                    engine="manifold")
+    for name, mesh in (("whole", stepped), ("half", trimesh.intersections.slice_mesh_plane(
+            stepped, plane_normal=[0, 1, 0], plane_origin=[0, 0, 0], cap=False))):
+        path = tmp_path / f"{name}.stl"
+        _without_deck(mesh, 9.99).export(path)
+        read = read_mesh(path)
+        assert read.metadata["hullopt"].open_top and read.metadata["hullopt"].half == (name == "half")
+        s = slice_mesh(read, 100.0, 101, 40)
+        h = hydrostatics(s, 6.0)
+        assert float(h.volume) == pytest.approx(100 * 10 * 6, rel=1e-4) and float(h.lcb) == pytest.approx(50.0)
+        yz, x = np.asarray(s.yz), np.asarray(s.x)
+        assert np.allclose(yz[x < 75][:, -1], [5.0, 10.0]) and np.allclose(yz[x > 85][:, -1], [5.0, 14.0])
