@@ -270,13 +270,13 @@ def _openings(mesh: trimesh.Trimesh, path: Path, is_half: bool) -> MeshOpenings:
 def _section_tops(mesh: trimesh.Trimesh, x: np.ndarray) -> np.ndarray:
     """Highest z [m] of the mesh's cut by each plane x = x[i]."""
     order = np.argsort(x)
-    xs = x[order]
-    node_s, _, yz, _ = _edge_crossings(mesh, xs)
-    out = np.full(len(xs), -np.inf)
-    np.maximum.at(out, node_s, yz[:, 1])
-    res = np.empty_like(out)
-    res[order] = out
-    return res
+    out = np.full(len(x), -np.inf)
+    for chunk in np.array_split(order, max(1, len(order) // 1024)):  # bounded memory for long open edges
+        node_s, _, yz, _ = _edge_crossings(mesh, x[chunk])
+        top = np.full(len(chunk), -np.inf)
+        np.maximum.at(top, node_s, yz[:, 1])
+        out[chunk] = top
+    return out
 
 
 def _near_other_edges(p: np.ndarray, ids: np.ndarray, which: np.ndarray, gap: float) -> np.ndarray:
