@@ -162,7 +162,8 @@ def test_bad_meshes(tmp_path):
     holed = trimesh.creation.box(extents=[100, 10, 10]).subdivide().subdivide()  # x ±50, y ±5, z ±5
     c = holed.triangles_center
     holed.update_faces(np.arange(len(c)) != np.argmin(np.linalg.norm(c - [0, 5, 1], axis=1)))  # one side face
-    with pytest.raises(HullError, match=r"holed.stl: the mesh has a hole at x -?[\d.]+ to [\d.]+ m, y 5.000 to 5.000 m, z"):
+    where = r"holed.stl: the mesh has a hole at x -?[\d.]+ to [\d.]+ m, y 5.000 to 5.000 m, z"
+    with pytest.raises(HullError, match=where):
         read_mesh(_export(tmp_path, holed, "holed.stl"))
     junk = tmp_path / "junk.stl"
     junk.write_bytes(b"\x00\x01 not a mesh")
