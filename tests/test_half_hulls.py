@@ -76,8 +76,16 @@ def dtc_whole(hulls):
     return mesh
 
 
+RES = "n=101&m=80"
+
+
+@pytest.fixture(scope="module")
+def dtc_whole_hydro(hulls):
+    return hydrostatics(load_hull(f"{hulls}/DTC-scaled.stl.gz?scale=59.407&lpp=355&{RES}").sections, 14.5)
+
+
 @pytest.mark.parametrize("how", ["port open", "port capped", "starboard open"])
-def test_closed_mesh_cut_in_half_gives_the_whole_hydrostatics(tmp_path, hulls, dtc_whole, how):
+def test_closed_mesh_cut_in_half_gives_the_whole_hydrostatics(tmp_path, dtc_whole, dtc_whole_hydro, how):
     """The DTC halved at y = 0 (open there, capped there, or the starboard half) against the whole mesh."""
     side, cap = how.split()
     normal = [0, 1, 0] if side == "port" else [0, -1, 0]
@@ -85,9 +93,8 @@ def test_closed_mesh_cut_in_half_gives_the_whole_hydrostatics(tmp_path, hulls, d
                                                   cap=cap == "capped")
     path = tmp_path / "half.stl"
     half.export(path)
-    res = "n=101&m=80"
-    whole = hydrostatics(load_hull(f"{hulls}/DTC-scaled.stl.gz?scale=59.407&lpp=355&{res}").sections, 14.5)
-    ours = hydrostatics(load_hull(f"{path}?lpp=355&{res}").sections, 14.5)
+    whole = dtc_whole_hydro
+    ours = hydrostatics(load_hull(f"{path}?lpp=355&{RES}").sections, 14.5)
     assert float(ours.volume) == pytest.approx(float(whole.volume), rel=5e-4)
     assert float(ours.lcb) == pytest.approx(float(whole.lcb), rel=5e-4)
     assert float(ours.bmt) == pytest.approx(float(whole.bmt), rel=5e-4)
