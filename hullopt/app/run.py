@@ -20,7 +20,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn
 
 from ..drawing import write_offsets_wide
 from ..errors import HullError
-from ..geometry import export_mesh, to_trimesh
+from ..geometry import export_mesh
 from ..hydro import hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model, load_parent
 from ..optimise import (
@@ -236,8 +236,12 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
 def _write_hull(m: Outcome, draft, out: Path) -> None:
     from .plots import plot_body_plans, plot_sectional_areas
 
-    export_mesh(to_trimesh(m.after), out / "hull.stl")
-    write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull")
+    from ..geometry._mesh import hull_mesh
+
+    # hull.stl: the hull refined along its length and welded for float32, checked as read back (export_mesh);
+    # offsets.csv: dense enough that `hullopt hydro offsets.csv` gives back the run's ∇ (write_offsets_wide)
+    export_mesh(hull_mesh(m.after), out / "hull.stl")
+    write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)
     plot_body_plans(m.before, m.after, out / "body_plan.png")
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
 

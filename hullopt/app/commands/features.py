@@ -11,7 +11,8 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...geometry import EXPORT_FORMATS, export_mesh, to_trimesh
+from ...geometry import EXPORT_FORMATS, export_mesh
+from ...geometry._mesh import hull_mesh
 from ...hydro import hydrostatics
 from ...models import (ApexMove, ContourEdit, Distribution, FeatureParams, check_design, extract_parent,
                        feature_model, load_parent, parent_names)
@@ -174,7 +175,10 @@ def deform(
         before, after = hydrostatics(model.hull.sections(), t), hydrostatics(sec, t)
         for key, label in (("volume", "∇ [m³]"), ("cb", "Cb"), ("lcb_pct", "LCB [% Lpp fwd of midship]")):
             console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}")
-    mesh = to_trimesh(sec)
+    mesh = hull_mesh(sec)  # refined along the length, welded for the file by export_mesh
     out.parent.mkdir(parents=True, exist_ok=True)
-    export_mesh(mesh, out)
-    console.print(f"wrote {out} ({len(mesh.faces):,} faces)")
+    try:
+        written = export_mesh(mesh, out)
+    except ValueError as e:
+        raise HullError(str(e)) from None
+    console.print(f"wrote {out} ({written.summary()}; read back)")

@@ -10,7 +10,8 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...geometry import EXPORT_FORMATS, export_mesh, to_trimesh
+from ...geometry import EXPORT_FORMATS, export_mesh
+from ...geometry._mesh import hull_mesh
 from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
 from .._app import app
 from ..hulls import LoadedHull, load_hull
@@ -103,10 +104,15 @@ def export(
     hull: Annotated[str, typer.Argument(help=HULL_HELP)],
     out: Annotated[Path, typer.Argument(help=f"Output mesh: .{', .'.join(EXPORT_FORMATS)}")],
 ) -> None:
-    """Export the closed, watertight hull mesh (both sides, deck, transom)."""
+    """Export the closed, watertight hull mesh (both sides, deck, transom), refined along the length and
+    welded for the file; the checks printed (watertight, winding, bodies, degenerate faces, volume [m³]) are
+    those of the written file read back."""
     if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:
         raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
-    mesh = to_trimesh(load_hull(hull).sections)
+    mesh = hull_mesh(load_hull(hull).sections)
     out.parent.mkdir(parents=True, exist_ok=True)
-    export_mesh(mesh, out)
-    console.print(f"wrote {out} ({len(mesh.faces):,} faces, watertight: {mesh.is_watertight}, volume {mesh.volume:,.1f} m³)")
+    try:
+        written = export_mesh(mesh, out)
+    except ValueError as e:
+        raise HullError(str(e)) from None
+    console.print(f"wrote {out} ({written.summary()}; read back)")
