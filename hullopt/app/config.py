@@ -3,7 +3,7 @@ field. One config describes a parent, a design (which feature curves may move, w
 targets, an objective, a solver and, for Pareto runs, a sweep.
 
     kind = "fit" | "minimise" | "pareto"
-    [hull]       parent = "dtc", draft = 14.5
+    [hull]       parent = "dtc" | "my_hull.stl?scale=…&lpp=…" (any hull spec), draft = 14.5
     [[design.apex_move]]  segment, x_fixed1, x_moved, x_fixed2, profile, d (start), bound (|d| ≤, m)
     [[design.distribution]]  x_a, x_b, curves, modes, c (start), bound (|c_j| ≤)
     [[design.contour_edit]]  line, x_a, x_b, shape, amplitude (start), bound (m)
@@ -30,8 +30,11 @@ class _Strict(BaseModel):
 
 
 class HullConfig(_Strict):
-    parent: str = Field(description="library parent (dtc, tanker, wigley, seed003) or a parent .json file")
-    draft: float | None = Field(default=None, gt=0, description="m; default: the parent's design draft")
+    parent: str = Field(description="library parent (dtc, tanker, wigley, seed003), a parent .json file, or any "
+                                    "hull spec (a mesh 'hull.stl?scale=…&lpp=…', an offsets .csv, builtin:…); "
+                                    "paths relative to the config's folder")
+    draft: float | None = Field(default=None, gt=0, description="m; default: the parent's design draft (required "
+                                                                "for a hull spec without one, e.g. a mesh)")
 
 
 class ApexMoveConfig(_Strict):
@@ -152,8 +155,9 @@ def _set(tree: dict, dotted: str, text: str) -> None:
 
 
 def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig, dict]:
-    """Read, override (``a.b=value``) and validate a run config; returns it and the resolved raw dict.
-    :class:`HullError` names the file and the field of any problem."""
+    """Read, override (``a.b=value``) and validate a run config; returns it and the resolved raw dict (a
+    parent file given relative to the config's folder made absolute). :class:`HullError` names the file and
+    the field of any problem."""
     path = Path(path)
     try:
         raw = tomllib.loads(path.read_text())
@@ -167,10 +171,16 @@ def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig,
             raise HullError(f"--set {item!r}: expected KEY=VALUE, e.g. targets.cb=0.62")
         _set(raw, key.strip(), text.strip())
     try:
-        return RunConfig.model_validate(raw), raw
+        cfg = RunConfig.model_validate(raw)
     except ValidationError as e:
         err = e.errors()[0]
         where = ".".join(str(p) for p in err["loc"])
         msg = err["msg"].removeprefix("Value error, ")
         more = f" (and {len(e.errors()) - 1} more)" if len(e.errors()) > 1 else ""
         raise HullError(f"{path}: {where + ': ' if where else ''}{msg}{more}") from None
+    from .parents import resolve_spec
+
+    parent = resolve_spec(cfg.hull.parent, path.resolve().parent)  # a file beside the config, as wind's hull
+    if parent != cfg.hull.parent:
+        cfg.hull.parent = raw["hull"]["parent"] = parent  # config.json then names the file wherever it is read
+    return cfg, raw

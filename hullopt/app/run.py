@@ -8,7 +8,6 @@ constrained minimum, or a Pareto sweep in resumable chunks) and write the run fo
 
 from __future__ import annotations
 
-import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,7 +21,7 @@ from ..drawing import write_offsets_wide
 from ..errors import HullError
 from ..geometry import export_mesh
 from ..hydro import hydrostatics, sectional_areas
-from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model, load_parent
+from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model
 from ..optimise import (
     TARGETS,
     Design,
@@ -36,6 +35,7 @@ from ..optimise import (
 )
 from .config import ObjectiveConfig, RunConfig
 from .output import console, write_json
+from .parents import parent_digest, run_parent
 from .programs import cached_call
 
 KNOT = 1852.0 / 3600.0
@@ -63,7 +63,7 @@ def build_problem(cfg: RunConfig) -> Problem:
 
     No hull is evaluated here: the objective and fairness scales (their values at the parent) are set by
     :func:`~hullopt.optimise.with_objective_scale` inside the jitted solve programs."""
-    hull = load_parent(cfg.hull.parent)
+    hull = run_parent(cfg.hull.parent, cfg.hull.draft)  # a hull spec's features: extracted once, then kept
     draft = cfg.hull.draft or hull.design_draft
     if draft is None:
         raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
@@ -155,9 +155,10 @@ def solve_and_measure(d: Design, p0, lower, upper, kind: str, max_steps: int, ou
 
 
 def _file_digest(name: str) -> str | None:
-    """SHA-256 of a parent given as a file (its content shapes the program), None for a library parent."""
-    path = Path(name)
-    return hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None
+    """Digest of a parent given as a file (its content shapes the program): a parent .json's SHA-256, a hull
+    spec's feature key (file digest, parameters, extraction; :func:`~hullopt.app.parents.parent_digest`),
+    None for a library parent."""
+    return parent_digest(name)
 
 
 def _particulars(h) -> dict:

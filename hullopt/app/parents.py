@@ -1,0 +1,174 @@
+"""The parent of a design run (``[hull] parent``): a library parent (``dtc``, ``parent:dtc``), a parent ``.json``,
+or any hull spec :func:`~hullopt.app.hulls.load_hull` reads — a mesh ``hull.stl?scale=…&lpp=…``, an offsets
+``.csv``, a ``builtin:…``, a run folder. A hull spec's contour lines and feature curves are extracted on first use
+(:func:`~hullopt.models._feature_library.extract_faithful`: the cheapest level of auxiliary apexes whose rebuilt
+hull holds ∇ to 0.05 % and LCB to 0.01 % Lpp) and kept in the cache folder::
+
+    $HULLOPT_CACHE/parents/<key digest>.json        (default ~/.cache/hullopt/parents)
+
+keyed by the SHA-256 of the file's content (not its path), the spec's parameters and the extraction's settings
+and code (the sources that read, slice and extract a hull), so a later run reads them back; a missing, corrupt
+or foreign file is extracted again and rewritten (atomically; a read-only cache is only read). The file is a
+parent ``.json`` (:func:`~hullopt.models.save_features`) with the key and the measured fidelity beside it.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+from pathlib import Path
+from urllib.parse import parse_qsl
+
+from ..errors import HullError
+from ..models import FeatureHull, load_parent, parent_names
+
+#: Bump to re-extract every kept parent (a change of what is stored, not of the code: that is in the key).
+EXTRACTION_VERSION = 1
+_PACKAGE = Path(__file__).resolve().parents[1]
+
+
+def cache_folder() -> Path:
+    """Where extracted parents are kept: ``$HULLOPT_CACHE/parents`` (default ``~/.cache/hullopt/parents``)."""
+    return Path(os.environ.get("HULLOPT_CACHE", Path.home() / ".cache" / "hullopt")) / "parents"
+
+
+def _library(spec: str) -> str | None:
+    """The name :func:`~hullopt.models.load_parent` takes for a library parent or parent ``.json``, else None."""
+    name = spec.removeprefix("parent:")
+    if name != spec or name in parent_names() or name.lower().endswith(".json"):
+        return name
+    return None
+
+
+def resolve_spec(spec: str, folder: Path) -> str:
+    """``spec`` with a relative file path made relative to ``folder`` (a config's folder), as the wind
+    config's ``hull``: only when the file or run folder exists there; library names and builtins unchanged."""
+    prefix = "parent:" if spec.startswith("parent:") else ""
+    base, sep, query = spec.removeprefix(prefix).partition("?")
+    if base.startswith("builtin:") or (not prefix and base in parent_names()) or Path(base).is_absolute():
+        return spec
+    if not (folder / base).exists():
+        return spec
+    return prefix + str(folder / base) + sep + query
+
+
+@functools.cache
+def _code_digest() -> str:
+    """Digest of the code that turns a spec into feature curves (models, geometry, the spec parser)."""
+    h = hashlib.sha256(f"extraction v{EXTRACTION_VERSION}".encode())
+    files = [*sorted((_PACKAGE / "models").glob("*.py")), *sorted((_PACKAGE / "geometry").glob("*.py")),
+             _PACKAGE / "app" / "hulls.py"]
+    for path in files:
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _content_digest(base: str) -> str | None:
+    """SHA-256 of a spec's file (a run folder: of its config.json and report.json); None for a builtin."""
+    path = Path(base)
+    if path.is_file():
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    if path.is_dir():
+        h = hashlib.sha256()
+        for name in ("config.json", "report.json"):
+            f = path / name
+            h.update(f.read_bytes() if f.is_file() else b"")
+        return h.hexdigest()
+    return None
+
+
+def parent_key(spec: str, draft: float | None = None) -> dict:
+    """What determines the features extracted from the hull spec ``spec``: the file's content digest and
+    kind (its suffixes), the spec's parameters (sorted), the config's draft [m] (the fidelity is checked there
+    when the spec has no design draft), the extraction settings and the code digest.
+    :class:`HullError` if ``spec`` names no file, run folder or builtin."""
+    from ..models._feature_library import FAITHFUL
+
+    base, _, query = spec.partition("?")
+    digest = _content_digest(base)
+    if digest is None and not base.startswith("builtin:"):
+        raise HullError(f"unknown parent {spec!r}; expected a library parent ({', '.join(parent_names())}), "
+                        "a parent .json, or a hull spec: a mesh or offsets file (relative to the config's "
+                        "folder), builtin:…, a run folder")
+    kind = base if digest is None else ("run folder" if Path(base).is_dir() else "".join(Path(base).suffixes).lower())
+    params = sorted(parse_qsl(query, keep_blank_values=True))
+    return {"kind": kind, "content": digest, "params": params, "draft": None if draft is None else float(draft),
+            "extraction": FAITHFUL, "code": _code_digest()}
+
+
+def _key_digest(key: dict) -> str:
+    return hashlib.sha256(json.dumps(key, sort_keys=True, default=list).encode()).hexdigest()
+
+
+def parent_digest(spec: str, draft: float | None = None) -> str | None:
+    """A digest of a run parent's content, for the compiled-program key: a parent ``.json``'s SHA-256, a hull
+    spec's feature key (:func:`parent_key`), None for a library parent (the package's code digest has it)."""
+    name = _library(spec)
+    if name is not None:
+        path = Path(name)
+        return hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None
+    return _key_digest(parent_key(spec, draft))
+
+
+def _read_kept(path: Path, key: dict) -> FeatureHull | None:
+    """The kept parent at ``path`` if it is one for ``key``, else None (absent, corrupt or another key's)."""
+    from ..models import read_features
+
+    try:
+        stored = json.loads(path.read_text()).get("key")
+        if json.loads(json.dumps(key, default=list)) != stored:
+            return None
+        return read_features(path)
+    except (OSError, ValueError, AttributeError, HullError):
+        return None
+
+
+def extract_spec(spec: str, draft: float | None = None) -> tuple[FeatureHull, dict]:
+    """Read the hull ``spec`` and extract its features faithfully (no cache), checked at its design draft:
+    the spec's (a builtin's T), else ``draft`` [m]. Returns the hull and the
+    extraction report of :func:`~hullopt.models._feature_library.extract_faithful`. :class:`HullError` when
+    neither the spec nor ``draft`` gives a design draft."""
+    from ..models._feature_library import extract_faithful
+    from .hulls import load_hull
+
+    loaded = load_hull(spec)
+    if draft is None and loaded.design_draft is None:
+        raise HullError(_no_draft(spec))
+    return extract_faithful(loaded.sections, loaded.name, loaded.design_draft or draft)
+
+
+def _no_draft(spec: str) -> str:
+    return (f"hull.draft: the parent {spec!r} has no known design draft; give it in [hull] as draft = … [m] "
+            "(the draft the targets are meant at)")
+
+
+def run_parent(spec: str, draft: float | None = None) -> FeatureHull:
+    """The feature-curve parent named by ``[hull] parent`` (see the module docstring); a hull spec's features
+    come from the cache folder when kept there, else are extracted and kept. ``draft`` [m] is the config's;
+    :class:`HullError` when it is None and the parent has no design draft, or on a bad spec."""
+    name = _library(spec)
+    if name is not None:
+        return load_parent(name)
+    key = parent_key(spec, draft)
+    path = cache_folder() / f"{_key_digest(key)[:32]}.json"
+    hull = _read_kept(path, key)
+    if hull is None:
+        hull, report = extract_spec(spec, draft)
+        _keep(path, hull, key, spec, report)
+    if draft is None and hull.design_draft is None:
+        raise HullError(_no_draft(spec))
+    return hull
+
+
+def _keep(path: Path, hull: FeatureHull, key: dict, spec: str, report: dict) -> None:
+    from ..geometry import atomic_write_bytes
+
+    data = {"key": key, "source": spec, "fidelity": report, **hull.to_dict()}
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(path, (json.dumps(data, separators=(",", ":"), default=list) + "\n").encode())
+    except OSError:
+        pass  # a read-only cache: extract again next time
