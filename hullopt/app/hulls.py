@@ -7,7 +7,8 @@
   (``?design=K`` picks design K of a sweep);
 * ``path/to/offsets.csv`` (``?n=121&m=81``: stations and points of the spline surface);
 * ``path/to/hull.stl[.gz]`` or any mesh trimesh reads, with
-  ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96``;
+  ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96&half=auto``: closed, open along its top (no deck),
+  or a half hull open at the centre plane (``half=auto|yes|no``);
 * ``path/to/hull.igs`` (``.iges``, ``.stp``, ``.step``: CAD surfaces, needs ``pip install 'hullopt[cad]'``), with
   the mesh parameters and ``tol``: the largest triangle edge of the tessellation [m, at the file's scale, in
   metres whatever the file's unit; default 1/200 of the model's largest extent].
