@@ -35,9 +35,9 @@ def test_hydro_drafts_table_and_displacement(cli):
 
 def test_export_formats(cli, tmp_path):
     from hullopt.app.hulls import load_hull
-    from hullopt.geometry import to_trimesh
+    from hullopt.geometry._mesh import hull_mesh  # what export writes: refined, then welded to float32
 
-    ours = to_trimesh(load_hull(WIGLEY).sections)
+    ours = hull_mesh(load_hull(WIGLEY).sections)
     for ext in ("stl", "obj", "ply", "glb"):
         out = tmp_path / f"h.{ext}"
         code, _, err = cli("export", WIGLEY, str(out))

@@ -263,10 +263,10 @@ def weld_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     import manifold3d
     import trimesh
 
-    verts = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    verts = np.array(mesh.vertices, dtype=np.float64, order="C")  # copies: nanobind needs writeable arrays
     size = max(float(np.abs(verts).max()), 1.0)
     whole = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=verts,
-                                                  tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint64)))
+                                                  tri_verts=np.array(mesh.faces, dtype=np.uint64, order="C")))
     if whole.status() != manifold3d.Error.NoError or whole.is_empty():
         raise ValueError(f"the mesh is not a closed manifold ({whole.status()}): it cannot be written watertight")
     checks = {}

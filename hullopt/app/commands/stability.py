@@ -219,10 +219,10 @@ def print_cmd(
     stem = Path(h.name.split(" ")[0]).name.split(".")[0] or "hull"
     rows = []
     for i, p in enumerate(parts, start=1):
-        for f in fmts:
-            export_mesh(p, out / f"{stem}_{i}of{pieces}.{f}")
+        # each file welded for its format and checked as read back (watertight, one body, no degenerate face)
+        written = [export_mesh(p, out / f"{stem}_{i}of{pieces}.{f}") for f in fmts]
         ext = p.bounds[:, 0]
-        rows.append([f"{i}", float(ext[0]), float(ext[1]), float(p.volume / 1e3), str(p.is_watertight)])
+        rows.append([f"{i}", float(ext[0]), float(ext[1]), float(p.volume / 1e3), str(all(w.ok for w in written))])
     whole = mesh.volume * (1000.0 * s) ** 3 / 1e3
     table(f"{h.name} at 1:{1 / s:g} in {out} (mm)", ["piece", "x from [mm]", "x to [mm]", "volume [cm³]", "watertight"],
           rows + [["whole", float(mesh.bounds[0, 0] * 1000 * s), float(mesh.bounds[1, 0] * 1000 * s), float(whole), ""]])
