@@ -1,0 +1,136 @@
+"""Your own hull as the parent of a design run: faithful feature extraction (DTC, KCS against their sliced
+meshes), a run config with a mesh spec as the parent, the kept features read back by a second run, a corrupt
+kept file rebuilt, and a hull spec without a design draft refused with a clear message."""
+
+import json
+
+import jax
+import numpy as np
+import pytest
+
+from hullopt.app import parents
+from hullopt.app.hulls import load_hull
+from hullopt.hydro import hydrostatics
+from hullopt.models import load_parent
+from hullopt.models._feature_library import extract_faithful, recipe_sections
+
+KCS = "kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230"
+_hydro = jax.jit(hydrostatics)
+
+
+def _fidelity(source, hull, draft):
+    """Relative ∇ error and LCB error [% Lpp] of the rebuilt hull against its source sections (hydrostatics)."""
+    h0, h1 = _hydro(source, draft), _hydro(hull.sections(), draft)
+    return float(h1.volume / h0.volume - 1.0), float(h1.lcb_pct - h0.lcb_pct)
+
+
+def test_library_dtc_holds_its_sliced_mesh(hulls):
+    dv, dl = _fidelity(recipe_sections("dtc", hulls), load_parent("dtc"), 14.5)
+    assert abs(dv) < 5e-4 and abs(dl) < 0.01, (dv, dl)  # measured: -0.0006 %, -0.0013 % Lpp
+
+
+def test_kcs_extracted_faithfully_at_the_default_resolution(hulls):
+    sections = load_hull(str(hulls / KCS)).sections  # the spec's default slicing, 201 x 96
+    hull, report = extract_faithful(sections, "kcs", 10.8)
+    dv, dl = _fidelity(sections, hull, 10.8)
+    assert report["met"] and report["level"] >= 2
+    assert abs(dv) < 5e-4 and abs(dl) < 0.01, (dv, dl)  # measured: +0.007 %, -0.001 % Lpp (level 3)
+
+
+CONFIG = """kind = "fit"
+
+[hull]
+parent = "{parent}"
+{draft}
+
+[[design.distribution]]
+x_a = 0.0
+x_b = 230.0
+modes = 2
+bound = 0.3
+
+[[design.contour_edit]]
+line = "fob_y"
+x_a = 40.0
+x_b = 200.0
+bound = 3.0
+
+[targets]
+cb = 0.66
+lcb_pct = -2.0
+
+[solver]
+max_steps = 60
+"""
+
+
+@pytest.fixture
+def own_config(tmp_path, hulls, monkeypatch):
+    """A fit config beside a folder ``hulls`` (a link to the example hulls) whose parent is the KCS mesh given
+    relative to the config, coarse (31 stations); kept parents go to ``tmp_path/parents``."""
+    (tmp_path / "hulls").symlink_to(hulls)
+    monkeypatch.setattr(parents, "cache_folder", lambda: tmp_path / "parents")
+
+    def write(draft="draft = 10.8", n=31):
+        cfg = tmp_path / "own.toml"
+        cfg.write_text(CONFIG.format(parent=f"hulls/{KCS}&n={n}&m=48", draft=draft))
+        return cfg
+
+    return write
+
+
+def test_own_mesh_parent_fits_and_its_features_are_kept(cli, tmp_path, own_config, monkeypatch):
+    calls = []
+    extract = parents.extract_spec
+    monkeypatch.setattr(parents, "extract_spec", lambda *a: calls.append(a) or extract(*a))
+    cfg = own_config()
+    code, first, err = cli("run", cfg, "--out", tmp_path / "a", "--json")
+    assert code == 0, err
+    report = json.loads(first)
+    assert report["met"] and abs(report["achieved"]["cb"] - 0.66) <= 1e-4
+    assert abs(report["achieved"]["lcb_pct"] + 2.0) <= 0.01
+    assert len(calls) == 1
+    kept = list((tmp_path / "parents").glob("*.json"))
+    assert len(kept) == 1
+    stored = json.loads(kept[0].read_text())
+    assert stored["fidelity"]["met"] and stored["key"]["draft"] == 10.8
+    written = json.loads((tmp_path / "a" / "config.json").read_text())["hull"]["parent"]
+    assert written == str(tmp_path / "hulls" / KCS) + "&n=31&m=48"  # the config's folder made explicit
+
+    # A second run reads the kept features back: no extraction.
+    code, again, err = cli("run", cfg, "--out", tmp_path / "b", "--json")
+    assert code == 0, err
+    assert len(calls) == 1 and json.loads(again) == report
+
+    # A corrupt kept file is extracted again and rewritten.
+    kept[0].write_text('{"key": ')
+    code, third, err = cli("run", cfg, "--out", tmp_path / "c", "--json")
+    assert code == 0, err
+    assert len(calls) == 2 and json.loads(third)["achieved"] == report["achieved"]
+    assert json.loads(kept[0].read_text())["key"] == stored["key"]
+
+
+def test_the_program_key_follows_the_parent_content(hulls, tmp_path):
+    spec = str(hulls / KCS)
+    a, b = parents.parent_digest(spec + "&n=31"), parents.parent_digest(spec + "&n=33")
+    assert a and b and a != b
+    copy = tmp_path / "kcs.stl.gz"
+    copy.write_bytes((hulls / KCS.partition("?")[0]).read_bytes())
+    assert parents.parent_digest(str(copy) + "?scale=31.6&lpp=230&n=31") == a  # content, not path
+    assert parents.parent_digest("dtc") is None
+
+
+def test_a_mesh_parent_without_a_draft_is_refused(cli, tmp_path, own_config, monkeypatch):
+    from hullopt.models import _feature_library
+
+    monkeypatch.setattr(_feature_library, "extract_faithful", lambda *a, **k: pytest.fail("extracted before the check"))
+    cfg = own_config(draft="", n=11)
+    code, _, err = cli("run", cfg, "--out", tmp_path / "o")
+    assert code == 2 and "hull.draft" in err and "no known design draft" in err and "Traceback" not in err, err
+
+
+def test_an_unknown_parent_names_what_is_accepted(cli, tmp_path, own_config):
+    cfg = own_config()
+    cfg.write_text(cfg.read_text().replace(f"hulls/{KCS}&n=31&m=48", "nosuch.stl?scale=2"))
+    code, _, err = cli("run", cfg, "--out", tmp_path / "o")
+    assert code == 2 and "unknown parent 'nosuch.stl?scale=2'" in err and "hull spec" in err, err
