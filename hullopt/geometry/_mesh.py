@@ -263,7 +263,10 @@ def weld_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     import manifold3d
     import trimesh
 
-    verts = np.array(mesh.vertices, dtype=np.float64, order="C")  # copies: nanobind needs writeable arrays
+    # float32 first: vertices that the file could not tell apart become equal, and manifold3d collapses the
+    # zero-length edges between them (a collapse of a short float64 edge may be refused where the faces
+    # around it are slivers). Copies: nanobind needs writeable arrays.
+    verts = np.array(np.asarray(mesh.vertices, dtype=np.float32), dtype=np.float64, order="C")
     size = max(float(np.abs(verts).max()), 1.0)
     whole = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=verts,
                                                   tri_verts=np.array(mesh.faces, dtype=np.uint64, order="C")))
@@ -271,8 +274,8 @@ def weld_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
         raise ValueError(f"the mesh is not a closed manifold ({whole.status()}): it cannot be written watertight")
     checks = {}
     for rel in _WELD_TOLERANCES:
-        out = whole.simplify(rel * size).to_mesh()  # float32 vertices, as the file stores them
-        welded = trimesh.Trimesh(np.asarray(out.vert_properties, np.float32)[:, :3].astype(np.float64),
+        out = whole.simplify(rel * size).to_mesh64()  # a subset of the (float32) vertices given
+        welded = trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3].astype(np.float32).astype(np.float64),
                                  np.asarray(out.tri_verts, np.int64), process=False)
         seen = welded.copy()
         seen.merge_vertices()  # what a reader does

@@ -174,11 +174,12 @@ def deform(
     if t is not None:
         before, after = hydrostatics(model.hull.sections(), t), hydrostatics(sec, t)
         for key, label in (("volume", "∇ [m³]"), ("cb", "Cb"), ("lcb_pct", "LCB [% Lpp fwd of midship]")):
-            console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}")
+            console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}",
+                          markup=False)  # "[m³]" is no style tag
     mesh = hull_mesh(sec)  # refined along the length, welded for the file by export_mesh
     out.parent.mkdir(parents=True, exist_ok=True)
     try:
         written = export_mesh(mesh, out)
     except ValueError as e:
         raise HullError(str(e)) from None
-    console.print(f"wrote {out} ({written.summary()}; read back)")
+    console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)

@@ -115,4 +115,4 @@ def export(
         written = export_mesh(mesh, out)
     except ValueError as e:
         raise HullError(str(e)) from None
-    console.print(f"wrote {out} ({written.summary()}; read back)")
+    console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)
