@@ -171,3 +171,20 @@ def test_print_pieces_are_valid_files(cli, tmp_path):
 
     whole = to_trimesh(load_hull(str(SEED003)).sections)
     assert sum(p.volume for p in pieces[:3]) == pytest.approx(whole.volume * 10.0**3, rel=1e-5)  # 1:100 in mm
+
+
+def test_offsets_of_a_knuckled_hull_carry_the_knuckles_and_read_back(tmp_path):
+    """A run's offsets.csv writer (dense) on a hard-chine hull: the chine is a waterline and a ``# knuckles``
+    entry at each station, and the table read back gives ∇ and LCB back."""
+    from hullopt.app.hulls import load_hull
+    from hullopt.drawing import write_offsets_wide
+    from hullopt.hydro import hydrostatics
+
+    sec = load_hull(str(chine_table(tmp_path))).sections
+    out = write_offsets_wide(sec, tmp_path / "offsets.csv", name="chine", dense=True)
+    text = out.read_text()
+    line = next(s for s in text.splitlines() if s.startswith("# knuckles = "))
+    assert len(line.split(";")) > sec.n // 2 and all(k.strip().endswith("@2") for k in line[13:].split(";"))
+    assert "# lpp = 60" in text and "# deck = 6" in text
+    want, got = hydrostatics(sec, 4.0), hydrostatics(load_hull(str(out)).sections, 4.0)
+    assert float(got.volume) == pytest.approx(float(want.volume), rel=DV) and abs(float(got.lcb - want.lcb)) < DLCB * 60

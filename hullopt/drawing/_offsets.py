@@ -59,19 +59,60 @@ def _write(path, header: list[str], rows: list[list[str]], meta: dict[str, str],
 def write_offsets_wide(sections: Sections, path: str | os.PathLike, x=None, z=None, name: str = "",
                        dense: bool = False) -> Path:
     """Wide layout: header ``x,<z1>,…``, one row per station (default: the sections' own stations) with
-    half-breadths [m] at waterlines ``z`` [m] (default: 11 from the keel to the lowest deck edge; with
-    ``dense``, :func:`dense_waterlines`, so that the table read back — ``hullopt hydro offsets.csv`` — gives
-    the hull's ∇ to about 1e-4 where the bottom is not flat with a deadrise). Metadata: ``lpp`` [m] and
-    ``deck`` [m], the top waterline (the lowest deck edge), which the reader takes as the deck."""
+    half-breadths [m] at waterlines ``z`` [m] (default: 11 from the keel to the lowest deck edge).
+
+    With ``dense`` (what a run writes), the waterlines are :func:`dense_waterlines` plus the height of each
+    station's knuckle (:func:`knuckles`: a chine, a transom edge), and ``# knuckles = x@z; …`` names them,
+    so that the table read back — ``hullopt hydro offsets.csv`` — keeps the corners and gives the hull's ∇
+    to about 1e-4 (where the reader's 81 heights per section resolve the bottom: a flat bottom with a
+    slight rise of floor, as the DTC's, needs ``offsets.csv?m=401``). Metadata: ``lpp`` [m] and ``deck``
+    [m], the top waterline (the lowest deck edge), which the reader takes as the deck.
+    """
     x = np.asarray(sections.x, float) if x is None else np.asarray(x, float)
+    corners: dict[int, float] = {}
     if z is None:
         z = dense_waterlines(sections) if dense else _default_waterlines(sections)
+        if dense and np.array_equal(x, np.asarray(sections.x, float)):
+            corners = knuckles(sections, float(z[-1]))
+            z = np.union1d(z, np.fromiter(corners.values(), float, len(corners)))
     z = np.asarray(z, float)
     y = half_breadths(sections, x, z)
-    rows = [[f"{xi:.6g}", *(f"{v:.6g}" for v in yi)] for xi, yi in zip(x, y)]
-    meta = {"lpp": f"{float(sections.lpp):.6g}", "deck": f"{z[-1]:.6g}"}
-    return _write(path, ["x", *(f"{v:.6g}" for v in z)], rows, meta,
-                  f"offsets of {name or 'a hull'} (half-breadths, m)")
+    fx, fz = [f"{v:.6g}" for v in x], [f"{v:.6g}" for v in z]
+    rows = [[xi, *(f"{v:.6g}" for v in yi)] for xi, yi in zip(fx, y)]
+    meta = {"lpp": f"{float(sections.lpp):.6g}", "deck": fz[-1]}
+    if corners:
+        meta["knuckles"] = "; ".join(f"{fx[i]}@{fz[int(np.searchsorted(z, zk))]}" for i, zk in sorted(corners.items()))
+    return _write(path, ["x", *fz], rows, meta, f"offsets of {name or 'a hull'} (half-breadths, m)")
+
+
+def knuckles(sections: Sections, top: float, angle_deg: float = 30.0) -> dict[int, float]:
+    """The knuckle of each station that has one: ``{station index: height [m]}`` of its sharpest corner (a
+    turn of the section polyline by more than ``angle_deg``), off the centreline and strictly between the
+    baseline and ``top`` — one per station, as the offset reader splits a station's spline once. Corners
+    closer than ``1e-4 · top`` in height share one height (so one waterline)."""
+    yz = np.asarray(sections.yz, float)
+    breadth = max(float(yz[..., 0].max()), 1e-9)
+    out: dict[int, float] = {}
+    heights: list[float] = []
+    for i, p in enumerate(yz):
+        p = p[np.r_[True, np.any(np.abs(np.diff(p, axis=0)) > 1e-9 * breadth, axis=1)]]
+        if len(p) < 3:
+            continue
+        d = np.diff(p, axis=0)
+        ang = np.arctan2(d[:, 1], d[:, 0])
+        turn = np.abs(np.angle(np.exp(1j * np.diff(ang))))
+        v = p[1:-1]
+        ok = (turn > np.radians(angle_deg)) & (v[:, 0] > 1e-3 * breadth) & (v[:, 1] > 1e-6 * top) & (v[:, 1] < top * (1 - 1e-6))
+        if not ok.any():
+            continue
+        zk = float(v[np.argmax(np.where(ok, turn, -1.0)), 1])
+        near = [h for h in heights if abs(h - zk) <= 1e-4 * top]
+        if near:
+            zk = near[0]
+        else:
+            heights.append(zk)
+        out[i] = zk
+    return out
 
 
 def dense_waterlines(sections: Sections, n: int = 41) -> np.ndarray:
