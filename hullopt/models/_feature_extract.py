@@ -5,12 +5,14 @@ For each station's half-section (a polyline keel → deck edge, from an offset t
 1. **Contour points.** The keel point; the flat of bottom (the run of points from the keel within
    ``flat_tol`` of the keel height) ends at ``F_b``; the flat of side (the run down from the deck edge within
    ``flat_tol`` of the deck-edge half-breadth) starts at ``F_s``; the deck edge. Each flat is then cut back
-   to where it is straight: no point of it farther than ``straight_tol`` from the chord keel → ``F_b``
-   (``F_s`` → deck edge), because the frame is rebuilt with a straight flat. Without that, the run within
-   ``flat_tol`` reaches into the bilge and its chord cuts a sliver off every midship frame (the DTC lost
-   0.09 % of ∇ so), and at a station that cuts the bulb alone (deck edge on the centreline) the whole
-   frame passed for flat of side. Along the length these give the profile (keel line), flat-of-bottom,
-   flat-of-side and deck side lines; the aftmost frame is the transom end line.
+   until the area between it and its chord keel → ``F_b`` (``F_s`` → deck edge) is below ``cut_tol``,
+   because the frame is rebuilt with a straight flat. Without that, the run within ``flat_tol`` reaches
+   into the bilge and its chord cuts a sliver off every midship frame (the DTC lost 0.09 % of ∇ so), and
+   at a station that cuts the bulb alone (deck edge on the centreline) the whole frame passed for flat of
+   side. The area is signed (ripples of a faceted flat about its chord cancel), so a rippled flat stays
+   whole and no ripple becomes a segment of its own at one station. Along the length these give the
+   profile (keel line), flat-of-bottom, flat-of-side and deck side lines; the aftmost frame is the transom
+   end line.
 2. **Smoothing.** The curved part ``F_b → F_s`` is cut into *parts* where it runs along the centreline (a
    bulb below the forefoot joined to the hull above, or a station forward of the stem that cuts the bulb
    alone); each part is fitted with a smoothing spline in arc length (raw curvature of a faceted mesh is
@@ -151,27 +153,27 @@ def _inflections(curve: np.ndarray, lobe_tol: float) -> list[int]:
     return bounds[1:-1]
 
 
-def _sagitta(p: np.ndarray, i: int, j: int) -> float:
-    """Largest distance [m] of the points ``p[i+1 .. j-1]`` from the chord ``p[i] → p[j]``."""
-    if j - i < 2:
+def _cut_off(p: np.ndarray, i: int, j: int) -> float:
+    """Area [m²] the chord ``p[i] → p[j]`` cuts off the hull: between the polyline ``p[i..j]`` and the chord,
+    positive where the polyline runs outside it (on its right, the hull being on the left of a frame drawn
+    keel → deck), negative where inside; ripples about the chord cancel."""
+    q = p[i : j + 1]
+    if len(q) < 3:
         return 0.0
-    c = p[j] - p[i]
-    n = np.hypot(*c)
-    if n == 0:
-        return float(np.max(np.hypot(*(p[i + 1 : j] - p[i]).T)))
-    return float(np.max(np.abs((p[i + 1 : j] - p[i]) @ np.array([-c[1], c[0]])))) / n
+    y, z = q[:, 0], q[:, 1]
+    return 0.5 * float(np.sum(y * np.roll(z, -1) - np.roll(y, -1) * z))  # shoelace: the loop runs anticlockwise
 
 
 def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: float, level: int = 2,
-                    dense: int = 600, straight_tol: float | None = None):
+                    dense: int = 600, cut_tol: float | None = None):
     """Contour points and segments of one half-section ``p (m, 2)``.
 
-    ``flat_tol``, ``lobe_tol``, ``straight_tol`` [m] as in :func:`extract_features` (``straight_tol``
-    defaults to 2 % of ``flat_tol``). Returns ``(keel, deck, segments)`` with ``segments`` a list of ``(a, b, apex, aux)`` from ``F_b`` up to
+    ``flat_tol``, ``lobe_tol`` [m] and ``cut_tol`` [m²] as in :func:`extract_features` (``cut_tol``
+    defaults to ``10 flat_tol²``). Returns ``(keel, deck, segments)`` with ``segments`` a list of ``(a, b, apex, aux)`` from ``F_b`` up to
     ``F_s`` (``segments[0][0]`` is ``F_b``, ``segments[-1][1]`` is ``F_s``).
     """
     p = np.asarray(p, dtype=np.float64)
-    straight_tol = 0.02 * flat_tol if straight_tol is None else straight_tol
+    cut_tol = 10.0 * flat_tol**2 if cut_tol is None else cut_tol  # = 1e-5 B² with flat_tol's default 1e-3 B
     step = np.hypot(*np.diff(p, axis=0).T)
     p = p[np.concatenate([[True], step > 1e-9 * max(1.0, np.abs(p).max())])]
     keel, deck = p[0].copy(), p[-1].copy()
@@ -180,12 +182,12 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     ib = 0
     while ib + 1 < len(p) - 1 and p[ib + 1, 1] <= keel[1] + flat_tol and p[ib + 1, 0] >= p[ib, 0]:
         ib += 1
-    while ib > 0 and _sagitta(p, 0, ib) > straight_tol:  # the flat ends where the bilge starts to rise
+    while ib > 0 and abs(_cut_off(p, 0, ib)) > cut_tol:  # the flat ends where the bilge starts to rise
         ib -= 1
     fs = len(p) - 1
     while fs - 1 > ib and p[fs - 1, 0] >= deck[0] - flat_tol and p[fs - 1, 1] <= p[fs, 1]:
         fs -= 1
-    while fs < len(p) - 1 and _sagitta(p, fs, len(p) - 1) > straight_tol:
+    while fs < len(p) - 1 and abs(_cut_off(p, fs, len(p) - 1)) > cut_tol:
         fs += 1
     curved = p[ib : fs + 1]
     if len(curved) < 2:
@@ -218,13 +220,13 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
 
 
 def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float = 0.0, level: int = 2,
-                     dense: int = 600, straight_tol=None):
+                     dense: int = 600, cut_tol=None):
     """Feature arrays of a parent hull given as sections ``x (n,)``, ``yz (n, m, 2)`` (numpy).
 
-    ``flat_tol`` [m] (default 0.1 % of the greatest breadth) decides what is flat, ``straight_tol`` [m]
-    (default 0.002 % of it; ``math.inf``: the flats as the band ``flat_tol`` gives them) how straight a flat
-    must be (module docstring, 1.); ``lobe_tol`` [m]
-    (default 0.03 % of it) is the least sagitta of a lobe between inflection points; ``smoothing`` is the
+    ``flat_tol`` [m] (default 0.1 % of the greatest breadth B) decides what is flat, ``cut_tol`` [m²]
+    (default 1e-5 B²; ``math.inf``: the flats as the band ``flat_tol`` gives them) the most area a flat's
+    chord may cut off the frame (module docstring, 1.); ``lobe_tol`` [m]
+    (default 0.03 % of B) is the least sagitta of a lobe between inflection points; ``smoothing`` is the
     smoothing spline's λ per cubed arc length (0: chosen by generalised cross-validation); ``level``
     the levels of auxiliary apexes (1: the patent's frame; 2, the default: three per half, see
     :mod:`._feature_frame`).
@@ -238,8 +240,8 @@ def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float 
     breadth = 2.0 * max(float(yz[..., 0].max()), 1e-9)
     flat_tol = 1e-3 * breadth if flat_tol is None else flat_tol
     lobe_tol = 3e-4 * breadth if lobe_tol is None else lobe_tol
-    straight_tol = 2e-5 * breadth if straight_tol is None else straight_tol
-    stations = [extract_station(p, flat_tol, lobe_tol, smoothing, level, dense, straight_tol) for p in yz]
+    cut_tol = 1e-5 * breadth**2 if cut_tol is None else cut_tol
+    stations = [extract_station(p, flat_tol, lobe_tol, smoothing, level, dense, cut_tol) for p in yz]
     s_max = max(len(st[2]) for st in stations)
     n = len(x)
     keel = np.array([st[0] for st in stations])

@@ -8,7 +8,7 @@ JSON files are read. Recipes:
 * ``dtc`` — the Duisburg Test Case container ship (el Moctar et al. 2012), sliced at 61 stations × 96 points,
   design draft 14.5 m, two levels of auxiliary apexes beyond the patent's (``level = 3``: a single auxiliary
   apex per half cannot hold the long straight flare of its forebody to 0.5 % of B; at ``level = 2`` ∇ is
-  0.05 % short). Rebuilt (61 × 163 points) it holds the sliced mesh's ∇ to 0.001 % and LCB to 0.002 % Lpp
+  0.05 % short). Rebuilt (61 × 163 points) it holds the sliced mesh's ∇ to 0.003 % and LCB to 0.001 % Lpp
   at 14.5 m;
 * ``tanker`` — a full, tanker-like form generated from principal dimensions (Lpp 320 m, B 58 m, D 30 m,
   T 20.8 m, the KVLCC2's) and a sectional-area curve with a parallel midbody (:func:`generate_hull`);
@@ -16,7 +16,7 @@ JSON files are read. Recipes:
 * ``seed003`` — the seed-003 offset table (its stated assumptions: Lpp 95 m, waterlines 0.8 m apart).
 
 The analytic and generated parents (``wigley``, ``seed003``, ``tanker``) keep their flats as first extracted
-(``straight_tol = inf``): the example configs' targets are their particulars.
+(``cut_tol = inf``): the example configs' targets are their particulars.
 
 A user's hull (a mesh, an offsets table) is extracted by :func:`extract_faithful`, which raises the level of
 auxiliary apexes until the rebuilt hull holds ∇ and LCB (:data:`FAITHFUL`).
@@ -176,9 +176,9 @@ RECIPES = {
     "dtc": dict(level=3, q=2, smoothing=1e-7, design_draft=14.5,
                 source="DTC (el Moctar, Shigunov & Zorn 2012), OpenFOAM DTC-scaled.stl.gz ×59.407, 61 stations"),
     "tanker": dict(source="generated: Lpp 320, B 58, D 30, T 20.8 m, parallel midbody 0.3–0.65 Lpp"),
-    "wigley": dict(level=2, q=2, smoothing=1e-9, design_draft=6.25, straight_tol=math.inf,
+    "wigley": dict(level=2, q=2, smoothing=1e-9, design_draft=6.25, cut_tol=math.inf,
                    source="Wigley hull L 100, B 10, T 6.25, D 10 m"),
-    "seed003": dict(level=2, q=2, smoothing=1e-9, design_draft=None, straight_tol=math.inf,
+    "seed003": dict(level=2, q=2, smoothing=1e-9, design_draft=None, cut_tol=math.inf,
                     source="seed 003 Table 1 (assumed Lpp 95 m, waterlines 0.8 m), spline surface 41 × 41"),
 }
 
@@ -205,7 +205,7 @@ def build_parent(name: str, hulls: Path | None = None) -> FeatureHull:
     r = dict(RECIPES[name])
     r.pop("source")
     if name == "tanker":
-        h = generate_hull(320.0, 58.0, 30.0, 20.8, straight_tol=math.inf)
+        h = generate_hull(320.0, 58.0, 30.0, 20.8, cut_tol=math.inf)
         return feature_hull(_arrays(h), "tanker", 20.8, h.q)
     draft = r.pop("design_draft")
     return extract_parent(recipe_sections(name, hulls), name, draft, **r)
