@@ -168,13 +168,15 @@ _WELD_TOLERANCES = (1e-7, 1e-6, 1e-5)
 def resample_sections(sections: Sections, stations: int = 200, points: tuple[int, int] = (80, 200)) -> Sections:
     """The hull on a finer grid for writing (numpy): every section resampled to ``2·m`` points clipped to
     ``points`` (equally spaced in its arc length, so that point ``j`` is the same fraction of the girth at
-    every station and the loft between stations does not twist where the points crowd differently), then
+    every station and the loft between stations does not twist where the points crowd differently; the
+    sample nearest each corner — a turn of more than 30° — moved onto it, so corners stay exact), then
     PCHIP-interpolated point by point along x (monotone: no overshoot) at ``k`` stations per interval, ``k``
     the least giving ``stations`` intervals in all (1 when there are that many already).
 
-    The given stations stay stations (their sections to the resampling's corner rounding: about
+    The given stations stay stations (their sections to the resampling's rounding of gentle turns: about
     ``1e-4`` of ∇ for 40 points, less for more), so the mesh's hydrostatics match Simpson's rule over the
-    given stations where the sectional-area curve is smooth and the mesh's own where it is not.
+    given stations where the sectional-area curve is smooth, and where it is not the mesh is the better
+    integral (DTC, 61 stations: the mesh's ∇ +0.02 %, LCB −0.007 % Lpp from the stations' Simpson sums).
     """
     from scipy.interpolate import PchipInterpolator
 
@@ -185,12 +187,19 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
     u = np.linspace(0.0, 1.0, big_m)
     even = np.empty((n, big_m, 2))
     for i, p in enumerate(yz):
-        s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p, axis=0).T))]
+        seg = np.hypot(*np.diff(p, axis=0).T)
+        s = np.r_[0.0, np.cumsum(seg)]
         if s[-1] <= 0.0:  # a section collapsed to a point
             even[i] = p[0]
             continue
-        even[i, :, 0] = np.interp(u, s / s[-1], p[:, 0])
-        even[i, :, 1] = np.interp(u, s / s[-1], p[:, 1])
+        s = s / s[-1]
+        ui = u.copy()
+        for c in _corners(p[np.r_[True, seg > 0]], s[np.r_[True, seg > 0]]):
+            j = int(round(c * (big_m - 1)))  # the nearest sample moves onto the corner: corners stay exact
+            if 0 < j < big_m - 1 and ui[j - 1] < c < ui[j + 1]:
+                ui[j] = c
+        even[i, :, 0] = np.interp(ui, s, p[:, 0])
+        even[i, :, 1] = np.interp(ui, s, p[:, 1])
     k = max(1, math.ceil(stations / max(n - 1, 1)))
     if k > 1 and n > 1:
         t = np.arange(k) / k
@@ -200,6 +209,17 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
     else:
         xs = x
     return Sections(x=xs, yz=even, lpp=np.asarray(float(sections.lpp)))
+
+
+def _corners(p: np.ndarray, s: np.ndarray, angle_deg: float = 30.0) -> np.ndarray:
+    """Arc-length parameters ``s`` of the vertices of polyline ``p`` (no repeated points) where it turns by
+    more than ``angle_deg`` (chines, knuckles, a box's bilge, the joints of a bulb with the centreline)."""
+    if len(p) < 3:
+        return np.empty(0)
+    d = np.diff(p, axis=0)
+    ang = np.arctan2(d[:, 1], d[:, 0])
+    turn = np.abs(np.angle(np.exp(1j * np.diff(ang))))
+    return s[1:-1][turn > np.radians(angle_deg)]
 
 
 def hull_mesh(sections: Sections) -> trimesh.Trimesh:
