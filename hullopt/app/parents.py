@@ -6,18 +6,21 @@ hull holds ∇ to 0.05 % and LCB to 0.01 % Lpp) and kept in the cache folder::
 
     $HULLOPT_CACHE/parents/<key digest>.json        (default ~/.cache/hullopt/parents)
 
-keyed by the SHA-256 of the file's content (not its path), the spec's parameters and the extraction's settings
-and code (the sources that read, slice and extract a hull), so a later run reads them back; a missing, corrupt
-or foreign file is extracted again and rewritten (atomically; a read-only cache is only read). The file is a
-parent ``.json`` (:func:`~hullopt.models.save_features`) with the key and the measured fidelity beside it.
+keyed by the SHA-256 of the file's content (not its path), the spec's parameters, the config's draft and the
+extraction's settings and code (the sources that read, slice and extract a hull), so a later run reads them
+back; a missing, corrupt or foreign file is extracted again and rewritten (atomically; a read-only cache is
+only read); files unused for 30 days are deleted when a new one is written. A kept file is a parent ``.json``
+(:func:`~hullopt.models.save_features`) with the key and the measured fidelity (``"fidelity"``) beside it.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import json
 import os
+import time
 from pathlib import Path
 from urllib.parse import parse_qsl
 
@@ -121,9 +124,12 @@ def _read_kept(path: Path, key: dict) -> FeatureHull | None:
         stored = json.loads(path.read_text()).get("key")
         if json.loads(json.dumps(key, default=list)) != stored:
             return None
-        return read_features(path)
+        hull = read_features(path)
     except (OSError, ValueError, AttributeError, HullError):
         return None
+    with contextlib.suppress(OSError):
+        path.touch()  # in use: keep it (see _keep)
+    return hull
 
 
 def extract_spec(spec: str, draft: float | None = None) -> tuple[FeatureHull, dict]:
@@ -171,4 +177,9 @@ def _keep(path: Path, hull: FeatureHull, key: dict, spec: str, report: dict) -> 
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_bytes(path, (json.dumps(data, separators=(",", ":"), default=list) + "\n").encode())
     except OSError:
-        pass  # a read-only cache: extract again next time
+        return  # a read-only cache: extract again next time
+    cutoff = time.time() - 30 * 86400.0  # kept parents unused for 30 days (older code, edited files) go
+    for old in path.parent.glob("*.json"):
+        with contextlib.suppress(OSError):
+            if old.stat().st_mtime < cutoff:
+                old.unlink()

@@ -169,8 +169,9 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     """Contour points and segments of one half-section ``p (m, 2)``.
 
     ``flat_tol``, ``lobe_tol`` [m] and ``cut_tol`` [m²] as in :func:`extract_features` (``cut_tol``
-    defaults to ``10 flat_tol²``). Returns ``(keel, deck, segments)`` with ``segments`` a list of ``(a, b, apex, aux)`` from ``F_b`` up to
-    ``F_s`` (``segments[0][0]`` is ``F_b``, ``segments[-1][1]`` is ``F_s``).
+    defaults to ``10 flat_tol²``). Returns ``(keel, deck, segments)`` with ``segments`` a list of
+    ``(a, b, apex, aux)`` from ``F_b`` up to ``F_s`` (``segments[0][0]`` is ``F_b``, ``segments[-1][1]`` is
+    ``F_s``).
     """
     p = np.asarray(p, dtype=np.float64)
     cut_tol = 10.0 * flat_tol**2 if cut_tol is None else cut_tol  # = 1e-5 B² with flat_tol's default 1e-3 B
