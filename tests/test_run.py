@@ -3,6 +3,7 @@ configs failing fast with a message naming the field."""
 
 import json
 import shutil
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -119,3 +120,22 @@ def test_bad_configs_fail_fast(cli, tmp_path, edit, message):
 def test_missing_config_file(cli, tmp_path):
     code, _, err = cli("run", str(tmp_path / "none.toml"))
     assert code == 2 and "cannot read the config" in err
+
+
+def test_every_shipped_config_is_valid():
+    """Each file in configs/ reads and validates as what it is (run, wind, or a deform design)."""
+    from hullopt.app.commands.features import read_design
+    from hullopt.app.config import load_config
+    from hullopt.app.wind_config import read_wind_config
+    from hullopt.models import parent_names
+
+    for path in sorted(CONFIGS.glob("*.toml")):
+        top = tomllib.loads(path.read_text())
+        if "kind" in top:
+            cfg, _ = load_config(path)
+            parent = cfg.hull.parent.partition("?")[0]
+            assert parent in parent_names() or Path(parent).is_file(), path  # resolved beside the config
+        elif "parent" in top:
+            read_design(path)
+        else:
+            read_wind_config(path)
