@@ -113,11 +113,52 @@ def _cap_faces(loop_yz: np.ndarray, offset: int, outward_x: float) -> np.ndarray
     import manifold3d  # robust ear clipping that keeps the input's vertices and edge directions
 
     # Seen from +x (y right, z up) the loop port keel → deck edge → starboard runs counter-clockwise.
-    tri = np.asarray(manifold3d.triangulate([np.ascontiguousarray(loop_yz)]), dtype=np.int64) + offset
+    tri = np.asarray(manifold3d.triangulate([np.ascontiguousarray(loop_yz)]), dtype=np.int64)
+    tri = _flip_collinear(tri, np.asarray(loop_yz, np.float64)) + offset
     return tri if outward_x > 0 else tri[:, ::-1]
 
 
-def to_trimesh(sections: Sections) -> trimesh.Trimesh:
+def _flip_collinear(tri: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Remove the zero-area triangles of a planar triangulation by edge flips: a triangle whose vertex ``w``
+    lies on its edge ``u v`` (ear clipping makes these from collinear loop points, e.g. an end station lying
+    in the centre plane) and the triangle ``v u q`` across that edge become ``u w q`` and ``w v q``, which
+    keeps the boundary and the orientation. Triangles that cannot be flipped are left as they are."""
+    tri = tri.copy()
+    scale = float(np.ptp(p, axis=0).max()) if len(p) else 1.0
+
+    def signed(t):
+        a, b, c = p[t[..., 0]], p[t[..., 1]], p[t[..., 2]]
+        return 0.5 * ((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
+
+    tiny = 1e-14 * scale**2
+    for _ in range(4 * len(tri)):
+        bad = np.flatnonzero(np.abs(signed(tri)) <= tiny)
+        if not len(bad):
+            break
+        done = False
+        for k in bad:
+            t = tri[k]
+            lengths = [np.hypot(*(p[t[(e + 1) % 3]] - p[t[e]])) for e in range(3)]
+            e = int(np.argmax(lengths))
+            u, v, w = t[e], t[(e + 1) % 3], t[(e + 2) % 3]
+            other = np.flatnonzero(np.any((tri == v) & (np.roll(tri, -1, axis=1) == u), axis=1))
+            if not len(other):
+                continue
+            j = int(other[0])
+            q = int(next(a for a in tri[j] if a not in (u, v)))
+            sign = np.sign(signed(tri[j]))
+            new = np.array([[u, w, q], [w, v, q]])
+            if sign == 0 or q == w or np.any(np.sign(signed(new)) != sign) or np.any(np.abs(signed(new)) <= tiny):
+                continue  # the flip would fold the cap or leave a degenerate face
+            tri[k], tri[j] = new
+            done = True
+            break
+        if not done:
+            break
+    return tri
+
+
+def to_trimesh(sections: Sections, wall: float = 1e-7) -> trimesh.Trimesh:
     """The closed, watertight triangle mesh of the whole hull (both sides, deck, keel, end caps).
 
     The port grid and its mirror image are joined along the keel and across the deck and closed by the two
@@ -125,13 +166,14 @@ def to_trimesh(sections: Sections) -> trimesh.Trimesh:
     ``1e-7`` of the hull's size on each side: where sections have not started, or a bulb joins the hull, the
     two sides then form a thin double wall instead of touching (which would not be a 2-manifold). The
     volume this adds is negligible (2·1e-7·size × the centre-plane area); exclude faces with
-    ``|y| ≤ 1e-7·size`` when summing areas.
+    ``|y| ≤ 1e-7·size`` when summing areas. ``wall`` sets that fraction (:func:`hull_mesh` writes 1e-6, so
+    the faces across the wall stay well above float32's resolution and the degenerate-face threshold).
     """
     import trimesh
 
     g = surface_grid(sections, np).astype(np.float64)
     n, m, _ = g.shape
-    eps = centreline_offset(g)
+    eps = centreline_offset(g, wall)
     g[..., 1] = np.maximum(g[..., 1], eps)
     port = g.reshape(-1, 3)
     verts = np.concatenate([port, port * np.array([1.0, -1.0, 1.0])])
@@ -151,9 +193,9 @@ def to_trimesh(sections: Sections) -> trimesh.Trimesh:
     return trimesh.Trimesh(verts, faces, process=False)
 
 
-def centreline_offset(points: np.ndarray) -> float:
-    """Half-thickness [m] given to the centre plane in closed meshes: 1e-7 of the hull's size."""
-    return 1e-7 * max(float(np.abs(points).max()), 1.0)
+def centreline_offset(points: np.ndarray, wall: float = 1e-7) -> float:
+    """Half-thickness [m] given to the centre plane in closed meshes: ``wall`` (1e-7) of the hull's size."""
+    return wall * max(float(np.abs(points).max()), 1.0)
 
 
 # ------------------------------------------------------------------------------------------ meshes for files
@@ -165,13 +207,18 @@ TINY_FACE = 1e-12
 _WELD_TOLERANCES = (1e-7, 1e-6, 1e-5)
 
 
-def resample_sections(sections: Sections, stations: int = 200, points: tuple[int, int] = (80, 200)) -> Sections:
+def resample_sections(sections: Sections, stations: int = 200, points: tuple[int, int] = (80, 200),
+                      max_twist: float = 0.25) -> Sections:
     """The hull on a finer grid for writing (numpy): every section resampled to ``2·m`` points clipped to
     ``points`` (equally spaced in its arc length, so that point ``j`` is the same fraction of the girth at
     every station and the loft between stations does not twist where the points crowd differently; the
     sample nearest each corner — a turn of more than 30° — moved onto it, so corners stay exact), then
-    PCHIP-interpolated point by point along x (monotone: no overshoot) at ``k`` stations per interval, ``k``
-    the least giving ``stations`` intervals in all (1 when there are that many already).
+    PCHIP-interpolated point by point along x (monotone: no overshoot) at ``k`` stations per interval: at
+    least enough for ``stations`` intervals in all, and more (up to 64) where the loft twists — where the
+    step from one point to the next changes between the two stations by more than ``max_twist`` of the
+    mean step (a bulb or a stem tip ending in a line on the centreline), so that a cut across the mesh is
+    a smooth polyline, which the mesh reader resamples. Each end section is also repeated ``1e-4`` of the
+    length inside the end (a prism: the volume changes by that times the end's change of area, ~1e-8).
 
     The given stations stay stations (their sections to the resampling's rounding of gentle turns: about
     ``1e-4`` of ∇ for 40 points, less for more), so the mesh's hydrostatics match Simpson's rule over the
@@ -200,15 +247,49 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
                 ui[j] = c
         even[i, :, 0] = np.interp(ui, s, p[:, 0])
         even[i, :, 1] = np.interp(ui, s, p[:, 1])
-    k = max(1, math.ceil(stations / max(n - 1, 1)))
-    if k > 1 and n > 1:
-        t = np.arange(k) / k
-        xs = np.concatenate([(x[:-1, None] + t * np.diff(x)[:, None]).ravel(), x[-1:]])
+    if n < 2:
+        return Sections(x=x, yz=even, lpp=np.asarray(float(sections.lpp)))
+    # stations per interval: enough for `stations` intervals in all, and more where the loft twists (the
+    # step between neighbouring points changes between the two stations), so that a cut across the mesh
+    # between stations is a smooth polyline and not a zigzag (each cell's diagonal kinks it)
+    step = np.diff(even, axis=1)  # (n, M-1, 2)
+    girth = np.hypot(*np.moveaxis(step, -1, 0)).sum(axis=1)
+    ref = np.maximum(np.maximum(girth[:-1], girth[1:]) / (big_m - 1), 1e-12)
+    twist = np.hypot(*np.moveaxis(np.diff(step, axis=0), -1, 0)).max(axis=1) / ref
+    k = np.clip(np.ceil(twist / max_twist), math.ceil(stations / (n - 1)), 64).astype(int)
+    t = [np.arange(ki) / ki for ki in k]
+    xs = np.concatenate([x[i] + ti * (x[i + 1] - x[i]) for i, ti in enumerate(t)] + [x[-1:]])
+    if len(xs) > n:
         even = PchipInterpolator(x, even, axis=0)(xs)
         even[..., 0] = np.maximum(even[..., 0], 0.0)
-    else:
-        xs = x
+    even = _unfold_centreline(even)
+    # End prisms: each end section repeated a little inside the end (up to 1e-4 of the length), so a cut
+    # just inside the end — where a mesh reader takes its first and last station — is that section, not a
+    # cut through the loft's last cells, which twist most where the hull ends in a point or a line.
+    d = min(1e-4 * (xs[-1] - xs[0]), 0.25 * float(np.diff(xs)[[0, -1]].min()))
+    xs = np.concatenate([xs[:1], xs[:1] + d, xs[1:-1], xs[-1:] - d, xs[-1:]])
+    even = np.concatenate([even[:1], even[:1], even[1:-1], even[-1:], even[-1:]])
     return Sections(x=xs, yz=even, lpp=np.asarray(float(sections.lpp)))
+
+
+def _unfold_centreline(yz: np.ndarray) -> np.ndarray:
+    """Sections ``(n, m, 2)`` whose runs of points on the centreline (``y`` within ``1e-6`` of the hull's
+    size of 0, inside :func:`hull_mesh`'s double wall: a section not started yet,
+    the joint of a bulb) go straight from the run's first point to its last, evenly by index, instead of
+    back and forth along the centreline (as cuts of a mesh near a stem may): such points add nothing to
+    any integral, but a run folded on itself makes an end cap that no triangulation covers without faces
+    of zero area."""
+    yz = yz.copy()
+    wall = 1e-6 * max(float(np.abs(yz).max()), 1.0)  # what hull_mesh's double wall covers
+    for p in yz:
+        on = p[:, 0] <= wall
+        if on.sum() < 3:
+            continue
+        edges = np.flatnonzero(np.diff(np.r_[0, on.astype(np.int8), 0]))
+        for a, b in zip(edges[::2], edges[1::2] - 1):  # runs [a, b] of centreline points
+            if b - a >= 2:
+                p[a : b + 1, 1] = np.linspace(p[a, 1], p[b, 1], b - a + 1)
+    return yz
 
 
 def _corners(p: np.ndarray, s: np.ndarray, angle_deg: float = 30.0) -> np.ndarray:
@@ -225,7 +306,7 @@ def _corners(p: np.ndarray, s: np.ndarray, angle_deg: float = 30.0) -> np.ndarra
 def hull_mesh(sections: Sections) -> trimesh.Trimesh:
     """The closed mesh to write for a hull [m]: :func:`to_trimesh` of :func:`resample_sections` (float64,
     not yet welded; :func:`export_mesh` welds it)."""
-    return to_trimesh(resample_sections(sections))
+    return to_trimesh(resample_sections(sections), wall=1e-6)
 
 
 @dataclass(frozen=True)
@@ -252,7 +333,7 @@ class MeshReport:
     def summary(self) -> str:
         return (f"{self.faces:,} faces, watertight: {self.watertight}, winding consistent: "
                 f"{self.winding_consistent}, bodies: {self.bodies}, degenerate faces: {self.tiny_faces}, "
-                f"volume {self.volume:,.1f} m³")
+                f"volume {self.volume:,.6g} m³")
 
 
 def mesh_checks(mesh: trimesh.Trimesh) -> dict:
