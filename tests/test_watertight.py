@@ -143,14 +143,18 @@ def test_deform_writes_a_valid_mesh_that_reads_back(cli, tmp_path, parent, draft
     assert_round_trip(read_back(cli, out, draft), volume, lpp * (0.5 + lcb_pct / 100.0), lpp)
 
 
-@pytest.mark.parametrize("which", ["seed003", "chine"])
+@pytest.mark.parametrize("which", ["seed003", "chine", "kcs"])
 def test_export_prints_the_checks_of_the_file_and_reads_back(cli, tmp_path, which):
-    """`hullopt export` of offset tables (seed 003; a hard-chine hull with knuckles): the printed checks are
-    those of the file, which is valid and gives the table's hydrostatics back."""
-    table = SEED003 if which == "seed003" else chine_table(tmp_path)
-    draft, lpp = (5.6, 95.0) if which == "seed003" else (4.0, 60.0)
+    """`hullopt export` of offset tables (seed 003; a hard-chine hull with knuckles) and of a mesh (the KCS,
+    whose bulb ends in a point: the loft's last cells twist): the printed checks are those of the file,
+    which is valid and gives the hull's hydrostatics back."""
+    table, draft, lpp, formats = {
+        "seed003": (SEED003, 5.6, 95.0, ("stl", "ply")),
+        "chine": (chine_table(tmp_path), 4.0, 60.0, ("stl", "ply")),
+        "kcs": (f"{REPO}/examples/hulls/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230", 10.8, 230.0, ("stl",)),
+    }[which]
     want = read_back(cli, table, draft)
-    for ext in ("stl", "ply"):
+    for ext in formats:
         out = tmp_path / f"{which}.{ext}"
         code, stdout, err = cli("export", table, out)
         assert code == 0, err
