@@ -11,7 +11,7 @@ import pytest
 import trimesh
 
 from hullopt.geometry import Sections, to_trimesh
-from hullopt.geometry._mesh import TINY_FACE, export_mesh, hull_mesh
+from hullopt.geometry._mesh import TINY_FACE, export_mesh
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIGS = REPO / "configs"

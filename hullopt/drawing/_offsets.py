@@ -102,7 +102,8 @@ def knuckles(sections: Sections, top: float, angle_deg: float = 30.0) -> dict[in
         ang = np.arctan2(d[:, 1], d[:, 0])
         turn = np.abs(np.angle(np.exp(1j * np.diff(ang))))
         v = p[1:-1]
-        ok = (turn > np.radians(angle_deg)) & (v[:, 0] > 1e-3 * breadth) & (v[:, 1] > 1e-6 * top) & (v[:, 1] < top * (1 - 1e-6))
+        inside = (v[:, 1] > 1e-6 * top) & (v[:, 1] < top * (1 - 1e-6))
+        ok = (turn > np.radians(angle_deg)) & (v[:, 0] > 1e-3 * breadth) & inside
         if not ok.any():
             continue
         zk = float(v[np.argmax(np.where(ok, turn, -1.0)), 1])

@@ -128,7 +128,8 @@ def _flip_collinear(tri: np.ndarray, p: np.ndarray) -> np.ndarray:
 
     def signed(t):
         a, b, c = p[t[..., 0]], p[t[..., 1]], p[t[..., 2]]
-        return 0.5 * ((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
+        ab, ac = b - a, c - a
+        return 0.5 * (ab[..., 0] * ac[..., 1] - ab[..., 1] * ac[..., 0])
 
     tiny = 1e-14 * scale**2
     for _ in range(4 * len(tri)):
