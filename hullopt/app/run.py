@@ -235,13 +235,17 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
 
 
 def _write_hull(m: Outcome, draft, out: Path) -> None:
+    """Write the final hull's files to ``out``: ``hull.stl`` [m] (refined along the length and welded for
+    float32, checked as read back: closed, one body, no degenerate face — :func:`~hullopt.geometry._mesh.
+    export_mesh`), ``offsets.csv`` (dense enough that ``hullopt hydro offsets.csv`` gives the run's ∇ back;
+    knuckles and deck carried), and the body-plan and sectional-area plots at ``draft`` [m]."""
+    from ..geometry._mesh import hull_mesh
     from .plots import plot_body_plans, plot_sectional_areas
 
-    from ..geometry._mesh import hull_mesh
-
-    # hull.stl: the hull refined along its length and welded for float32, checked as read back (export_mesh);
-    # offsets.csv: dense enough that `hullopt hydro offsets.csv` gives back the run's ∇ (write_offsets_wide)
-    export_mesh(hull_mesh(m.after), out / "hull.stl")
+    try:
+        export_mesh(hull_mesh(m.after), out / "hull.stl")
+    except ValueError as e:
+        raise HullError(f"hull.stl: {e}") from None
     write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)
     plot_body_plans(m.before, m.after, out / "body_plan.png")
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
