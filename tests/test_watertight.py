@@ -192,3 +192,16 @@ def test_offsets_of_a_knuckled_hull_carry_the_knuckles_and_read_back(tmp_path):
     assert "# lpp = 60" in text and "# deck = 6" in text
     want, got = hydrostatics(sec, 4.0), hydrostatics(load_hull(str(out)).sections, 4.0)
     assert float(got.volume) == pytest.approx(float(want.volume), rel=DV) and abs(float(got.lcb - want.lcb)) < DLCB * 60
+
+
+def test_offsets_of_the_dtc_read_back(tmp_path):
+    """A run's offsets.csv writer on the DTC (a flat bottom with a slight rise of floor, a bulb, a transom):
+    the reader keeps the table's clustered waterlines, so the bottom is not cut off."""
+    from hullopt.app.hulls import load_hull
+    from hullopt.drawing import write_offsets_wide
+    from hullopt.hydro import hydrostatics
+
+    sec = load_hull("parent:dtc").sections
+    out = write_offsets_wide(sec, tmp_path / "offsets.csv", name="dtc", dense=True)
+    want, got = hydrostatics(sec, 14.5), hydrostatics(load_hull(str(out)).sections, 14.5)
+    assert float(got.volume) == pytest.approx(float(want.volume), rel=DV) and abs(float(got.lcb - want.lcb)) < DLCB * 355

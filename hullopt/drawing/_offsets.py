@@ -64,8 +64,8 @@ def write_offsets_wide(sections: Sections, path: str | os.PathLike, x=None, z=No
     With ``dense`` (what a run writes), the waterlines are :func:`dense_waterlines` plus the height of each
     station's knuckle (:func:`knuckles`: a chine, a transom edge), and ``# knuckles = x@z; …`` names them,
     so that the table read back — ``hullopt hydro offsets.csv`` — keeps the corners and gives the hull's ∇
-    to about 1e-4 (where the reader's 81 heights per section resolve the bottom: a flat bottom with a
-    slight rise of floor, as the DTC's, needs ``offsets.csv?m=401``). Metadata: ``lpp`` [m] and ``deck``
+    to about 1e-4 (the reader keeps the table's own waterlines, so the clustered ones resolve a flat bottom
+    with a slight rise of floor, as the DTC's). Metadata: ``lpp`` [m] and ``deck``
     [m], the top waterline (the lowest deck edge), which the reader takes as the deck.
     """
     x = np.asarray(sections.x, float) if x is None else np.asarray(x, float)

@@ -215,12 +215,14 @@ class OffsetSurface(eqx.Module):
 
 def offset_surface(table: OffsetTable, n_stations: int = 121, n_points: int = 81) -> OffsetSurface:
     """Precompute the spline maps of ``table`` onto ``n_stations`` stations (equally spaced over the table's
-    length, odd for Simpson's rule) and ``n_points`` heights per section (equally spaced)."""
+    length, odd for Simpson's rule) and ``n_points`` heights per section (equally spaced, plus the table's own
+    waterlines)."""
     n_stations += 1 - n_stations % 2
     x_fine = np.linspace(table.x[0], table.x[-1], n_stations)
-    z_fine = np.linspace(table.z[0], table.z[-1], n_points)
-    if table.knuckles:  # keep every knuckle height on the fine grid so the corner is a polyline vertex
-        z_fine = np.union1d(z_fine, table.z[list(table.knuckles.values())])
+    # The table's own waterlines stay on the fine grid, so the surface passes through every offset (a nearly
+    # flat bottom, which the writer resolves with waterlines clustered there, is not cut off) and every
+    # knuckle is a polyline vertex.
+    z_fine = np.union1d(np.linspace(table.z[0], table.z[-1], n_points), table.z)
     default = spline_matrix(table.z, z_fine)
     along_z = np.repeat(default[None], len(table.x), axis=0)
     for i, j in table.knuckles.items():
