@@ -205,3 +205,22 @@ def test_offsets_of_the_dtc_read_back(tmp_path):
     out = write_offsets_wide(sec, tmp_path / "offsets.csv", name="dtc", dense=True)
     want, got = hydrostatics(sec, 14.5), hydrostatics(load_hull(str(out)).sections, 14.5)
     assert float(got.volume) == pytest.approx(float(want.volume), rel=DV) and abs(float(got.lcb - want.lcb)) < DLCB * 355
+
+
+def test_an_stl_hullopt_wrote_carries_its_lpp_and_draft(cli, tmp_path):
+    """The binary STL header (``hullopt lpp=… draft=…``) lets ``hydro FILE`` read it back with no ``?lpp=``
+    or ``--draft``: the same particulars as the hull it came from; any other header changes nothing."""
+    from hullopt.geometry import read_stl_header, stl_header
+
+    assert read_stl_header(stl_header(355.0, 14.5).decode()) == {"lpp": 355.0, "draft": 14.5}
+    assert read_stl_header("solid exported by CAD") == {} and read_stl_header("") == {}
+    code, _, err = cli("export", "parent:wigley", tmp_path / "w.stl")
+    assert code == 0, err
+    code, out, err = cli("hydro", tmp_path / "w.stl", "--json")
+    assert code == 0, err
+    got, (_, want, _) = json.loads(out), cli("hydro", "parent:wigley", "--json")
+    want = json.loads(want)
+    assert got["draft"] == 6.25
+    for k in ("volume", "cb", "bwl"):
+        assert got[k] == pytest.approx(want[k], rel=DV), k
+    assert got["lcb_pct"] == pytest.approx(want["lcb_pct"], abs=100 * DLCB)

@@ -23,7 +23,7 @@ from urllib.parse import parse_qsl
 import numpy as np
 
 from ..errors import HullError
-from ..geometry import Sections
+from ..geometry import Sections, read_stl_header
 from ..models import BUILTINS, MeshTransform, offsets_to_sections, read_mesh, read_offsets, slice_mesh
 
 
@@ -113,11 +113,14 @@ def load_hull(spec: str) -> LoadedHull:
     half = _take(params, "half", spec, str, "auto")  # auto|yes|no: a half hull open at the centre plane
     _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol", "half"])
     mesh = read_mesh(path, transform, half=half, tolerance=tol)
+    written = read_stl_header(str(mesh.metadata.get("header", "")))  # Lpp and draft of a hull hullopt wrote
+    draft = written["draft"] * transform.scale if "draft" in written else None
     if lpp is None:
-        lpp = float(mesh.bounds[1, 0])  # no Lpp given: take the FP at the forward end
+        # no Lpp given: the one hullopt wrote in the file, else the FP at the forward end
+        lpp = written["lpp"] * transform.scale if "lpp" in written else float(mesh.bounds[1, 0])
     if not (np.isfinite(lpp) and lpp > 0):
         raise HullError(f"hull {spec!r}: lpp must be positive")
-    return LoadedHull(slice_mesh(mesh, lpp, n, m), path.name)
+    return LoadedHull(slice_mesh(mesh, lpp, n, m), path.name, draft)
 
 
 def _parent(name: str, params: dict[str, str], spec: str) -> LoadedHull:

@@ -19,7 +19,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn
 
 from ..drawing import write_offsets_wide
 from ..errors import HullError
-from ..geometry import export_mesh
+from ..geometry import export_mesh, hull_mesh, stl_header
 from ..hydro import hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model
 from ..optimise import (
@@ -239,11 +239,10 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
     float32, checked as read back: closed, one body, no degenerate face — :func:`~hullopt.geometry._mesh.
     export_mesh`), ``offsets.csv`` (dense enough that ``hullopt hydro offsets.csv`` gives the run's ∇ back;
     knuckles and deck carried), and the body-plan and sectional-area plots at ``draft`` [m]."""
-    from ..geometry._mesh import hull_mesh
     from .plots import plot_body_plans, plot_sectional_areas
 
     try:
-        export_mesh(hull_mesh(m.after), out / "hull.stl")
+        export_mesh(hull_mesh(m.after), out / "hull.stl", stl_header(float(m.after.lpp), float(draft)))
     except ValueError as e:
         raise HullError(f"hull.stl: {e}") from None
     write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)

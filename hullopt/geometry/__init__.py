@@ -5,6 +5,9 @@ from ._mesh import EXPORT_FORMATS as EXPORT_FORMATS
 from ._mesh import atomic_write_bytes as atomic_write_bytes
 from ._mesh import export_mesh as export_mesh
 from ._mesh import grid_triangles as grid_triangles
+from ._mesh import hull_mesh as hull_mesh
+from ._mesh import read_stl_header as read_stl_header
+from ._mesh import stl_header as stl_header
 from ._mesh import surface_grid as surface_grid
 from ._mesh import to_trimesh as to_trimesh
 from ._mesh import wetted_surface as wetted_surface

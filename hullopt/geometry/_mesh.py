@@ -437,11 +437,35 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
         raise
 
 
-def export_mesh(mesh: trimesh.Trimesh, path: str | os.PathLike) -> MeshReport:
+def stl_header(lpp: float, draft: float | None = None) -> bytes:
+    """The 80-byte binary-STL header hullopt writes: ``hullopt lpp=<m> [draft=<m>]``, so that reading the file
+    back (:func:`read_stl_header`) needs no ``?lpp=`` and knows the design draft."""
+    text = f"hullopt lpp={lpp:.9g}" + ("" if draft is None else f" draft={draft:.9g}")
+    return text.encode("ascii").ljust(80, b" ")
+
+
+def read_stl_header(text: str) -> dict[str, float]:
+    """``{"lpp": …, "draft": …}`` [m] from a header written by :func:`stl_header` (trimesh keeps it as
+    ``mesh.metadata["header"]``); empty for any other header."""
+    words = text.split()
+    if not words or words[0] != "hullopt":
+        return {}
+    out = {}
+    for w in words[1:]:
+        key, _, value = w.partition("=")
+        try:
+            out[key] = float(value)
+        except ValueError:
+            pass
+    return out
+
+
+def export_mesh(mesh: trimesh.Trimesh, path: str | os.PathLike, header: bytes | None = None) -> MeshReport:
     """Write a closed mesh to STL, OBJ, PLY, GLB or X3D (by the file's extension), atomically, welded first
     (:func:`weld_mesh`) so that the file holds a valid mesh; then read the file back and report its checks
     (:class:`MeshReport`, from the file, not from the mesh in memory). ``ValueError`` if the written file
-    is not closed, consistently wound, one body and free of degenerate faces."""
+    is not closed, consistently wound, one body and free of degenerate faces. ``header`` (80 bytes, see
+    :func:`stl_header`) goes into a binary STL's header; other formats ignore it."""
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in EXPORT_FORMATS:
@@ -451,7 +475,10 @@ def export_mesh(mesh: trimesh.Trimesh, path: str | os.PathLike) -> MeshReport:
         write_x3d(welded, path)
     else:
         data = welded.export(file_type=fmt)
-        atomic_write_bytes(path, data if isinstance(data, bytes) else data.encode())
+        data = data if isinstance(data, bytes) else data.encode()
+        if fmt == "stl" and header is not None:
+            data = header[:80].ljust(80, b" ") + data[80:]
+        atomic_write_bytes(path, data)
     checks = mesh_checks(read_back(path))
     before = float(mesh.volume)
     report = MeshReport(path=path, volume_change=checks["volume"] / before - 1.0 if before else 0.0, **checks)

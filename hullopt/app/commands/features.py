@@ -11,8 +11,7 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...geometry import EXPORT_FORMATS, export_mesh
-from ...geometry._mesh import hull_mesh
+from ...geometry import EXPORT_FORMATS, export_mesh, hull_mesh, stl_header
 from ...hydro import hydrostatics
 from ...models import (ApexMove, ContourEdit, Distribution, FeatureParams, check_design, extract_parent,
                        feature_model, load_parent, parent_names)
@@ -179,7 +178,7 @@ def deform(
     mesh = hull_mesh(sec)  # refined along the length, welded for the file by export_mesh
     out.parent.mkdir(parents=True, exist_ok=True)
     try:
-        written = export_mesh(mesh, out)
+        written = export_mesh(mesh, out, stl_header(float(sec.lpp), t))
     except ValueError as e:
         raise HullError(str(e)) from None
     console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)

@@ -10,8 +10,7 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...geometry import EXPORT_FORMATS, export_mesh
-from ...geometry._mesh import hull_mesh
+from ...geometry import EXPORT_FORMATS, export_mesh, hull_mesh, stl_header
 from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
 from .._app import app
 from ..hulls import LoadedHull, load_hull
@@ -109,10 +108,11 @@ def export(
     those of the written file read back."""
     if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:
         raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
-    mesh = hull_mesh(load_hull(hull).sections)
+    h = load_hull(hull)
+    mesh = hull_mesh(h.sections)
     out.parent.mkdir(parents=True, exist_ok=True)
     try:
-        written = export_mesh(mesh, out)
+        written = export_mesh(mesh, out, stl_header(float(h.sections.lpp), h.design_draft))
     except ValueError as e:
         raise HullError(str(e)) from None
     console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)
