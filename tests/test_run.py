@@ -12,7 +12,7 @@ import pytest
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
-def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path):
+def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path, monkeypatch):
     out = tmp_path / "fit"
     code, stdout, err = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(out), "--json")
     assert code == 0, err
@@ -20,8 +20,8 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path):
     assert report["converged"] and report["met"] and report["iterations"] > 0
     assert abs(report["achieved"]["cb"] - 0.48) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.5) <= 0.01
     assert set(report["achieved"]) >= {"volume", "cb", "lcb_pct", "kb", "wetted_surface"}
-    for f in ("report.json", "config.json", "hull.stl", "offsets.csv", "body_plan.png", "sectional_area.png",
-              "convergence.png"):
+    for f in ("report.json", "config.json", "parent.json", "hull.stl", "offsets.csv", "body_plan.png",
+              "sectional_area.png", "convergence.png"):
         assert (out / f).stat().st_size > 0, f
     assert json.loads((out / "config.json").read_text())["targets"]["cb"] == 0.48
     # The run folder is a hull spec: its design, rebuilt from config.json and report.json, at the run's draft.
@@ -33,6 +33,13 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path):
         assert again[k] == pytest.approx(report["achieved"][k], rel=1e-9, abs=1e-9), k
     code, _, err = cli("hydro", f"{out}?design=1")
     assert code == 2 and "?design applies to sweeps" in err
+    # ... from the parent the run deformed, kept in the folder, not from the config's parent as it is now (a
+    # library file rebuilt, an edited mesh, a cleared cache).
+    from hullopt.app import run
+
+    monkeypatch.setattr(run, "run_parent", lambda *a: pytest.fail("the config's parent was read"))
+    code, stdout, err = cli("hydro", str(out), "--json")
+    assert code == 0 and json.loads(stdout)["cb"] == again["cb"], err
 
 
 def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, tmp_path, monkeypatch):

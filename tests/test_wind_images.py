@@ -142,7 +142,7 @@ def test_cli_config_and_drawings(tmp_path, views, capsys):
     (tmp_path / "d.json").write_text(json.dumps(spec))
     for args, msg in [([str(tmp_path / "d.json")], "pixels_per_metre"),
                       ([str(cfg), "--model", "holtrop"], "--model 'holtrop'"),
-                      ([str(cfg), "--draft", "30"], "outside the hull")]:
+                      ([str(cfg), "--draft", "30"], "above the deck")]:
         assert main(["wind", *args]) == 2
         assert msg in capsys.readouterr().err
     cfg.write_text('hull = "builtin:box?L=250&B=40&D=24"\ndraft = 12.0\n'

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import HullError
 from ..geometry import Sections, read_stl_header
-from ..models import BUILTINS, MeshTransform, offsets_to_sections, read_mesh, read_offsets, slice_mesh
+from ..models import BUILTINS, MeshTransform, is_cad, offsets_to_sections, read_mesh, read_offsets, slice_mesh
 
 
 @dataclass(frozen=True)
@@ -108,19 +108,26 @@ def load_hull(spec: str) -> LoadedHull:
     n = _take(params, "n", spec, int, 201)
     m = _take(params, "m", spec, int, 96)
     tol = _take(params, "tol", spec, float, 0.0) or None  # IGES/STEP tessellation size [m, file's scale]
+    if tol is not None and not is_cad(path):
+        raise HullError(f"hull {spec!r}: tol applies to IGES/STEP surfaces, not to a {path.suffix} mesh")
     if tol is not None and not (np.isfinite(tol) and tol > 0):
         raise HullError(f"hull {spec!r}: tol must be a positive length in m (largest triangle edge of a CAD surface)")
     half = _take(params, "half", spec, str, "auto")  # auto|yes|no: a half hull open at the centre plane
     _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol", "half"])
     mesh = read_mesh(path, transform, half=half, tolerance=tol)
-    written = read_stl_header(str(mesh.metadata.get("header", "")))  # Lpp and draft of a hull hullopt wrote
+    # Lpp and draft of a hull hullopt wrote (in its own axes: used when the file is read as it was written)
+    as_written = transform.axes.replace(" ", "") == "x,y,z" and transform.shift == (0.0, 0.0, 0.0)
+    written = read_stl_header(str(mesh.metadata.get("header", ""))) if as_written else {}
     draft = written["draft"] * transform.scale if "draft" in written else None
-    if lpp is None:
-        # no Lpp given: the one hullopt wrote in the file, else the FP at the forward end
+    if lpp is None:  # no Lpp given: the one hullopt wrote in the file, else the FP at the forward end
         lpp = written["lpp"] * transform.scale if "lpp" in written else float(mesh.bounds[1, 0])
     if not (np.isfinite(lpp) and lpp > 0):
         raise HullError(f"hull {spec!r}: lpp must be positive")
-    return LoadedHull(slice_mesh(mesh, lpp, n, m), path.name, draft)
+    try:
+        sections = slice_mesh(mesh, lpp, n, m)
+    except HullError as e:
+        raise HullError(f"{path}: {e}") from None
+    return LoadedHull(sections, path.name, draft)
 
 
 def _parent(name: str, params: dict[str, str], spec: str) -> LoadedHull:
@@ -142,6 +149,7 @@ def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
 
     from pydantic import ValidationError
 
+    from ..models import read_features
     from .config import RunConfig
     from .run import build_problem, params_from_dict
 
@@ -168,6 +176,7 @@ def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
         if "params" not in report:
             raise HullError(f"hull {spec!r}: {folder / 'report.json'} has no params (an unfinished shard?)")
         values, label = report["params"], ""
-    prob = build_problem(cfg)
+    kept = folder / "parent.json"  # the parent the run deformed (the config's may have changed since)
+    prob = build_problem(cfg, read_features(kept) if kept.is_file() else None)
     sections = prob.design.model(params_from_dict(values, prob.p0))
     return LoadedHull(sections, f"{folder.name}{label}", float(prob.design.draft))

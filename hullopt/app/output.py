@@ -13,7 +13,7 @@ from rich.console import Console
 from rich.table import Table
 
 from ..errors import HullError
-from ..geometry import atomic_write_bytes
+from ..geometry import atomic_write_bytes, export_mesh, hull_mesh, stl_header
 
 console = Console()
 
@@ -60,3 +60,14 @@ def table(title: str, columns: list[str], rows: list[list[Any]]) -> None:
     for r in rows:
         t.add_row(*(f"{v:,.4g}" if isinstance(v, float) else str(v) for v in r))
     console.print(t)
+
+
+def write_hull_file(sections, path: Path, draft: float | None = None):
+    """Write the closed hull mesh of ``sections`` to ``path`` (its folder created; an STL carries the Lpp and
+    ``draft`` [m] in its header) and return the checks of the file read back
+    (:class:`~hullopt.geometry.MeshReport`); :class:`HullError` if the written file is not a valid mesh."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        return export_mesh(hull_mesh(sections), path, stl_header(float(sections.lpp), draft))
+    except ValueError as e:
+        raise HullError(str(e)) from None

@@ -50,7 +50,7 @@ def resolve_spec(spec: str, folder: Path) -> str:
     config's ``hull``: only when the file or run folder exists there; library names and builtins unchanged."""
     prefix = "parent:" if spec.startswith("parent:") else ""
     base, sep, query = spec.removeprefix(prefix).partition("?")
-    if base.startswith("builtin:") or (not prefix and base in parent_names()) or Path(base).is_absolute():
+    if base.startswith("builtin:") or base in parent_names() or Path(base).is_absolute():
         return spec
     if not (folder / base).exists():
         return spec

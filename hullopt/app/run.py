@@ -2,7 +2,8 @@
 constrained minimum, or a Pareto sweep in resumable chunks) and write the run folder:
 
     config.json   the resolved config           report.json   results (see :func:`run`)
-    hull.stl      the final hull (closed mesh)  offsets.csv   its offset table (wide layout)
+    parent.json   the parent it deformed        hull.stl      the final hull (closed mesh; Lpp, draft in its header)
+    offsets.csv   its offset table (wide layout)
     body_plan.png, sectional_area.png, convergence.png, pareto.png (sweeps), chunks/ (sweeps)
 """
 
@@ -19,9 +20,8 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn
 
 from ..drawing import write_offsets_wide
 from ..errors import HullError
-from ..geometry import export_mesh, hull_mesh, stl_header
 from ..hydro import hydrostatics, sectional_areas
-from ..models import ApexMove, ContourEdit, Distribution, FeatureParams, feature_model
+from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model, save_features
 from ..optimise import (
     TARGETS,
     Design,
@@ -34,7 +34,7 @@ from ..optimise import (
     with_objective_scale,
 )
 from .config import ObjectiveConfig, RunConfig
-from .output import console, write_json
+from .output import console, write_hull_file, write_json
 from .parents import parent_digest, run_parent
 from .programs import cached_call
 
@@ -58,12 +58,14 @@ def objective_from(cfg: ObjectiveConfig) -> Objective:
                      wind_speed=jnp.asarray(cfg.wind_speed), wind_angle=jnp.asarray(np.radians(cfg.wind_angle_deg)))
 
 
-def build_problem(cfg: RunConfig) -> Problem:
-    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design).
+def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
+    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design);
+    ``parent``: the feature hull to deform instead of the config's (a run folder's kept ``parent.json``).
 
     No hull is evaluated here: the objective and fairness scales (their values at the parent) are set by
     :func:`~hullopt.optimise.with_objective_scale` inside the jitted solve programs."""
-    hull = run_parent(cfg.hull.parent, cfg.hull.draft)  # a hull spec's features: extracted once, then kept
+    # a hull spec's features: extracted once, then kept
+    hull = parent if parent is not None else run_parent(cfg.hull.parent, cfg.hull.draft)
     draft = cfg.hull.draft or hull.design_draft
     if draft is None:
         raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
@@ -192,6 +194,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "config.json", raw)
     prob = build_problem(cfg)
+    save_features(prob.design.model.hull, out / "parent.json")  # the run folder rebuilds its designs from it
     d = prob.design
     if cfg.kind == "pareto":
         report = _pareto(cfg, prob, out, quiet, shard, executor, address)
@@ -241,10 +244,7 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
     knuckles and deck carried), and the body-plan and sectional-area plots at ``draft`` [m]."""
     from .plots import plot_body_plans, plot_sectional_areas
 
-    try:
-        export_mesh(hull_mesh(m.after), out / "hull.stl", stl_header(float(m.after.lpp), float(draft)))
-    except ValueError as e:
-        raise HullError(f"hull.stl: {e}") from None
+    write_hull_file(m.after, out / "hull.stl", float(draft))
     write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)
     plot_body_plans(m.before, m.after, out / "body_plan.png")
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")

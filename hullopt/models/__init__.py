@@ -11,6 +11,7 @@ from ._offsets import offsets_to_sections as offsets_to_sections
 from ._offsets import parse_station as parse_station
 from ._offsets import read_offsets as read_offsets
 from ._meshes import MeshOpenings as MeshOpenings
+from ._cad import is_cad as is_cad
 from ._meshes import MeshTransform as MeshTransform
 from ._meshes import read_mesh as read_mesh
 from ._meshes import slice_mesh as slice_mesh

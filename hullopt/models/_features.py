@@ -43,7 +43,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..errors import HullError
-from ..geometry import Sections
+from ..geometry import Sections, atomic_write_bytes
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -134,7 +134,7 @@ def feature_hull(features: dict, name: str = "hull", design_draft: float | None 
 def save_features(hull: FeatureHull, path: str | Path, **meta) -> Path:
     """Write a parent file (JSON: the arrays plus ``meta``, e.g. its source and how it was extracted)."""
     path = Path(path)
-    path.write_text(json.dumps({**meta, **hull.to_dict()}, separators=(",", ":")) + "\n")
+    atomic_write_bytes(path, (json.dumps({**meta, **hull.to_dict()}, separators=(",", ":")) + "\n").encode())
     return path
 
 

@@ -11,13 +11,13 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...geometry import EXPORT_FORMATS, export_mesh, hull_mesh, stl_header
+from ...geometry import EXPORT_FORMATS
 from ...hydro import hydrostatics
 from ...models import (ApexMove, ContourEdit, Distribution, FeatureParams, check_design, extract_parent,
                        feature_model, load_parent, parent_names)
 from .._app import app
 from ..hulls import load_hull
-from ..output import console, write_json
+from ..output import console, write_hull_file, write_json
 
 _KEYS = {
     "apex_move": ({"segment", "x_fixed1", "x_moved", "x_fixed2", "d"}, {"profile"}),
@@ -175,10 +175,5 @@ def deform(
         for key, label in (("volume", "∇ [m³]"), ("cb", "Cb"), ("lcb_pct", "LCB [% Lpp fwd of midship]")):
             console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}",
                           markup=False)  # "[m³]" is no style tag
-    mesh = hull_mesh(sec)  # refined along the length, welded for the file by export_mesh
-    out.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        written = export_mesh(mesh, out, stl_header(float(sec.lpp), t))
-    except ValueError as e:
-        raise HullError(str(e)) from None
+    written = write_hull_file(sec, out, t)
     console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)

@@ -10,11 +10,11 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...geometry import EXPORT_FORMATS, export_mesh, hull_mesh, stl_header
+from ...geometry import EXPORT_FORMATS
 from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
 from .._app import app
 from ..hulls import LoadedHull, load_hull
-from ..output import console, parse_range, print_json, table
+from ..output import console, parse_range, print_json, table, write_hull_file
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
              "a run folder, offsets .csv, a mesh (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=&half=) "
@@ -109,10 +109,5 @@ def export(
     if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:
         raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
     h = load_hull(hull)
-    mesh = hull_mesh(h.sections)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        written = export_mesh(mesh, out, stl_header(float(h.sections.lpp), h.design_draft))
-    except ValueError as e:
-        raise HullError(str(e)) from None
+    written = write_hull_file(h.sections, out, h.design_draft)
     console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)
