@@ -156,3 +156,15 @@ def test_level_widths_equal_the_polygon_integrals_width_at_each_level():
     g_many = jax.grad(lambda p: jnp.sum(level_widths(p, levels) ** 2))(poly)
     g_one = jax.grad(lambda p: jnp.sum(jax.vmap(lambda lv: polygon_integrals(p, lv).width)(levels) ** 2))(poly)
     np.testing.assert_allclose(g_many, g_one, rtol=1e-10, atol=1e-12)
+
+
+def test_atomic_writes_get_ordinary_permissions(tmp_path):
+    import os
+
+    from hullopt.geometry import atomic_write_bytes
+
+    atomic_write_bytes(tmp_path / "a.bin", b"x")
+    (tmp_path / "b.bin").write_bytes(b"x")
+    assert (tmp_path / "a.bin").read_bytes() == b"x"
+    assert os.stat(tmp_path / "a.bin").st_mode & 0o777 == os.stat(tmp_path / "b.bin").st_mode & 0o777
+    assert not [p for p in tmp_path.iterdir() if p.suffix == ".tmp"]

@@ -31,9 +31,10 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array
 
 from ..errors import HullError
-from ..geometry import Sections
+from ..geometry import Sections, section_integrals, simpson_weights
 from ._feature_extract import extract_features
 from ._features import PARENTS_DIR, FeatureHull, feature_hull, save_features
 
@@ -56,7 +57,7 @@ def extraction_error(source: Sections, hull: FeatureHull, drafts) -> np.ndarray:
     sections at each draft [m]: relative displacement volume ∇₁/∇₀ − 1 and LCB shift as a fraction of Lpp
     (both hulls integrated on their own stations by Simpson's rule)."""
     zs = np.asarray(drafts, np.float64).reshape(-1)
-    (v0, l0), (v1, l1) = _volume_lcb(source, zs), _volume_lcb(_rebuild(hull), zs)
+    (v0, l0), (v1, l1) = (tuple(map(np.asarray, _volume_lcb(h, zs))) for h in (source, _rebuild(hull)))
     return np.stack([v1 / v0 - 1.0, (l1 - l0) / float(source.lpp)], -1)
 
 
@@ -65,27 +66,14 @@ def _rebuild(hull: FeatureHull) -> Sections:
     return hull.sections()
 
 
-def _volume_lcb(s: Sections, zs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """∇ [m³, half hull] and LCB [m from the AP] of ``s`` at the drafts ``zs (k,)`` (numpy: no compile).
-
-    A half-section's area below ``z = t`` is ``∫ y dz`` along its polyline clipped to ``z ≤ t`` (the
-    waterline and the centreline add nothing), as :func:`~hullopt.geometry.section_integrals` has it."""
-    from ..geometry import simpson_weights
-
-    yz = np.asarray(s.yz, np.float64)
-    a, b = yz[:, None, :-1], yz[:, None, 1:]  # (n, 1, m-1, 2) edges
-    t = zs[None, :, None]
-    za, zb = a[..., 1], b[..., 1]
-    lo, hi = np.minimum(za, zb), np.minimum(np.maximum(za, zb), t)
-    dz = zb - za
-    safe = np.where(dz == 0, 1.0, dz)
-    y_at = lambda z: a[..., 0] + (b[..., 0] - a[..., 0]) * (z - za) / safe  # noqa: E731
-    inside = (hi > lo) & (dz != 0)
-    area = np.where(inside, 0.5 * (y_at(lo) + y_at(hi)) * (hi - lo) * np.sign(dz), 0.0).sum(-1)  # (n, k)
-    w = np.asarray(simpson_weights(np.asarray(s.x)))
-    x = np.asarray(s.x)
-    v = w @ area
-    return v, (w * x) @ area / v
+@eqx.filter_jit
+def _volume_lcb(s: Sections, zs) -> tuple[Array, Array]:
+    """∇ [m³, half hull] and LCB [m from the AP] of ``s`` at the drafts ``zs (k,)``: the kernel's section
+    integrals, Simpson's rule along x (one program per hull shape)."""
+    area = jax.vmap(lambda t: section_integrals(s, t).area)(jnp.asarray(zs))  # (k, n)
+    w = simpson_weights(s.x)
+    v = area @ w
+    return v, area @ (w * s.x) / v
 
 
 def extract_faithful(sections: Sections, name: str = "hull", design_draft: float | None = None,
