@@ -263,7 +263,7 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
     if len(xs) > n:
         even = PchipInterpolator(x, even, axis=0)(xs)
         even[..., 0] = np.maximum(even[..., 0], 0.0)
-    even = _unfold_centreline(even)
+    even = _unfold_centreline(even, centreline_offset(np.r_[xs, even.ravel()], 1e-6))  # hull_mesh's wall
     # End prisms: each end section repeated a little inside the end (up to 1e-4 of the length), so a cut
     # just inside the end — where a mesh reader takes its first and last station — is that section, not a
     # cut through the loft's last cells, which twist most where the hull ends in a point or a line.
@@ -273,15 +273,14 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
     return Sections(x=xs, yz=even, lpp=np.asarray(float(sections.lpp)))
 
 
-def _unfold_centreline(yz: np.ndarray) -> np.ndarray:
-    """Sections ``(n, m, 2)`` whose runs of points on the centreline (``y`` within ``1e-6`` of the hull's
-    size of 0, inside :func:`hull_mesh`'s double wall: a section not started yet,
+def _unfold_centreline(yz: np.ndarray, wall: float) -> np.ndarray:
+    """Sections ``(n, m, 2)`` whose runs of points on the centreline (``y ≤ wall`` [m], inside
+    :func:`hull_mesh`'s double wall, :func:`centreline_offset`: a section not started yet,
     the joint of a bulb) go straight from the run's first point to its last, evenly by index, instead of
     back and forth along the centreline (as cuts of a mesh near a stem may): such points add nothing to
     any integral, but a run folded on itself makes an end cap that no triangulation covers without faces
     of zero area."""
     yz = yz.copy()
-    wall = 1e-6 * max(float(np.abs(yz).max()), 1.0)  # what hull_mesh's double wall covers
     for p in yz:
         on = p[:, 0] <= wall
         if on.sum() < 3:
