@@ -91,7 +91,8 @@ def _area(a: Array, b: Array, c: Array) -> Array:
 def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
     """Wetted surface [m²] of both sides below ``z = draft``: the grid's triangles, each clipped exactly.
 
-    End caps (an immersed transom, a flat end) are not part of it; see :func:`transom_area`.
+    End caps (an immersed transom, a flat end) are not part of it (their area is that of the end station's
+    immersed section: :func:`hullopt.hydro.sectional_areas`).
     Triangles lying in the centre plane (joints between disjoint parts of a section) are excluded.
     """
     level = jnp.asarray(draft)

@@ -7,7 +7,6 @@ from ._hydrostatics import hydrostatic_table as hydrostatic_table
 from ._hydrostatics import hydrostatics as hydrostatics
 from ._hydrostatics import sectional_areas as sectional_areas
 from ._hydrostatics import volume_at as volume_at
-from ._hydrostatics import waterline_half_breadths as waterline_half_breadths
 from ._stability import Equilibrium as Equilibrium
 from ._stability import HeeledIntegrals as HeeledIntegrals
 from ._stability import StabilityCurve as StabilityCurve

@@ -57,11 +57,6 @@ def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
     return 2.0 * section_integrals(sections, draft).area
 
 
-def waterline_half_breadths(sections: Sections, draft) -> Float[Array, " n"]:
-    """Waterline half-breadth at each station [m] (sum over every crossing of the waterline)."""
-    return section_integrals(sections, draft).width
-
-
 def _waterline_length(x: Array, bw: Array) -> Array:
     """From the first to the last station with a waterline, each extended to its dry neighbour (where
     the ruled surface between the two stations ends); exact when the stations include both ends."""

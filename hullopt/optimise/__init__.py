@@ -1,6 +1,5 @@
 """Design problems and solvers (optimistix core; jaxopt behind :func:`minimise_lbfgsb`)."""
 
-from ._bounds import check_bounds as check_bounds
 from ._bounds import from_unbounded as from_unbounded
 from ._bounds import to_unbounded as to_unbounded
 from ._jaxopt import minimise_lbfgsb as minimise_lbfgsb

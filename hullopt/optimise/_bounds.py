@@ -20,13 +20,3 @@ def from_unbounded(u, lower, upper):
     """Inverse of :func:`to_unbounded`: always strictly inside the bounds, smooth in ``u``."""
     return jax.tree.map(lambda u, lo, hi: lo + 0.5 * (hi - lo) * (1.0 + jnp.tanh(u)), u, lower, upper)
 
-
-def check_bounds(p, lower, upper) -> None:
-    """Raise ``ValueError`` naming the first leaf of ``p`` outside its bounds (or with empty bounds)."""
-    leaves = jax.tree_util.tree_leaves_with_path(p)
-    for (path, v), lo, hi in zip(leaves, jax.tree.leaves(lower), jax.tree.leaves(upper)):
-        name = jax.tree_util.keystr(path)
-        if not bool(jnp.all(lo < hi)):
-            raise ValueError(f"bounds of parameter {name}: lower must be below upper")
-        if not bool(jnp.all((lo < v) & (v < hi))):
-            raise ValueError(f"parameter {name} = {v} is outside its bounds ({lo}, {hi})")
