@@ -48,15 +48,22 @@ def _roundtrip(parent, hull, draft, zs):
     return v1 / v0 - 1.0, 100.0 * (l1 - l0) / parent.lpp, dev
 
 
-def _check_roundtrip(parent, hull, draft):
+#: (∇ relative, LCB [% Lpp], half-breadth [fraction of B]) allowed per library parent, about twice what each
+#: measures: seed003 −0.008 %, +0.0026 % Lpp, 0.24 % B; wigley −0.099 % (level 2, kept as first extracted),
+#: 0 (symmetric), 0.09 % B; dtc −0.003 %, −0.0011 % Lpp, 0.195 % B (the README's numbers).
+ROUNDTRIP_TOL = {"seed003": (2e-4, 5e-3, 4e-3), "wigley": (1.5e-3, 1e-9, 2e-3), "dtc": (1e-4, 2e-3, 2.5e-3)}
+
+
+def _check_roundtrip(name, parent, hull, draft):
     zs = jnp.linspace(0.03 * draft, 0.999 * float(parent.depth), 30)
     dv, dl, dev = (float(v) for v in _roundtrip(parent, hull, jnp.asarray(draft), zs))
-    assert abs(dv) < 2e-3 and abs(dl) < 0.1 and dev < 5e-3, (dv, dl, dev)
+    tv, tl, td = ROUNDTRIP_TOL[name]
+    assert abs(dv) < tv and abs(dl) < tl and dev < td, (dv, dl, dev)
 
 
 @pytest.mark.parametrize("name,draft", [("seed003", 4.0), ("wigley", 6.25)])
 def test_roundtrip_small(name, draft):
-    _check_roundtrip(recipe_sections(name), load_parent(name), draft)
+    _check_roundtrip(name, recipe_sections(name), load_parent(name), draft)
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +73,7 @@ def dtc_sections(hulls):
 
 
 def test_roundtrip_dtc(dtc_sections):
-    _check_roundtrip(dtc_sections, load_parent("dtc"), DTC_DRAFT)
+    _check_roundtrip("dtc", dtc_sections, load_parent("dtc"), DTC_DRAFT)
 
 
 def test_library_file_matches_reextraction(dtc_sections):
@@ -194,10 +201,17 @@ def dtc_derivatives(dtc_model):
     return ad, fd, np.asarray(run(x0, zero)[0])
 
 
-def test_vmap_over_parameters(dtc_model):
-    p = jax.tree.map(lambda a: jnp.stack([a, a + 0.01]), dtc_model.zeros())
+def test_vmap_over_parameters(dtc_model, dtc_sections):
+    """The batch: design 0 (the parent) holds the sliced DTC's ∇ (round trip: −0.003 %), design 1 equals the
+    same design evaluated on its own (not batched), and the two differ."""
+    zeros = dtc_model.zeros()
+    shifted = jax.tree.map(lambda a: a + 0.01, zeros)
+    p = jax.tree.map(lambda a, b: jnp.stack([a, b]), zeros, shifted)
     v = jax.jit(jax.vmap(lambda q: volume_at(dtc_model(q), DTC_DRAFT)))(p)
-    assert v.shape == (2,) and float(v[0]) != float(v[1])
+    assert v.shape == (2,)
+    assert float(v[0]) == pytest.approx(float(volume_at(dtc_sections, DTC_DRAFT)), rel=1e-4)
+    assert float(v[1]) == pytest.approx(float(volume_at(check_design(dtc_model, shifted), DTC_DRAFT)), rel=1e-12)
+    assert abs(float(v[1]) / float(v[0]) - 1.0) > 1e-4
 
 
 def _assert_fd(ad, fd):
