@@ -5,9 +5,16 @@
 maximum GZ at a heel ≥ 25°; 2.2.4 GM₀ ≥ 0.15 m.
 
 Areas are Gauss–Legendre quadratures of GZ (smooth in the geometry). The maximum GZ beyond 30° and the angle
-of the maximum are taken on a uniform heel grid: ``margin`` uses a softmax-weighted mean (never above the maximum) / soft argmax (temperature
-``tau`` [m] of GZ), smooth enough for an optimiser; ``value`` is the exact one (grid maximum refined by the
-parabola through its neighbours), and ``passed`` judges by it.
+of the maximum are taken on a uniform heel grid: ``value`` is the exact one (grid maximum refined by the
+parabola through its neighbours), and ``passed`` judges by it. ``margin`` is for an optimiser and is
+conservative — it is never positive when the exact check fails: the max GZ beyond 30° is a softmax-weighted
+mean of GZ (temperature ``tau`` [m]; a mean is never above the maximum); the angle of the maximum is the
+smaller of the soft argmax (the softmax-weighted mean heel) and the exact angle. The soft argmax alone is not
+conservative: on a curve that peaks early and then falls slowly, heels past the peak keep their weight and pull
+it aft (GZ = 0.08·(φ/φm)·e^(1−φ/φm), φm = 22.3°: soft 25.9°, exact 22.3°, so a soft margin would pass a
+curve that fails 2.2.3). Where the soft argmax is the smaller the margin is smooth; elsewhere it follows the
+exact angle, which is continuous in GZ (the parabola's vertex moves continuously when the grid maximum passes
+to a neighbour) and smooth between such switches.
 """
 
 from __future__ import annotations
@@ -33,8 +40,9 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(_GL_ORDER)
 
 class Criteria(eqx.Module):
     """IS Code 2008 §2.2 criteria, each ``(6,)`` in the order of :data:`CRITERIA` (angles in degrees):
-    ``value`` exact, ``required``, ``margin`` smooth (value − required; equal to the exact margin for the
-    areas and GM₀). Also ``gz_max`` [m], ``angle_gz_max`` and ``vanishing_angle`` [rad] (the first zero of
+    ``value`` exact, ``required``, ``margin`` for an optimiser (value − required: equal to the exact margin
+    for the areas and GM₀, smooth and never above it for the max GZ and its angle, so a margin ≥ 0 never
+    passes a criterion the exact check fails). Also ``gz_max`` [m], ``angle_gz_max`` and ``vanishing_angle`` [rad] (the first zero of
     GZ past its maximum on the grid, NaN if GZ stays positive)."""
 
     value: Array
@@ -105,7 +113,8 @@ def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_
     imax = jnp.argmax(grid)
     dphi, gz_max = _parabola_peak(grid, imax, h)
     angle = heel[imax] + dphi
-    angle_soft = jax.nn.softmax(grid / tau) @ heel
+    # soft argmax, capped by the exact angle: the soft one overestimates on a curve that falls slowly past its peak
+    angle_soft = jnp.minimum(jax.nn.softmax(grid / tau) @ heel, angle)
     # first zero past the maximum (linear between the grid points around the sign change)
     k = jnp.arange(n_grid)
     neg = (grid < 0.0) & (k > imax)

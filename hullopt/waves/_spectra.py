@@ -64,7 +64,9 @@ def _jonswap_norm(gamma):
 
 def jonswap(omega, hs, tp, gamma=3.3) -> Array:
     """JONSWAP spectrum [m²s]: (1 − 0.287 ln γ)·:func:`bretschneider`·γ^r (DNV-RP-C205 §3.5.5), whose
-    normalisation keeps m0 ≈ H_s²/16 (within 1 % for 1 ≤ γ ≤ 7); γ = 1 is Bretschneider."""
+    normalisation keeps m0 ≈ H_s²/16: within 0.33 % for 1 ≤ γ ≤ 5 (+0.24 % at γ = 3.3), within 1 % up to
+    γ ≈ 6.3, then falling off (−1.75 % at γ = 7, −6.9 % at 10; measured by quadrature, the same for every
+    H_s and T_p); γ = 1 is Bretschneider."""
     omega = jnp.asarray(omega, dtype=float)
     return _jonswap_norm(gamma) * bretschneider(omega, hs, tp) * _peak_enhancement(omega * tp / (2 * jnp.pi), gamma)
 
