@@ -1,7 +1,10 @@
-"""The worked example of seed 000 (JP2006-79247 §0027) on the DTC parent: move the bow and stern apex lines so
-that LCB moves forward by ≈ 0.3 % Lpp while Cb stays within ±0.001 (the patent: Cb 0.591, LCB 1.47 → 1.18 %
-Lpp aft). Parameters are hand-set in configs/deform_example.toml. Writes body plans and sectional-area curves
-before/after (PNG) to the folder given (default: the current one).
+"""The kind of change seed 000's worked example makes (JP2006-79247 §0027: move the bow and stern apex lines so
+that LCB moves forward by ≈ 0.3 % Lpp with Cb held), made here on the DTC parent. It reproduces the patent's
+LCB *shift*, not the patent's hull or its numbers: the patent's ship (Cb 0.591, LCB −1.47 → −1.18 % Lpp from
+midship) is not available, and its apex moves are not given in a form that could be replayed. On the DTC at
+T = 14.5 m the hand-set parameters of configs/deform_example.toml give Cb 0.6605 → 0.6604 (−0.00005) and LCB
+−0.970 → −0.673 % Lpp (+0.297). Writes body plans and sectional-area curves before/after (PNG) to the folder
+given (default: the current one; created if missing).
 
     .venv/bin/python examples/patent_example.py [OUT_DIR]
 """
@@ -24,6 +27,7 @@ from hullopt.hydro import hydrostatics, sectional_areas  # noqa: E402
 from hullopt.models import check_design  # noqa: E402
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+out.mkdir(parents=True, exist_ok=True)
 model, params, _ = read_design(Path(__file__).parents[1] / "configs" / "deform_example.toml")
 T = model.hull.design_draft
 before, after = model.hull.sections(), check_design(model, params)
