@@ -1,4 +1,6 @@
-"""Fairing (seed 001): the Coons-patch hull surface, curvature, unfairness functionals, automatic fairing."""
+"""Fairing: the Coons-patch hull surface and its curvature (seed 001, Katsui & Norisada 2005, §2), and
+unfairness functionals and automatic fairing that are hullopt's own (the seed's text stops before it defines
+its functionals)."""
 
 from ._coons import CoonsSurface as CoonsSurface
 from ._coons import coons_sections as coons_sections

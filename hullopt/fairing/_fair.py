@@ -1,4 +1,5 @@
-"""Automatic fairing (seed 001 §3–4): minimise an unfairness functional over the offsets while the hull
+"""Automatic fairing, hullopt's own formulation (seed 001's text stops before it defines its unfairness
+functionals): minimise an unfairness functional over the offsets while the hull
 keeps its character — bounded moves, fixed contour and flat lines, displacement and LCB held.
 
 This composes the Coons surface and the hydrostatics (a small design problem of its own): the offsets

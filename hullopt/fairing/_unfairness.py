@@ -1,4 +1,5 @@
-"""Unfairness functionals (seed 001 §3): geometric, usable across the patch edges of a Coons surface.
+"""Unfairness functionals, hullopt's own (seed 001's text stops before it defines its functionals, so none of
+these is the seed's): geometric, usable across the patch edges of a Coons surface.
 
 A composite Coons surface is only C¹: its curvature jumps across patch edges, so functionals made for
 curvature-continuous surfaces (Rando & Roulier, Park) do not apply directly. The four measures below

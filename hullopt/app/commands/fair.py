@@ -1,4 +1,5 @@
-"""``hullopt fair``: automatic fairing of an offset table (seed 001) with a before/after report and plots."""
+"""``hullopt fair``: automatic fairing of an offset table (the Coons surface of seed 001; the unfairness
+measures and the fairing problem are hullopt's own) with a before/after report and plots."""
 
 from __future__ import annotations
 
