@@ -7,6 +7,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.interpolate import CubicSpline as ScipySpline
 
+from conftest import REPO
 from hullopt.fairing import (
     RESIDUALS, coons_surface, graph_curvatures, measure, section_curvature, spline_slopes, surface_curvatures,
     unfairness,
@@ -16,7 +17,7 @@ from hullopt.models import offsets_to_sections, read_offsets, wigley
 
 from helpers import check_grad
 
-SEED003 = "hullopt/data/offsets/seed003_table1.csv"
+SEED003 = str(REPO / "hullopt/data/offsets/seed003_table1.csv")
 ORDERS = ((1, 0), (0, 1), (2, 0), (1, 1), (0, 2))
 surface = jax.jit(coons_surface, static_argnums=3)
 value = jax.jit(lambda s, xq, zq: s(xq, zq))

@@ -7,6 +7,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from conftest import REPO
 from hullopt.app.cli import main
 from hullopt.fairing import aft_body_noise, coons_sections, coons_surface, fair_offsets, fixed_offsets
 from hullopt.hydro import hydrostatics
@@ -33,7 +34,7 @@ def noisy_case():
 
 
 def test_fixed_offsets_and_noise_region():
-    t = read_offsets("hullopt/data/offsets/seed003_table1.csv")
+    t = read_offsets(str(REPO / "hullopt/data/offsets/seed003_table1.csv"))
     fixed = fixed_offsets(t.y)
     assert fixed[t.y == 0].all() and fixed[[0, -1]].all() and fixed[:, [0, -1]].all()
     assert fixed[t.y == t.y.max()].all() and not fixed[5, 5]  # flat of side fixed, a bilge offset free
@@ -125,7 +126,7 @@ def test_cli_fair_bad_input(capsys, args, message):
 
 
 def test_cli_fair_needs_a_draft_and_refuses_knuckles(capsys, tmp_path):
-    code, _, err = run(capsys, "fair", "hullopt/data/offsets/seed003_table1.csv")
+    code, _, err = run(capsys, "fair", str(REPO / "hullopt/data/offsets/seed003_table1.csv"))
     assert code == 2 and "give --draft" in err
     csv = tmp_path / "k.csv"
     csv.write_text("# knuckles = 5@1\nx,0,1,2\n0,1,1,1\n5,1,2,2\n10,1,1,1\n")

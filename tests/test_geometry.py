@@ -11,12 +11,17 @@ from helpers import check_grad
 
 from hullopt.geometry import (
     Sections,
+    longitudinal_integrals,
     natural_cubic_spline,
     polygon_integrals,
+    safe_div,
+    safe_norm,
+    safe_sqrt,
     section_integrals,
     simpson_weights,
     spline_matrix,
     to_trimesh,
+    volume_lcb,
     wetted_surface,
 )
 
@@ -138,7 +143,17 @@ def test_closed_mesh_is_watertight_with_bulb_joint_and_zero_width_stations():
     sec = Sections(x=jnp.array([0.0, 4.0, 8.0]), yz=jnp.asarray(np.array([s0, s1, s2], float)), lpp=jnp.asarray(8.0))
     mesh = to_trimesh(sec)
     assert mesh.is_watertight and mesh.is_winding_consistent
-    assert mesh.volume > 0
+
+    def cut_area(x):  # area of trimesh's capped cut of the triangulated mesh at x (exact: its faces are planar)
+        part = mesh.slice_plane([x, 0.0, 0.0], [-1.0, 0.0, 0.0], cap=True)
+        on = np.all(np.abs(part.triangles[:, :, 0] - x) < 1e-9, axis=1)
+        return float(part.area_faces[on].sum())
+
+    # Station areas by hand (both sides; the bulb of station 1 is 1.5 m² a side): 19, 19, 0 m²; the triangles
+    # move linearly between stations, so each interval's volume is the prismoidal formula with the mid cut.
+    assert cut_area(4.0) == pytest.approx(19.0, abs=1e-5)
+    prismoidal = 4.0 / 6.0 * (19.0 + 4.0 * cut_area(2.0) + 19.0) + 4.0 / 6.0 * (19.0 + 4.0 * cut_area(6.0) + 0.0)
+    assert mesh.volume == pytest.approx(prismoidal, rel=1e-6)  # measured 1.5e-7 (the mesh's 1e-7 m wall)
 
 
 def test_level_widths_equal_the_polygon_integrals_width_at_each_level():
@@ -168,3 +183,46 @@ def test_atomic_writes_get_ordinary_permissions(tmp_path):
     assert (tmp_path / "a.bin").read_bytes() == b"x"
     assert os.stat(tmp_path / "a.bin").st_mode & 0o777 == os.stat(tmp_path / "b.bin").st_mode & 0o777
     assert not [p for p in tmp_path.iterdir() if p.suffix == ".tmp"]
+
+
+def _box(L=100.0, B=20.0, D=10.0, n=11):
+    yz = np.array([[0.0, 0.0], [B / 2, 0.0], [B / 2, D]])
+    return Sections(x=jnp.linspace(0.0, L, n), yz=jnp.asarray(np.broadcast_to(yz, (n, 3, 2))), lpp=jnp.asarray(L))
+
+
+def test_longitudinal_integrals_of_a_box_are_exact():
+    L, B, T = 100.0, 20.0, 6.0
+    li = longitudinal_integrals(_box(L, B), T)
+    np.testing.assert_allclose(np.asarray(li.area), B * T, rtol=1e-14)
+    np.testing.assert_allclose(np.asarray(li.half_breadth), B / 2, rtol=1e-14)
+    got = {k: float(getattr(li, k)) for k in ("volume", "lcb", "kb", "awp", "lcf", "i_t", "i_l", "bwl", "lwl")}
+    want = {"volume": L * B * T, "lcb": L / 2, "kb": T / 2, "awp": L * B, "lcf": L / 2, "i_t": L * B**3 / 12,
+            "i_l": B * L**3 / 12, "bwl": B, "lwl": L}
+    assert got == pytest.approx(want, rel=1e-12)
+    assert tuple(map(float, volume_lcb(_box(L, B).x, li.area))) == pytest.approx((L * B * T, L / 2), rel=1e-14)
+
+
+def test_longitudinal_integrals_vmap_grad_and_dry():
+    box = _box()
+    drafts = jnp.asarray([2.0, 5.0, 8.0])
+    vols = jax.vmap(lambda t: longitudinal_integrals(box, t).volume)(drafts)
+    np.testing.assert_allclose(np.asarray(vols), 100.0 * 20.0 * np.asarray(drafts), rtol=1e-13)
+    dv = jax.grad(lambda t: longitudinal_integrals(box, t).volume)(5.0)  # d∇/dT = Awp
+    assert float(dv) == pytest.approx(2000.0, rel=1e-12)
+    dry = longitudinal_integrals(box, -1.0)  # below the keel: nothing immersed, no NaN
+    assert float(dry.volume) == 0.0 and float(dry.lcb) == 0.0 and float(dry.kb) == 0.0
+    g = jax.grad(lambda t: longitudinal_integrals(box, t).lcb + longitudinal_integrals(box, t).kb)(-1.0)
+    assert np.isfinite(float(g))
+
+
+def test_safe_div_and_sqrt_have_finite_gradients_where_guarded():
+    den = jnp.asarray([0.0, 2.0])
+    np.testing.assert_array_equal(np.asarray(safe_div(jnp.asarray([1.0, 1.0]), den)), [0.0, 0.5])
+    np.testing.assert_array_equal(np.asarray(safe_div(1.0, den, den > 1.0, fill=-1.0)), [-1.0, 0.5])
+    g = jax.grad(lambda d: jnp.sum(safe_div(3.0, d)))(den)
+    np.testing.assert_array_equal(np.asarray(g), [0.0, -0.75])
+    g = jax.grad(lambda v: jnp.sum(safe_sqrt(v)))(jnp.asarray([0.0, 4.0]))
+    np.testing.assert_array_equal(np.asarray(g), [0.0, 0.25])
+    g = jax.grad(lambda v: safe_norm(v))(jnp.zeros(3))
+    np.testing.assert_array_equal(np.asarray(g), np.zeros(3))
+    assert float(safe_norm(jnp.asarray([3.0, 4.0]))) == 5.0

@@ -6,6 +6,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from conftest import REPO
 from hullopt.geometry import to_trimesh
 from hullopt.hydro import draft_for_volume, hydrostatic_table, hydrostatics, sectional_areas
 from hullopt.models import box, offset_surface, read_offsets, wigley
@@ -59,7 +60,7 @@ def test_box_barge_exact():
 
 @pytest.fixture(scope="module")
 def seed003(request):
-    table = read_offsets("hullopt/data/offsets/seed003_table1.csv")
+    table = read_offsets(str(REPO / "hullopt/data/offsets/seed003_table1.csv"))
     return table, offset_surface(table, 61, 41)
 
 

@@ -4,13 +4,14 @@ import numpy as np
 import pytest
 import trimesh
 
+from conftest import REPO
 from hullopt.app.cli import main
 from hullopt.app.commands.stability import parse_scale
 from hullopt.errors import HullError
 from hullopt.geometry import split_for_print, to_trimesh
 from hullopt.models import offsets_to_sections, read_offsets, wigley
 
-SEED = "hullopt/data/offsets/seed003_table1.csv"
+SEED = str(REPO / "hullopt/data/offsets/seed003_table1.csv")
 
 
 @pytest.fixture(autouse=True)
