@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from hullopt.errors import HullError
-from hullopt.geometry import section_integrals, simpson_weights
+from hullopt.geometry import longitudinal_integrals, section_integrals
 from hullopt.hydro import hydrostatics, volume_at
 from hullopt.models import (ApexMove, ContourEdit, Distribution, check_design, feature_model, load_parent,
                             parent_names)
@@ -38,10 +38,8 @@ def _roundtrip(parent, hull, draft, zs):
     rebuilt = hull.sections()
 
     def measure(s):
-        si = jax.vmap(lambda z: section_integrals(s, z))(jnp.concatenate([draft[None], zs]))
-        w = simpson_weights(s.x)
-        vol = w @ si.area[0]
-        return vol, (w @ (s.x * si.area[0])) / vol, si.width[1:]
+        li = longitudinal_integrals(s, draft)
+        return li.volume, li.lcb, jax.vmap(lambda z: section_integrals(s, z).width)(zs)
 
     (v0, l0, w0), (v1, l1, w1) = measure(parent), measure(rebuilt)
     dev = jnp.max(jnp.abs(w1 - w0)) / (2.0 * parent.max_half_breadth)

@@ -7,6 +7,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from hullopt.constants import KNOT
 from hullopt.hydro import hydrostatics
 from hullopt.models import ApexMove, ContourEdit, Distribution, feature_model, load_parent
 from hullopt.optimise import (
@@ -20,8 +21,6 @@ from hullopt.optimise import (
     solve_fit,
     with_objective_scale,
 )
-
-KNOT = 1852.0 / 3600.0
 
 
 @pytest.fixture(scope="module")

@@ -33,12 +33,11 @@ from ..optimise import (
     solve_minimum,
     with_objective_scale,
 )
+from ..constants import KNOT
 from .config import ObjectiveConfig, RunConfig
 from .output import console, write_hull_file, write_json
 from .parents import parent_digest, run_parent
 from .programs import cached_call
-
-KNOT = 1852.0 / 3600.0
 
 
 @dataclass

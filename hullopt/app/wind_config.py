@@ -36,6 +36,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, ValidationError, field_validator, model_validator
 
+from ..constants import RHO_AIR
 from ..errors import HullError
 from ..wind import DEFAULT_SHIP_TYPE, MODELS, PartSpec, Parts, ViewScale, box_parts, concat_parts, polygon_parts
 
@@ -78,7 +79,7 @@ class HullWindConfig(_Strict):
     draft: float | None = None
     model: str = "fujiwara1998"
     ship_type: str = DEFAULT_SHIP_TYPE
-    rho_air: float = 1.225
+    rho_air: float = RHO_AIR
     y56: str = "L*H_C/A_L"
     parts: list[PartConfig] = []
 
@@ -120,7 +121,7 @@ class DrawingsConfig(_Strict):
     parts: list[DrawingPartConfig] = []
     model: str = "fujiwara1998"
     ship_type: str = DEFAULT_SHIP_TYPE
-    rho_air: float = 1.225
+    rho_air: float = RHO_AIR
     y56: str = "L*H_C/A_L"
 
     def part_specs(self) -> list[PartSpec]:

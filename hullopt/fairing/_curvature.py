@@ -9,7 +9,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..geometry import Sections
+from ..geometry import Sections, safe_div
 
 
 def surface_curvatures(r_u, r_v, r_uu, r_uv, r_vv) -> tuple[Array, Array]:
@@ -80,8 +80,7 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
         ok_e = ok_e & edge_ok
     ds = 0.5 * (length[..., :-1] + length[..., 1:])
     ok = ok_e[..., :-1] & ok_e[..., 1:]
-    safe_ds = jnp.where(ok, ds, 1.0)
-    kappa = jnp.where(ok[..., None], (t[..., 1:, :] - t[..., :-1, :]) / safe_ds[..., None], 0.0)
+    kappa = safe_div(t[..., 1:, :] - t[..., :-1, :], ds[..., None], ok[..., None])
     return kappa, jnp.where(ok, ds, 0.0), ok
 
 

@@ -26,9 +26,7 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
-from ..geometry import Sections
-from ..geometry import simpson_weights
-from ..hydro import sectional_areas
+from ..geometry import Sections, longitudinal_integrals
 from ._coons import coons_sections, coons_surface
 from ._unfairness import RESIDUALS
 
@@ -132,10 +130,8 @@ def fair_offsets(
         return yj.ravel().at[idx].add(bound * jnp.tanh(p)).reshape(y0.shape)
 
     def particulars(yy):
-        sec = to_sections(yy)  # volume and LCB as hullopt.hydro.hydrostatics computes them
-        w, area = simpson_weights(sec.x), sectional_areas(sec, draft)
-        volume = w @ area
-        return volume, (w @ (sec.x * area)) / volume
+        li = longitudinal_integrals(to_sections(yy), draft)  # as hullopt.hydro.hydrostatics computes them
+        return li.volume, li.lcb
 
     def unfair(yy):
         r = residuals(coons_surface(xj, zj, yy, end), hull)

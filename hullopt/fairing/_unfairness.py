@@ -54,8 +54,8 @@ from ..geometry import Sections
 from ._coons import CoonsSurface
 from ._curvature import _safe_unit, graph_curvatures, polyline_curvature
 
-_G, _W = np.polynomial.legendre.leggauss(3)
-GAUSS_T, GAUSS_W = (_G + 1.0) / 2.0, _W / 2.0  # 3-point Gauss–Legendre on [0, 1]
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(3)
+GAUSS_T, GAUSS_W = (_GL_X + 1.0) / 2.0, _GL_W / 2.0  # 3-point Gauss–Legendre on [0, 1]
 
 
 def _offsets(surface: CoonsSurface) -> Array:

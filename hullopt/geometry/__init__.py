@@ -1,6 +1,9 @@
 """The geometry kernel: the shared hull type, exact section integrals, splines, meshes."""
 
+from ._integrate import LongitudinalIntegrals as LongitudinalIntegrals
+from ._integrate import longitudinal_integrals as longitudinal_integrals
 from ._integrate import simpson_weights as simpson_weights
+from ._integrate import volume_lcb as volume_lcb
 from ._mesh import EXPORT_FORMATS as EXPORT_FORMATS
 from ._mesh import atomic_write_bytes as atomic_write_bytes
 from ._mesh import export_mesh as export_mesh
@@ -22,3 +25,6 @@ from ._splines import CubicSpline as CubicSpline
 from ._splines import natural_cubic_spline as natural_cubic_spline
 from ._splines import spline_matrix as spline_matrix
 from ._print import split_for_print as split_for_print
+from ._safe import safe_div as safe_div
+from ._safe import safe_norm as safe_norm
+from ._safe import safe_sqrt as safe_sqrt

@@ -25,6 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from ._safe import safe_div, safe_sqrt
 from ._sections import Sections
 
 if TYPE_CHECKING:
@@ -75,8 +76,8 @@ def _fraction_below(za: Array, zb: Array, zc: Array, level: Array) -> Array:
     hi = (level > zb) & (level < zc)
     den_lo = (zb - za) * (zc - za)
     den_hi = (zc - za) * (zc - zb)
-    f_lo = jnp.where(lo, (level - za) ** 2 / jnp.where(lo, den_lo, 1.0), 0.0)
-    f_hi = jnp.where(hi, 1.0 - (zc - level) ** 2 / jnp.where(hi, den_hi, 1.0), 0.0)
+    f_lo = safe_div((level - za) ** 2, den_lo, lo)
+    f_hi = jnp.where(hi, 1.0 - safe_div((zc - level) ** 2, den_hi, hi), 0.0)
     return jnp.where(level >= zc, 1.0, f_lo + f_hi)
 
 
@@ -84,8 +85,7 @@ def _area(a: Array, b: Array, c: Array) -> Array:
     """Areas of triangles with vertices ``a, b, c (..., 3)``."""
     cross = jnp.cross(b - a, c - a)
     sq = jnp.sum(cross**2, axis=-1)
-    ok = sq > 0.0
-    return jnp.where(ok, 0.5 * jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)  # double where: no NaN gradient
+    return 0.5 * safe_sqrt(sq)  # no NaN gradient at a degenerate triangle
 
 
 def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:

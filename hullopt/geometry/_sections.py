@@ -20,6 +20,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from ._safe import safe_div
+
 
 class Sections(eqx.Module):
     """A hull as ``n`` stations of half-section polylines with ``m`` points each.
@@ -70,12 +72,6 @@ def closed_half_polygon(yz: Float[Array, "... m 2"]) -> Float[Array, "... m+1 2"
     return jnp.concatenate([yz, deck_centre[..., None, :]], axis=-2)
 
 
-def _safe_div(num, den, ok):
-    """``num / den`` where ``ok``, else 0, with finite gradients on both branches (double where)."""
-    safe = jnp.where(ok, den, 1.0)
-    return jnp.where(ok, num / safe, 0.0)
-
-
 class EdgeIntegrals(eqx.Module):
     """Per-edge line integrals over the part of each edge at or below the level (Green's theorem forms).
 
@@ -97,7 +93,7 @@ def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:
     y1, z1 = p1[..., 0], p1[..., 1]
     dz = z1 - z0
     crosses = (z0 - level) * (z1 - level) < 0.0
-    s = _safe_div(level - z0, dz, crosses)  # crossing parameter along the edge
+    s = safe_div(level - z0, dz, crosses)  # crossing parameter along the edge
     yc = y0 + s * (y1 - y0)
     # Each end is either kept (below the level) or moved to the crossing point; an edge wholly above
     # collapses to a point and contributes nothing.
@@ -117,7 +113,7 @@ def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:
     # on the level is counted once and every width is its limit from below — at the deck-edge height the
     # waterline is the deck edge's breadth, as the deck closes the section.
     up_to = (jnp.minimum(z0, z1) < level) & (level <= jnp.maximum(z0, z1))
-    sw = _safe_div(level - z0, dz, up_to)
+    sw = safe_div(level - z0, dz, up_to)
     width = jnp.where(up_to, jnp.sign(dz) * (y0 + sw * (y1 - y0)), 0.0)
     return EdgeIntegrals(area, moment_z, moment_y, width)
 
@@ -133,7 +129,7 @@ def level_widths(poly: Float[Array, "... k 2"], levels: Float[Array, " K"]) -> F
     moving = dz != 0
     sg = jnp.sign(dz)
     # per edge (before broadcasting to the levels): signed start, signed slope, z range, signed half ends
-    a, b = sg * y0, sg * _safe_div(y1 - y0, dz, moving)
+    a, b = sg * y0, sg * safe_div(y1 - y0, dz, moving)
     lo, hi = jnp.minimum(z0, z1), jnp.maximum(z0, z1)
     lv = jnp.asarray(levels)
     width = jnp.where((lo < lv) & (lv <= hi), a + (lv - z0) * b, 0.0)  # the crossing rule of clipped_edge_integrals

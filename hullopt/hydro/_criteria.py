@@ -25,6 +25,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array
 
+from ..geometry import safe_div
+
 # (key, label, unit, required); angles in degrees in this table and in reports, radians in code.
 CRITERIA = (
     ("area_0_30", "Area under GZ 0–30°", "m·rad", 0.055),
@@ -87,7 +89,7 @@ def _parabola_peak(g: Array, i: Array, h, lowest: Array | int = 1) -> tuple[Arra
     g0, g1, g2 = g[j - 1], g[j], g[j + 1]
     den = g0 - 2.0 * g1 + g2
     ok = (i == j) & (i >= lowest) & (den < 0.0)
-    d = jnp.where(ok, 0.5 * (g0 - g2) / jnp.where(ok, den, 1.0), 0.0)
+    d = safe_div(0.5 * (g0 - g2), den, ok)
     d = jnp.clip(d, -1.0, 1.0)
     return d * h, jnp.where(ok, g1 - 0.25 * (g0 - g2) * d, g[i])
 
@@ -121,7 +123,7 @@ def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_
     kz = jnp.argmax(neg)
     ga, gb = grid[jnp.maximum(kz - 1, 0)], grid[kz]
     ok = jnp.any(neg) & (ga > gb)
-    frac = jnp.where(ok, ga / jnp.where(ok, ga - gb, 1.0), 0.0)
+    frac = safe_div(ga, ga - gb, ok)
     vanishing = jnp.where(jnp.any(neg), heel[jnp.maximum(kz - 1, 0)] + frac * h, jnp.nan)
     gm0 = jnp.asarray(gm0)
     value = jnp.stack([area_30, area_30 + area_30_40, area_30_40, gz30, jnp.rad2deg(angle), gm0])

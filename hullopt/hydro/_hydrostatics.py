@@ -12,9 +12,8 @@ import numpy as np
 import optimistix as optx
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, section_integrals, simpson_weights, wetted_surface
-
-RHO_SEA = 1025.0  # kg/m³
+from ..constants import RHO_SEA
+from ..geometry import Sections, longitudinal_integrals, section_integrals, wetted_surface
 
 
 class Hydrostatics(eqx.Module):
@@ -57,40 +56,21 @@ def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
     return 2.0 * section_integrals(sections, draft).area
 
 
-def _waterline_length(x: Array, bw: Array) -> Array:
-    """From the first to the last station with a waterline, each extended to its dry neighbour (where
-    the ruled surface between the two stations ends); exact when the stations include both ends."""
-    wet = bw > 0.0
-    n = x.shape[0]
-    first = jnp.argmax(wet)
-    last = n - 1 - jnp.argmax(wet[::-1])
-    return jnp.where(jnp.any(wet), x[jnp.minimum(last + 1, n - 1)] - x[jnp.maximum(first - 1, 0)], 0.0)
-
-
 def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatics:
     """Hydrostatics at ``draft`` [m above the baseline]; see :class:`Hydrostatics`.
 
-    Exact for the polyline sections; along x, Simpson's rule on the station positions.
+    Exact for the polyline sections; along x, Simpson's rule on the station positions (the kernel's
+    :func:`~hullopt.geometry.longitudinal_integrals`).
     The draft must lie above the keel and at most at the deck, where the waterplane is the deck edge's (the
     caller checks: see :func:`check_draft`).
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     x, lpp = sections.x, sections.lpp
-    s = section_integrals(sections, t)
-    w = simpson_weights(x)
-    area = 2.0 * s.area
-    volume = w @ area
-    lcb = (w @ (x * area)) / volume
-    kb = (w @ (2.0 * s.moment_z)) / volume
-    bw = s.width
-    awp = 2.0 * (w @ bw)
-    lcf = 2.0 * (w @ (x * bw)) / awp
-    i_t = (2.0 / 3.0) * (w @ bw**3)
-    i_l = 2.0 * (w @ (x**2 * bw)) - awp * lcf**2
-    bmt, bml = i_t / volume, i_l / volume
-    bwl = 2.0 * jnp.max(bw)
+    li = longitudinal_integrals(sections, t)
+    volume, lcb, kb, awp, lcf, bwl = li.volume, li.lcb, li.kb, li.awp, li.lcf, li.bwl
+    bmt, bml = li.i_t / volume, li.i_l / volume
     cb = volume / (lpp * bwl * t)
-    cm = jnp.interp(lpp / 2.0, x, area) / (bwl * t)
+    cm = jnp.interp(lpp / 2.0, x, li.area) / (bwl * t)
     displacement = rho * volume
     return Hydrostatics(
         draft=t,
@@ -112,7 +92,7 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
         kmt=kb + bmt,
         tpc=rho * awp / 100.0 / 1000.0,
         mct=displacement / 1000.0 * bml / (100.0 * lpp),
-        lwl=_waterline_length(x, bw),
+        lwl=li.lwl,
         bwl=bwl,
     )
 
@@ -124,7 +104,7 @@ def hydrostatic_table(sections: Sections, drafts, rho: float = RHO_SEA) -> Hydro
 
 def volume_at(sections: Sections, draft) -> Array:
     """Displaced volume [m³] at ``draft`` (cheaper than the full :func:`hydrostatics`)."""
-    return simpson_weights(sections.x) @ sectional_areas(sections, draft)
+    return longitudinal_integrals(sections, draft).volume
 
 
 def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:

@@ -30,7 +30,7 @@ import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, polygon_integrals, simpson_weights
+from ..geometry import Sections, polygon_integrals, safe_div, simpson_weights
 from ._criteria import Criteria, criteria_from_gz, criteria_heels
 
 
@@ -91,12 +91,12 @@ def heeled_integrals(sections: Sections, heel, level, trim=0.0) -> HeeledIntegra
     s = polygon_integrals(poly, levels)
     w = simpson_weights(sections.x)
     volume = w @ s.area
-    safe = jnp.where(volume > 0.0, volume, 1.0)
+    wet = volume > 0.0
     return HeeledIntegrals(
         volume=volume,
-        xb=(w @ (sections.x * s.area)) / safe,
-        yb=(w @ s.moment_y) / safe,
-        zb=(w @ s.moment_z) / safe,
+        xb=safe_div(w @ (sections.x * s.area), volume, wet),
+        yb=safe_div(w @ s.moment_y, volume, wet),
+        zb=safe_div(w @ s.moment_z, volume, wet),
         awp=w @ s.width,
         it=w @ s.width**3 / 12.0,
     )

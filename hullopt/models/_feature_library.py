@@ -34,7 +34,7 @@ import numpy as np
 from jaxtyping import Array
 
 from ..errors import HullError
-from ..geometry import Sections, section_integrals, simpson_weights
+from ..geometry import Sections, longitudinal_integrals
 from ._feature_extract import extract_features
 from ._features import PARENTS_DIR, FeatureHull, feature_hull, save_features
 
@@ -68,12 +68,10 @@ def _rebuild(hull: FeatureHull) -> Sections:
 
 @eqx.filter_jit
 def _volume_lcb(s: Sections, zs) -> tuple[Array, Array]:
-    """∇ [m³, half hull] and LCB [m from the AP] of ``s`` at the drafts ``zs (k,)``: the kernel's section
-    integrals, Simpson's rule along x (one program per hull shape)."""
-    area = jax.vmap(lambda t: section_integrals(s, t).area)(jnp.asarray(zs))  # (k, n)
-    w = simpson_weights(s.x)
-    v = area @ w
-    return v, area @ (w * s.x) / v
+    """∇ [m³, both sides] and LCB [m from the AP] of ``s`` at the drafts ``zs (k,)``: the kernel's
+    :func:`~hullopt.geometry.longitudinal_integrals` (one program per hull shape)."""
+    li = jax.vmap(lambda t: longitudinal_integrals(s, t))(jnp.asarray(zs))
+    return li.volume, li.lcb
 
 
 def extract_faithful(sections: Sections, name: str = "hull", design_draft: float | None = None,

@@ -43,7 +43,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..errors import HullError
-from ..geometry import Sections, atomic_write_bytes
+from ..geometry import Sections, atomic_write_bytes, safe_div
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -269,9 +269,8 @@ class FeatureModel(eqx.Module):
             disp = jnp.zeros_like(c)
             for k, s in enumerate(self.move_seg):
                 disp = disp.at[:, s].add(self.move_w[k][:, None] * params.apex[k])
-            safe = jnp.where(ok, cc, 1.0)
-            d_beta = jnp.where(ok, jnp.sum(disp * c, -1) / safe, 0.0)
-            d_eta = jnp.where(ok, jnp.sum(disp * rc, -1) / safe, 0.0)
+            d_beta = safe_div(jnp.sum(disp * c, -1), cc, ok)
+            d_eta = safe_div(jnp.sum(disp * rc, -1), cc, ok)
             out = eqx.tree_at(lambda t: t.apex, out, apex + jnp.stack([d_beta, d_eta], -1))
         return out
 

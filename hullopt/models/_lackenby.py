@@ -21,7 +21,7 @@ forward +, from ``B``) are split between the fore and aft bodies by the volume a
 
 (``Cp`` the whole hull's, ``δCp_F``/``δCp_A`` the half bodies' own changes, ``h_A`` measured aft). These are
 first order; :func:`lackenby` then refines ``(c_A, c_F)`` by Newton's method on the exact hydrostatics of the
-shifted stations (Simpson's rule as in :func:`hullopt.hydro.hydrostatics`), so the targets are met to
+shifted stations (Simpson's rule as in :func:`hullopt.hydro.hydrostatics`: the kernel's :func:`~hullopt.geometry.volume_lcb`), so the targets are met to
 round-off. Only the station positions change: the sections, the midship section, length, breadth and draft
 stay — which is exactly what a Lackenby shift is.
 """
@@ -34,17 +34,15 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import HullError
-from ..geometry import Sections, section_integrals, simpson_weights
+from ..geometry import Sections, longitudinal_integrals, simpson_weights, volume_lcb
 
 _NEWTON_STEPS = 8  # quadratic convergence from the first-order start: round-off in 3–4 steps
 
 
 def _particulars(x, area, bwl, draft, lpp):
     """Cb and LCB [% Lpp from midship, forward +] of stations at ``x`` with full-section areas ``area``,
-    by the same rules as :func:`hullopt.hydro.hydrostatics`."""
-    w = simpson_weights(x)
-    volume = w @ area
-    lcb = (w @ (x * area)) / volume
+    by the same rules as :func:`hullopt.hydro.hydrostatics` (the kernel's :func:`volume_lcb`)."""
+    volume, lcb = volume_lcb(x, area)
     return jnp.stack([volume / (lpp * bwl * draft), 100.0 * (lcb - lpp / 2.0) / lpp])
 
 
@@ -55,8 +53,8 @@ _particulars_jit = jax.jit(_particulars)
 @jax.jit
 def _section_data(sections: Sections, draft):
     """Full-section areas ``(n,)`` [m²] and the waterline breadth [m] at ``draft``."""
-    s = section_integrals(sections, draft)
-    return 2.0 * s.area, 2.0 * jnp.max(s.width)
+    li = longitudinal_integrals(sections, draft)
+    return li.area, li.bwl
 
 
 def _half_body(xi, y):

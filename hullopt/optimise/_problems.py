@@ -29,7 +29,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array
 
-from ..geometry import Sections
+from ..geometry import Sections, safe_div
 from ..hydro import Hydrostatics, hydrostatics
 from ..resistance import holtrop_hull, holtrop_mennen
 from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
@@ -95,8 +95,8 @@ def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
     """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``)."""
     a = achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg)
     rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
-    safe = jnp.where(rel, targets.values, 1.0)  # a zero target (LCB amidships) must not poison the gradient
-    return jnp.where(rel, a / safe - 1.0, a - targets.values)
+    # safe_div: a zero target (LCB amidships) must not poison the gradient
+    return jnp.where(rel, safe_div(a, targets.values, rel) - 1.0, a - targets.values)
 
 
 # ----------------------------------------------------------------------------------------------- objectives

@@ -15,12 +15,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from ..geometry import Sections, section_integrals
-from ..hydro import hydrostatics
-
-G = 9.80665
-NU_SEA = 1.18831e-6  # m²/s, sea water at 15 °C (ITTC), as the paper's example
-RHO_SEA = 1025.0
+from ..constants import G, NU_SEA, RHO_SEA  # NU_SEA: sea water at 15 °C (ITTC), as the paper's example
+from ..geometry import Sections, longitudinal_integrals, safe_div, wetted_surface
 
 
 class HoltropHull(eqx.Module):
@@ -126,20 +122,20 @@ def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_s
     (Holtrop's half angle of entrance ignores the local rounding at the stem).
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
-    hy = hydrostatics(sections, t)
-    s = section_integrals(sections, t)
-    x, bw = sections.x, s.width
+    li = longitudinal_integrals(sections, t)
+    x, bw = sections.x, li.half_breadth
     wet = bw > 0.0
     n = x.shape[0]
     fwd = x[jnp.minimum(n - 1 - jnp.argmax(wet[::-1]) + 1, n - 1)]  # the waterline's forward end
-    aft = fwd - hy.lwl
-    lcb = 100.0 * (hy.lcb - 0.5 * (aft + fwd)) / hy.lwl
-    dx = entrance_fraction * hy.lwl
+    aft = fwd - li.lwl
+    lcb = 100.0 * (li.lcb - 0.5 * (aft + fwd)) / li.lwl
+    dx = entrance_fraction * li.lwl
     ie = jnp.degrees(jnp.arctan(jnp.interp(fwd - dx, x, bw) / dx))
-    area_fp = 2.0 * jnp.interp(sections.lpp, x, s.area)
-    mom_fp = 2.0 * jnp.interp(sections.lpp, x, s.moment_z)
-    h_b = jnp.where(area_fp > 0.0, mom_fp / jnp.where(area_fp > 0.0, area_fp, 1.0), 0.0)
+    area_fp = jnp.interp(sections.lpp, x, li.area)
+    mom_fp = jnp.interp(sections.lpp, x, li.moment_z)
+    h_b = safe_div(mom_fp, area_fp, area_fp > 0.0)
+    cm = jnp.interp(sections.lpp / 2.0, x, li.area) / (li.bwl * t)  # as hullopt.hydro.hydrostatics
     return HoltropHull(
-        L=hy.lwl, B=hy.bwl, T=t, T_F=t, volume=hy.volume, cm=hy.cm, cwp=hy.awp / (hy.lwl * hy.bwl), lcb=lcb,
-        ie=ie, S=hy.wetted_surface, A_BT=area_fp, h_B=h_b, A_T=2.0 * s.area[0], c_stern=jnp.asarray(c_stern),
+        L=li.lwl, B=li.bwl, T=t, T_F=t, volume=li.volume, cm=cm, cwp=li.awp / (li.lwl * li.bwl), lcb=lcb,
+        ie=ie, S=wetted_surface(sections, t), A_BT=area_fp, h_B=h_b, A_T=li.area[0], c_stern=jnp.asarray(c_stern),
     )

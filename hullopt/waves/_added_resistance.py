@@ -15,12 +15,10 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array
 
+from ..constants import G, RHO_SEA
 from ..geometry import Sections
 from ._bessel import alpha_t
 from ._waterline import bluntness_of_waterline, waterline
-
-G = 9.80665  # m/s²
-RHO_SEA = 1025.0  # kg/m³
 C_U_SLOPE, C_U_INTERCEPT, C_U_MIN = -310.0, 68.0, 10.0
 BF_KINK = (C_U_INTERCEPT - C_U_MIN) / -C_U_SLOPE  # 58/310 = 0.1871: where C_U reaches its floor
 

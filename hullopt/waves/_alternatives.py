@@ -12,8 +12,9 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from ..geometry import Sections, section_integrals, simpson_weights
-from ._added_resistance import G, RHO_SEA, _outer, froude_number, nmri_added_resistance
+from ..constants import G, RHO_SEA
+from ..geometry import Sections, longitudinal_integrals
+from ._added_resistance import _outer, froude_number, nmri_added_resistance
 from ._bessel import alpha_t
 from ._spectra import spectral_mean
 from ._waterline import entrance_lengths, waterline
@@ -39,7 +40,7 @@ def particulars(sections: Sections, draft) -> Particulars:
     Simpson along x."""
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     wl = waterline(sections, t)
-    volume = simpson_weights(sections.x) @ (2.0 * section_integrals(sections, t).area)
+    volume = longitudinal_integrals(sections, t).volume
     b = wl.beam
     l_bwl, _ = entrance_lengths(wl, 0.95)
     l_e, l_r = entrance_lengths(wl, 0.99)

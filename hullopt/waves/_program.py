@@ -10,8 +10,9 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array
 
+from ..constants import G
 from ..geometry import Sections
-from ._added_resistance import G, froude_number, k_aw, speed_coefficient
+from ._added_resistance import froude_number, k_aw, speed_coefficient
 from ._waterline import bluntness
 
 

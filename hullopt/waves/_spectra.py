@@ -18,6 +18,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array
 
+from ..constants import G
+
 SPECTRA = ("pm", "jonswap")
 # Panel edges in ω/ω_p (beyond the last, down to u_max: waves this long carry e^(−u) < 1e-17 of the energy).
 _RATIO_EDGES = (np.inf, 3.0, 2.0, 1.5, 1.25, 1.12, 1.05, 1.0, 0.95, 0.9, 0.83, 0.75, 0.65, 0.58, 0.5, 0.45, 0.4, 0.35)
@@ -88,7 +90,7 @@ def beaufort_sea_state(number: int) -> tuple[float, float]:
     if number not in BEAUFORT or number == 0:
         raise ValueError(f"Beaufort number {number!r}: expected an integer 1 to 12")
     hs = BEAUFORT[number][1]
-    return hs, float(2 * np.pi / 0.877 * np.sqrt(hs / (0.21 * 9.80665)))
+    return hs, float(2 * np.pi / 0.877 * np.sqrt(hs / (0.21 * G)))
 
 
 def frequency_nodes(tp, omega_max=None, order: int = 8) -> tuple[Array, Array]:

@@ -14,7 +14,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, section_integrals
+from ..geometry import Sections, safe_div, section_integrals
 
 AFT_OPTIONS = ("include", "exclude")
 
@@ -46,7 +46,7 @@ class Waterline(eqx.Module):
         """dy/dx of each station-to-station segment (0 where stations coincide)."""
         dxs = self.dx[1:-1]
         ok = dxs > 0.0
-        return jnp.where(ok, self.dy[1:-1] / jnp.where(ok, dxs, 1.0), 0.0)
+        return safe_div(self.dy[1:-1], dxs, ok)
 
     @property
     def angle(self) -> Float[Array, " n+1"]:
@@ -74,13 +74,11 @@ def _side_integral(wl: Waterline, kx, ky, aft: str):
     """
     dx, dy = wl.dx[..., None], wl.dy[..., None]  # broadcast against headings in the last axis
     l2 = dx * dx + dy * dy
-    ok = l2 > 0.0
-    l2 = jnp.where(ok, l2, 1.0)
     proj = ky * dx - kx * dy  # = dl · (k̂·n)
-    lit = ok & (proj < 0.0)
+    lit = (l2 > 0.0) & (proj < 0.0)
     if aft == "exclude":
         lit = lit & (dy < 0.0)
-    return jnp.sum(jnp.where(lit, proj * proj * (-dy) / l2, 0.0), axis=0)
+    return jnp.sum(safe_div(proj * proj * (-dy), l2, lit), axis=0)
 
 
 def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "include") -> Array:
@@ -108,7 +106,7 @@ def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "include") -> 
     total = _side_integral(wl, kx, ky, aft) + _side_integral(wl, kx, -ky, aft)  # starboard = mirror of k̂
     b = wl.beam
     pos = b > 0.0
-    return jnp.where(pos, total / jnp.where(pos, b, 1.0), 0.0).reshape(shape)
+    return safe_div(total, b, pos).reshape(shape)
 
 
 def bluntness(sections: Sections, draft, heading=0.0, aft: str = "include") -> Array:
@@ -137,9 +135,9 @@ def entrance_lengths(wl: Waterline, fraction) -> tuple[Array, Array]:
     j = jnp.minimum(i_f + 1, n - 1)
     den = y[i_f] - y[j]
     ok = (j > i_f) & (den > 0.0)
-    xf = x[i_f] + jnp.where(ok, (y[i_f] - level) / jnp.where(ok, den, 1.0), 0.0) * (x[j] - x[i_f])
+    xf = x[i_f] + safe_div(y[i_f] - level, den, ok) * (x[j] - x[i_f])
     j = jnp.maximum(i_a - 1, 0)
     den = y[i_a] - y[j]
     ok = (j < i_a) & (den > 0.0)
-    xa = x[i_a] - jnp.where(ok, (y[i_a] - level) / jnp.where(ok, den, 1.0), 0.0) * (x[i_a] - x[j])
+    xa = x[i_a] - safe_div(y[i_a] - level, den, ok) * (x[i_a] - x[j])
     return x_fwd - xf, xa - x_aft

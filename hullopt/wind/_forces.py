@@ -10,10 +10,11 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
+from ..constants import RHO_AIR
+from ..geometry import safe_sqrt
 from ._coefficients import DEFAULT_SHIP_TYPE, Coefficients, wind_coefficients
 from ._variables import WindVariables
 
-RHO_AIR = 1.225  # kg/m³
 
 
 class WindLoads(eqx.Module):
@@ -37,7 +38,7 @@ def relative_wind(ship_speed, wind_speed, wind_angle) -> tuple[Array, Array]:
     ax, ay = vt * jnp.cos(beta) + u, vt * jnp.sin(beta)
     sq = ax * ax + ay * ay
     ok = sq > 0
-    speed = jnp.where(ok, jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)
+    speed = safe_sqrt(sq, ok)
     angle = jnp.where(ok, jnp.arctan2(jnp.where(ok, ay, 0.0), jnp.where(ok, ax, 1.0)), 0.0)
     return speed, angle
 

@@ -25,27 +25,14 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..geometry import Sections
+from ..geometry import Sections, safe_div, safe_norm
 from ._parts import Parts, Projections, projections
 
 NAMES = ("L", "B", "A_T", "A_L", "A_OD", "A_SS", "C", "C_BR", "H_BR", "H_C", "S", "M")
 """The variables named in issue 5 / seed 004, in the order they are reported."""
 
 _BIG = 1e7  # stands for "no interval" on a cut; far outside any ship, never differentiated
-_G = 1.0 / (2.0 * np.sqrt(3.0))  # two-point Gauss offset, in strip widths from the middle
-
-
-def _div(num, den):
-    """``num / den`` with 0 (and finite gradients) where ``den == 0``: the double-where idiom."""
-    ok = den != 0
-    return jnp.where(ok, num / jnp.where(ok, den, 1.0), 0.0)
-
-
-def _norm(v):
-    """Euclidean norm along the last axis with a finite gradient at 0."""
-    sq = jnp.sum(v * v, axis=-1)
-    ok = sq > 0
-    return jnp.where(ok, jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)
+GAUSS2_OFFSET = 1.0 / (2.0 * np.sqrt(3.0))  # two-point Gauss–Legendre offset, in strip widths from the middle
 
 
 def polygon_moments(poly: Float[Array, "... k 2"], order: int = 3) -> Float[Array, "... o o"]:
@@ -77,7 +64,7 @@ def _cuts(polys: Array, u: Array, axis: int) -> tuple[Array, Array, Array]:
     a, b = polys, jnp.roll(polys, -1, axis=-2)
     au, av, bu, bv = a[..., axis], a[..., 1 - axis], b[..., axis], b[..., 1 - axis]
     du = bu - au
-    t = _div(u[:, None, None] - au, du)
+    t = safe_div(u[:, None, None] - au, du)
     valid = (du != 0) & (t >= 0) & (t <= 1)
     v = av + t * (bv - av)
     empty = ~jnp.any(valid, axis=-1)
@@ -117,11 +104,11 @@ def _front_integrals(h: Array, w: Array) -> tuple[Array, Array]:
     formulas as :func:`_cuts`; no sort or gather over batched data."""
     h0, h1, w0, w1 = h[:-1], h[1:], w[:-1], w[1:]
     mid, dh = 0.5 * (h1 + h0), h1 - h0
-    u = jnp.stack([mid - _G * dh, mid + _G * dh], -1)  # (K, 2)
+    u = jnp.stack([mid - GAUSS2_OFFSET * dh, mid + GAUSS2_OFFSET * dh], -1)  # (K, 2)
     wt = jnp.repeat(0.5 * dh, 2).reshape(-1, 2)
-    t_r = _div(u - h0[:, None], dh[:, None])  # right edge i: (w_i, h_i) → (w_{i+1}, h_{i+1})
+    t_r = safe_div(u - h0[:, None], dh[:, None])  # right edge i: (w_i, h_i) → (w_{i+1}, h_{i+1})
     du_l = h0 - h1
-    t_l = _div(u - h1[:, None], du_l[:, None])  # left edge i: (−w_{i+1}, h_{i+1}) → (−w_i, h_i)
+    t_l = safe_div(u - h1[:, None], du_l[:, None])  # left edge i: (−w_{i+1}, h_{i+1}) → (−w_i, h_i)
     v_r = w0[:, None] + t_r * (w1 - w0)[:, None]
     v_l = -w1[:, None] + t_l * (w1 - w0)[:, None]
     ok = (dh != 0)[:, None] & (t_r >= 0) & (t_r <= 1) & (t_l >= 0) & (t_l <= 1)
@@ -157,7 +144,7 @@ def _strips(polys: list[Array], axis: int, profile: tuple[Array, Array, Array] |
     coords.insert(0, jnp.concatenate([profile[0], profile[0][::-1]]) if profile is not None else flat[0][..., axis].ravel())
     edges = jnp.sort(jnp.concatenate(coords))
     mid, h = 0.5 * (edges[1:] + edges[:-1]), edges[1:] - edges[:-1]
-    u = jnp.stack([mid - _G * h, mid + _G * h], -1).ravel()
+    u = jnp.stack([mid - GAUSS2_OFFSET * h, mid + GAUSS2_OFFSET * h], -1).ravel()
     w = jnp.repeat(0.5 * h, 2)
     cuts = [_profile_cuts(*profile, u) if (k == 0 and profile is not None) else _cuts(p, u, axis)
             for k, p in enumerate(flat)]
@@ -183,7 +170,7 @@ def _outline_length(st: _Strips, cols: list[int]) -> Array:
     t1, t2 = top[0::2], top[1::2]
     h = 2.0 * st.w[0::2]
     rise = np.sqrt(3.0) * (t2 - t1)  # the Gauss points are h/√3 apart
-    inner = jnp.sum(_norm(jnp.stack([h, rise], -1)))
+    inner = jnp.sum(safe_norm(jnp.stack([h, rise], -1)))
     left, right = t1 - 0.5 * (rise - (t2 - t1)), t2 + 0.5 * (rise - (t2 - t1))
     return inner + jnp.sum(jnp.abs(left[1:] - right[:-1])) + left[0] + right[-1]
 
@@ -302,7 +289,7 @@ def _variables(pr: Projections, x: Array) -> WindVariables:
     else:
         h_br = jnp.max(pr.hull_side[:, 1])
 
-    c = _div(mx_l, a_l) - x_mid
+    c = safe_div(mx_l, a_l) - x_mid
     # Per part, the hull above water first: exact polygon moments about (mid-length, waterline).
     ks = max(pr.hull_side.shape[0], pr.part_side.shape[1])
     pad = lambda a, k: jnp.concatenate([a, jnp.repeat(a[..., -1:, :], k - a.shape[-2], axis=-2)], axis=-2)  # noqa: E731
@@ -315,11 +302,11 @@ def _variables(pr: Projections, x: Array) -> WindVariables:
     mast_groups = {g for g, k in zip(parts.groups, kinds) if k == "mast"}
     return WindVariables(
         L=length, B=breadth, A_T=a_t, A_L=a_l, A_OD=a_od, A_SS=a_ss, C=c,
-        C_BR=jnp.where(a_ss > 0, _div(mx_ss, a_ss) - x_mid, 0.0), H_BR=h_br, H_C=_div(mh_l, a_l),
-        S=s_outline, M=jnp.asarray(float(len(mast_groups))), H_T=_div(mh_t, a_t), H_L=_div(a_l, length),
+        C_BR=jnp.where(a_ss > 0, safe_div(mx_ss, a_ss) - x_mid, 0.0), H_BR=h_br, H_C=safe_div(mh_l, a_l),
+        S=s_outline, M=jnp.asarray(float(len(mast_groups))), H_T=safe_div(mh_t, a_t), H_L=safe_div(a_l, length),
         C_bow=0.5 * length - c, x_mid=x_mid,
-        part_area=area, part_x=_div(mom[:, 1, 0], area), part_h=_div(mom[:, 0, 1], area), part_moments=mom,
-        part_perimeter=jnp.sum(_norm(jnp.roll(polys, -1, axis=-2) - polys), axis=-1),
+        part_area=area, part_x=safe_div(mom[:, 1, 0], area), part_h=safe_div(mom[:, 0, 1], area), part_moments=mom,
+        part_perimeter=jnp.sum(safe_norm(jnp.roll(polys, -1, axis=-2) - polys), axis=-1),
         part_front_area=polygon_moments(fronts, 0)[:, 0, 0],
         part_names=("hull", *parts.names), part_kinds=("hull", *kinds),
     )

@@ -10,10 +10,11 @@ import jax.numpy as jnp
 import numpy as np
 import typer
 
+from ...constants import G, KNOT, RHO_SEA
 from ...errors import HullError
 from ...waves import blunt_bow as blunt_bow_modification
 from ...waves import (
-    AFT_OPTIONS, G, METHODS, RHO_SEA, SPECTRA, mean_added_resistance, method_resistance,
+    AFT_OPTIONS, METHODS, SPECTRA, mean_added_resistance, method_resistance,
     nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
 )
 from .._app import app
@@ -21,7 +22,6 @@ from ..hulls import load_hull
 from ..output import console, parse_range, print_json, table
 from .hydro import HULL_HELP, check_draft
 
-KNOT = 1852.0 / 3600.0  # m/s
 
 
 def _finite(value: float, name: str, *, positive: bool = False, nonneg: bool = False) -> float:
