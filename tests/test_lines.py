@@ -129,12 +129,63 @@ def test_cli_stability_bad_input(capsys, args, words):
     assert all(w in err for w in words), err
 
 
-def test_plot_gz_draws_a_file(tmp_path):
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures the curve plots save (their files are still written): a list of matplotlib figures."""
+    from hullopt.drawing import _curves
+
+    figures, save = [], _curves._save
+    monkeypatch.setattr(_curves, "_save", lambda plt, fig, path: (figures.append(fig), save(plt, fig, path))[1])
+    return figures
+
+
+def test_plot_gz_draws_the_wall_sided_curve(tmp_path, drawn):
+    """A box barge 50 × 10 × 5 m at T = 2 m, KG = 3 m: the GZ line is the wall-sided formula to 20° (the bilge
+    emerges at 21.8°), the GM₀ tangent reaches GM₀ = T/2 + B²/12T − KG = 2.1667 m at 1 rad."""
     import jax.numpy as jnp
 
     from hullopt.hydro import stability
     from hullopt.models import box
 
-    res = stability(box(50.0, 10.0, 5.0), jnp.asarray(50 * 10 * 2.0), jnp.asarray(3.0),
-                    jnp.deg2rad(jnp.linspace(0.0, 90.0, 10)), free_trim=False, n_grid=31)
-    assert plot_gz(res.curve, tmp_path / "gz.svg", res.criteria, "box").stat().st_size > 5000
+    b, t, kg = 10.0, 2.0, 3.0
+    heels = np.linspace(0.0, 90.0, 10)
+    res = stability(box(50.0, b, 5.0), jnp.asarray(50 * b * t), jnp.asarray(kg), jnp.deg2rad(jnp.asarray(heels)),
+                    free_trim=False, n_grid=31)
+    path = plot_gz(res.curve, tmp_path / "gz.svg", res.criteria, "box")
+    assert path.stat().st_size > 5000 and path.read_text().startswith("<?xml")
+    (ax,) = drawn[0].axes
+    lines = {ln.get_label(): ln for ln in ax.get_lines()}
+    gz, bm = lines["GZ"], b**2 / (12 * t)
+    gm = t / 2 + bm - kg
+    np.testing.assert_allclose(gz.get_xdata(), heels, rtol=1e-12)
+    phi = np.deg2rad(heels[:3])
+    np.testing.assert_allclose(gz.get_ydata()[:3], np.sin(phi) * (gm + 0.5 * bm * np.tan(phi) ** 2), rtol=1e-10,
+                               atol=1e-12)
+    tangent = lines[f"GM₀ = {gm:.3g} m"]
+    np.testing.assert_allclose(tangent.get_ydata(), [0.0, gm], rtol=1e-10)
+    gz_max = float(res.criteria.gz_max)
+    marker = next(ln for label, ln in lines.items() if label.startswith("GZmax"))
+    assert marker.get_ydata()[0] == pytest.approx(gz_max) and ax.get_title(loc="left").endswith("— box")
+
+
+def test_plot_cross_curves_draws_each_heel(tmp_path, drawn):
+    """One line per heel through the given (Δ, KN) points, labelled in degrees (the wall-sided KN of a box
+    barge B = 10 m at three drafts)."""
+    import jax.numpy as jnp
+
+    from hullopt.drawing import plot_cross_curves
+
+    b, t = 10.0, np.array([1.0, 2.0, 3.0])
+    disp = 1.025 * 50 * b * t  # t
+    heels = np.deg2rad([0.0, 5.0, 10.0])
+    tc = t[:, None]
+    kn = np.sin(heels) * (tc / 2 + b**2 / (12 * tc) * (1 + 0.5 * np.tan(heels) ** 2))  # (drafts, heels)
+    path = plot_cross_curves(jnp.asarray(disp), jnp.asarray(heels), jnp.asarray(kn), tmp_path / "kn.png", "box")
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    (ax,) = drawn[0].axes
+    lines = ax.get_lines()
+    assert [ln.get_label() for ln in lines] == ["0°", "5°", "10°"]
+    for j, ln in enumerate(lines):
+        np.testing.assert_allclose(ln.get_xdata(), disp, rtol=1e-15)
+        np.testing.assert_allclose(ln.get_ydata(), kn[:, j], rtol=1e-15)
+    assert ax.get_title(loc="left") == "Cross curves — box"

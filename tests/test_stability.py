@@ -15,7 +15,7 @@ from shapely.affinity import rotate
 from shapely.geometry import Polygon, box as sbox
 
 from hullopt.geometry import to_trimesh
-from hullopt.hydro import (criteria_from_gz, criteria_heels, gz_curve, heeled_equilibrium, icll_sheer,
+from hullopt.hydro import (criteria_from_gz, criteria_heels, cross_curves, gz_curve, heeled_equilibrium, icll_sheer,
                            intact_criteria, stability, with_sheer)
 from hullopt.models import box
 
@@ -44,11 +44,11 @@ def test_box_gz_equals_wall_sided_formula_before_bilge_emergence(barge):
     np.testing.assert_allclose(np.asarray(res.curve.trim), 0.0, atol=1e-12)  # symmetric fore and aft
 
 
-def _shapely_kn(phi: float) -> float:
-    """KN of the box section by exact polygon clipping: rotate, sink to the area B·T, take the centroid."""
+def _shapely_kn(phi: float, t: float = T) -> float:
+    """KN of the box section by exact polygon clipping: rotate, sink to the area B·t, take the centroid."""
     sec = rotate(Polygon([(-B / 2, 0), (B / 2, 0), (B / 2, D), (-B / 2, D)]), np.rad2deg(phi), origin=(0, 0))
     below = lambda h: sec.intersection(sbox(-100, -100, 100, h))  # noqa: E731
-    h = brentq(lambda h: below(h).area - B * T, -50, 50, xtol=1e-14, rtol=1e-15)
+    h = brentq(lambda h: below(h).area - B * t, -50, 50, xtol=1e-14, rtol=1e-15)
     return -below(h).centroid.x  # heel to starboard: the immersed side is −y'
 
 
@@ -59,6 +59,25 @@ def test_box_kn_equals_exact_polygon_at_large_heels(barge):
         if deg >= 20:  # deck edge immersed from 31°, bilge out of the water from 21.8°
             assert kn[i] == pytest.approx(_shapely_kn(np.deg2rad(deg)), rel=1e-10, abs=1e-10), deg
     assert kn[-1] == pytest.approx(D / 2, rel=1e-12)  # on its side: B lies at mid-depth
+
+
+def test_cross_curves_of_a_box_barge():
+    """KN at three displacements (drafts 2, 4, 7 m) and five heels: the wall-sided formula with KG = 0 while
+    both the bilge and the deck edge stay clear of the water, exact polygons beyond, D/2 on its side."""
+    drafts = np.array([2.0, 4.0, 7.0])
+    deg = np.array([0.0, 10.0, 20.0, 45.0, 90.0])
+    phi = np.deg2rad(deg)
+    # fixed trim: the box is symmetric fore and aft (its free trim is 0), and fixed trim compiles in a few s
+    kn = np.asarray(eqx.filter_jit(cross_curves)(box(L, B, D), jnp.asarray(L * B * drafts), jnp.asarray(phi), False))
+    assert kn.shape == (3, 5)
+    for i, t in enumerate(drafts):
+        for j, p in enumerate(phi):
+            if np.tan(p) < min(2 * t / B, 2 * (D - t) / B):
+                expected = np.sin(p) * (t / 2 + B**2 / (12 * t) * (1 + 0.5 * np.tan(p) ** 2))
+            else:
+                expected = _shapely_kn(p, t)
+            assert kn[i, j] == pytest.approx(expected, rel=1e-10, abs=1e-10), (t, deg[j])
+    np.testing.assert_allclose(kn[:, -1], D / 2, rtol=1e-12)
 
 
 def test_box_criteria_and_vanishing_angle(barge):
