@@ -204,7 +204,9 @@ def test_offsets_of_the_dtc_read_back(tmp_path):
     sec = load_hull("parent:dtc").sections
     out = write_offsets_wide(sec, tmp_path / "offsets.csv", name="dtc", dense=True)
     want, got = hydrostatics(sec, 14.5), hydrostatics(load_hull(str(out)).sections, 14.5)
-    assert float(got.volume) == pytest.approx(float(want.volume), rel=DV) and abs(float(got.lcb - want.lcb)) < DLCB * 355
+    # measured: ∇ −0.021 %, LCB −0.006 % Lpp (the issue asks 0.2 %)
+    assert float(got.volume) == pytest.approx(float(want.volume), rel=5e-4)
+    assert abs(float(got.lcb - want.lcb)) < 2e-4 * 355
 
 
 def test_an_stl_hullopt_wrote_carries_its_lpp_and_draft(cli, tmp_path):
