@@ -11,7 +11,7 @@ from scipy.integrate import quad
 from hullopt.hydro import hydrostatics
 from hullopt.models import wigley
 from hullopt.waves import (
-    BF_KINK, G, RHO_SEA, blunt_bow, bluntness, bretschneider, evaluate_modifications, ittc_1978, jonswap, k_aw,
+    BF_KINK, G, RHO_SEA, beaufort_sea_state, blunt_bow, bluntness, bretschneider, evaluate_modifications, ittc_1978, jonswap, k_aw,
     mean_added_resistance, method_resistance, nmri_added_resistance, omega_from_wavelength, particulars,
     select_lower_k_aw, snnm, spectral_mean, speed_coefficient, spreading, stawave1,
 )
@@ -133,6 +133,24 @@ def test_spectra_moments_and_spreading():
 
 def _quad_mean(resp, spec, hs):
     return 2 * quad(lambda w: spec(w) * resp(w), 0, np.inf, limit=400, epsrel=1e-11)[0]
+
+
+@pytest.mark.parametrize("force, hs", [(2, 0.2), (4, 1.0), (6, 3.0), (8, 5.5), (10, 9.0), (12, 14.0)])
+def test_beaufort_sea_state_is_the_wmo_table(force, hs):
+    """H_s: the WMO's probable wave height for the force (WMO-No. 558, the Beaufort scale); T_p: a fully
+    developed Pierson–Moskowitz sea of that H_s, from its wind speed U (H_s = 0.21 U²/g, ω_p = 0.877 g/U),
+    about 5 √H_s (DNV-RP-C205's boundary between JONSWAP and PM seas)."""
+    got_hs, got_tp = beaufort_sea_state(force)
+    assert got_hs == hs
+    u = np.sqrt(9.80665 * hs / 0.21)
+    assert got_tp == pytest.approx(2 * np.pi * u / (0.877 * 9.80665), rel=1e-12)
+    assert got_tp / np.sqrt(hs) == pytest.approx(4.99, abs=0.01)
+
+
+@pytest.mark.parametrize("force", [0, 13, -1])
+def test_beaufort_out_of_range(force):
+    with pytest.raises(ValueError, match="expected an integer 1 to 12"):
+        beaufort_sea_state(force)
 
 
 @pytest.mark.parametrize("spectrum", ["pm", "jonswap"])
