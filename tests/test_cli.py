@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 import trimesh
-
+from conftest import REPO
 
 WIGLEY = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=41"
 KEYS = ["draft", "volume", "displacement", "wetted_surface", "cb", "cp", "cm", "cwp", "lcb", "lcb_pct", "kb", "awp",
@@ -61,7 +61,7 @@ def test_export_formats(cli, tmp_path):
         (["hydro", WIGLEY, "--displacement", "99999999"], "more than the hull displaces"),
         (["hydro", WIGLEY, "--drafts", "1:2"], "expected START:STOP:COUNT"),
         (["hydro", "nofile.stl"], "no such file"),
-        (["hydro", "README.md"], "unknown file type 'md'"),
+        (["hydro", str(REPO / "README.md")], "unknown file type 'md'"),
         (["export", WIGLEY, "x.step"], "unknown mesh format"),
     ],
 )
