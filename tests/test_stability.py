@@ -224,7 +224,8 @@ def test_dtc_gz_against_navaltoolbox(hulls, tmp_path):
     vessel = ntb.Vessel(ntb.Hull(str(stl)))
     vessel.ap, vessel.fp = 0.0, 355.0
     theirs = ntb.StabilityCalculator(vessel, 1025.0).gz_curve(1025.0 * vol, (float(ours.lcg), 0.0, kg), deg)
-    np.testing.assert_allclose(np.asarray(ours.gz), theirs.values(), rtol=0.012)
+    # measured +0.54 %, +0.26 %, −0.36 % at 10°, 30°, 50° (the README: within 0.8 %)
+    np.testing.assert_allclose(np.asarray(ours.gz), theirs.values(), rtol=0.008)
     upright = ntb.HydrostaticsCalculator(vessel, water_density=1025.0).from_displacement(
         1025.0 * vol, cog=(float(ours.lcg), 0.0, kg))
     # GM_T upright at the same displacement and centre of gravity, by NavalToolbox's own hydrostatics on the
