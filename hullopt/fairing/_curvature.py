@@ -9,7 +9,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, safe_div
+from ..geometry import Sections, safe_div, safe_sqrt
 
 
 def surface_curvatures(r_u, r_v, r_uu, r_uv, r_vv) -> tuple[Array, Array]:
@@ -61,8 +61,8 @@ def _safe_unit(e, eps):
     degenerate edges give 0 with finite gradients)."""
     length2 = jnp.sum(e * e, -1)
     ok = length2 > eps**2
-    length = jnp.sqrt(jnp.where(ok, length2, 1.0))
-    return jnp.where(ok[..., None], e / length[..., None], 0.0), jnp.where(ok, length, 0.0), ok
+    length = safe_sqrt(length2, ok)
+    return safe_div(e, length[..., None], ok[..., None]), length, ok
 
 
 def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_ok=None):

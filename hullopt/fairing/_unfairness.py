@@ -50,7 +50,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..geometry import Sections
+from ..geometry import Sections, safe_div
 from ._coons import CoonsSurface
 from ._curvature import _safe_unit, graph_curvatures, polyline_curvature
 
@@ -249,13 +249,12 @@ def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
         edge_ok = on_hull[..., :-1] | on_hull[..., 1:]
         kappa, ds, ok = polyline_curvature(points, eps, edge_ok)
         pair = ok[..., :-1] & ok[..., 1:]
-        gap = jnp.where(pair, 0.5 * (ds[..., :-1] + ds[..., 1:]), 1.0)
         dk = kappa[..., 1:, :] - kappa[..., :-1, :]
         # dκ⃗/ds = κ' n − κ² t: drop the part along the edge joining the two vertices (turning of a
         # constant curvature), keep the change of curvature (and, in 3-D, of the osculating plane)
         t, _, _ = _safe_unit(jnp.diff(points, axis=-2)[..., 1:-1, :], eps)
         dk2 = jnp.sum(dk**2, -1) - jnp.sum(dk * t, -1) ** 2
-        return jnp.sum(jnp.where(pair, dk2 / gap, 0.0), -1)
+        return jnp.sum(safe_div(dk2, 0.5 * (ds[..., :-1] + ds[..., 1:]), pair), -1)
 
     lines = jnp.concatenate([jnp.broadcast_to(sections.x[:, None, None], yz.shape[:-1] + (1,)), yz], -1)
     along = energy(jnp.swapaxes(lines, 0, 1), off_centre.T)  # (m,) longitudinal lines over stations
