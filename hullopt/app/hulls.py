@@ -72,15 +72,7 @@ def load_hull(spec: str) -> LoadedHull:
     if base.startswith("parent:"):
         return _parent(base.removeprefix("parent:"), params, spec)
     if base.startswith("builtin:"):
-        name = base.removeprefix("builtin:")
-        if name not in BUILTINS:
-            raise HullError(f"hull {spec!r}: unknown builtin {name!r}; expected one of {', '.join(BUILTINS)}")
-        fn, required = BUILTINS[name]
-        args = {k: _take(params, k, spec) for k in required}
-        res = {k: _take(params, k, spec, int) for k in ("n", "m") if k in params}
-        _done(params, spec, [*required, "n", "m"])
-        return LoadedHull(fn(**args, **res), f"{name} " + " ".join(f"{k}={v:g}" for k, v in args.items()),
-                          args.get("T"))
+        return _builtin(base.removeprefix("builtin:"), params, spec)
     path = Path(base)
     if path.is_dir():
         return _run_folder(path, params, spec)
@@ -90,10 +82,31 @@ def load_hull(spec: str) -> LoadedHull:
         hint = f"; the library parent is parent:{base}" if base in parent_names() else ""
         raise HullError(f"hull {spec!r}: no such file or run folder {base!r} (nor builtin:NAME, parent:NAME){hint}")
     if path.suffix.lower() == ".csv":
-        table = read_offsets(path)
-        res = {k: _take(params, key, spec, int, d) for k, key, d in (("n_stations", "n", 121), ("n_points", "m", 81))}
-        _done(params, spec, ["n", "m"])
-        return LoadedHull(offsets_to_sections(table, **res), path.name)
+        return _offset_table(path, params, spec)
+    return _mesh(path, params, spec)
+
+
+def _builtin(name: str, params: dict[str, str], spec: str) -> LoadedHull:
+    """An analytic hull (:data:`~hullopt.models.BUILTINS`) from its dimensions [m]."""
+    if name not in BUILTINS:
+        raise HullError(f"hull {spec!r}: unknown builtin {name!r}; expected one of {', '.join(BUILTINS)}")
+    fn, required = BUILTINS[name]
+    args = {k: _take(params, k, spec) for k in required}
+    res = {k: _take(params, k, spec, int) for k in ("n", "m") if k in params}
+    _done(params, spec, [*required, "n", "m"])
+    return LoadedHull(fn(**args, **res), f"{name} " + " ".join(f"{k}={v:g}" for k, v in args.items()), args.get("T"))
+
+
+def _offset_table(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
+    """The spline surface through an offset table (``n`` stations × ``m`` points)."""
+    table = read_offsets(path)
+    res = {k: _take(params, key, spec, int, d) for k, key, d in (("n_stations", "n", 121), ("n_points", "m", 81))}
+    _done(params, spec, ["n", "m"])
+    return LoadedHull(offsets_to_sections(table, **res), path.name)
+
+
+def _mesh(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
+    """A mesh or CAD surface, brought into our axes and sliced (closed, open-topped or a half hull)."""
     shift = _take(params, "shift", spec, str, "0,0,0")
     try:
         shift_xyz = tuple(float(v) for v in shift.split(","))
