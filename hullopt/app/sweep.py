@@ -71,7 +71,58 @@ def _solve_one(d: Design, measure, p0, lower, upper, e, i_bf: int, outer: int, m
 def solve_values(problem, values, i_bf: int, outer: int, max_steps: int, mesh):
     """Solve the sweep at ``values (k,)`` (k a multiple of the mesh size) as one ``vmap``, its batch split
     over the mesh's devices (sharding constraints; XLA partitions the computation). ``problem = (design,
-    measure, p0, lower, upper)``. Module level, so the runs of one process share the compiled function."""
+    measure, p0, lower, upper)``. Module level, so the runs of one process share the compiled function.
+
+    The Python route of the Pareto (ε-constraint) sweep: at each value the target ``i_bf`` is set to it and
+    :func:`~hullopt.optimise.solve_minimum` minimises the objective with the targets held.
+
+    Parameters
+    ----------
+    problem : tuple
+        ``(design, measure, p0, lower, upper)``: a :class:`~hullopt.optimise.Design` with an objective,
+        ``measure(sections, draft)`` a scalar recorded per design (the sweep's Bf), and the start and bounds
+        of the parameters (pytrees).
+    values : Array, shape (k,)
+        The swept target's values, in its units (SI; Bf dimensionless); ``k`` a multiple of the mesh size.
+    i_bf : int
+        Index of the swept target in ``design.targets.names``.
+    outer, max_steps : int
+        Augmented-Lagrangian rounds and BFGS steps per round.
+    mesh : jax.sharding.Mesh
+        A 1-D mesh with axis ``"d"`` (:func:`device_mesh`).
+
+    Returns
+    -------
+    tuple
+        ``(result, objective, measure, hydrostatics)``, each batched over ``k``: the
+        :class:`~hullopt.optimise.SolveResult`, the objective (unscaled, its units), the measure and the
+        :class:`~hullopt.hydro.Hydrostatics` of each design.
+
+    Examples
+    --------
+    Sweep the volume (target 0) of a Wigley whose beam is scaled by ``1 + p``: 1.1 and 1.2 times the parent's
+    volume need ``p`` = 0.1 and 0.2, i.e. a beam of 11 and 12 m:
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> import jax.numpy as jnp
+    >>> from hullopt.geometry import Sections
+    >>> from hullopt.models import wigley
+    >>> from hullopt.hydro import hydrostatics
+    >>> from hullopt.optimise import Design, Objective, make_targets
+    >>> from hullopt.app.sweep import solve_values
+    >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
+    >>> def model(p):
+    ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
+    >>> v0 = float(hydrostatics(hull, 6.25).volume)
+    >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": v0}),
+    ...                 objective=Objective("k_aw", jnp.asarray(7.7)))
+    >>> beam = lambda s, draft: hydrostatics(s, draft).bwl
+    >>> problem = (design, beam, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
+    >>> mesh = jax.sharding.Mesh(jax.devices()[:1], ("d",))
+    >>> r, objective, b, h = solve_values(problem, jnp.array([1.1, 1.2]) * v0, 0, 3, 100, mesh)
+    >>> [round(float(p), 4) for p in r.params], [round(float(x), 3) for x in b]
+    ([0.1, 0.2], [11.0, 12.0])
+    """
     d, measure, p0, lower, upper = problem
     d = with_objective_scale(d, p0)
     batch = jax.sharding.NamedSharding(mesh, P("d"))

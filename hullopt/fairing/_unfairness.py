@@ -240,6 +240,31 @@ def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
     3-D lines), zero on circles and straight lines — the counterpart of the ``"lines"`` measure. Edges along the centreline (``y = 0`` at both ends:
     joins and unstarted parts of a section) and repeated points are left out. Pure, differentiable,
     ``jit``/``vmap``-able: a fairness term (penalty or objective) for the design problems.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull, ``x (n,)`` and ``yz (n, m, 2)`` [m] (y to port ≥ 0, z up from the baseline).
+    eps : float
+        Length [m] below which points count as repeated or on the centreline.
+
+    Returns
+    -------
+    Array, scalar
+        U ≥ 0, dimensionless (scaled by Lpp³); 0 for straight lines and circles.
+
+    Examples
+    --------
+    A box barge's sections and longitudinal lines are straight, so U = 0; the coarse Wigley's 26 870 is a
+    measured value (rounded to 10):
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> from hullopt.models import box, wigley
+    >>> from hullopt.fairing import unfairness
+    >>> round(float(unfairness(box(100, 20, 10))), 6)
+    0.0
+    >>> round(float(unfairness(wigley(100, 10, 6.25, 10, n=21, m=21))), -1)
+    26870.0
     """
     yz = sections.yz
     ell = sections.lpp

@@ -59,6 +59,34 @@ def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
 def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatics:
     """Hydrostatics at ``draft`` [m above the baseline]; see :class:`Hydrostatics`.
 
+    Parameters
+    ----------
+    sections : Sections
+        The hull: stations ``x (n,)`` [m from the AP], half-sections ``yz (n, m, 2)`` [m] (y to port ≥ 0,
+        z up from the baseline).
+    draft : float or Array, scalar
+        Waterline height [m above the baseline], above the keel and at most at the deck.
+    rho : float
+        Water density [kg/m³] (sea water 1025 by default).
+
+    Returns
+    -------
+    Hydrostatics
+        Scalars in SI: ``volume`` [m³], ``displacement`` [kg], ``cb``, ``cp``, ``cm``, ``cwp`` […],
+        ``lcb``/``lcf`` [m from the AP] and ``lcb_pct``/``lcf_pct`` [% Lpp from midship, forward
+        positive], ``kb``, ``bmt``, ``bml``, ``kmt`` [m], ``awp`` [m²], ``tpc`` [t/cm], ``mct`` [t·m/cm].
+
+    Examples
+    --------
+    The Wigley hull's block coefficient is 4/9 = 0.4444… (0.44417 with 21 points a section):
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> from hullopt.models import wigley
+    >>> from hullopt.hydro import hydrostatics
+    >>> h = hydrostatics(wigley(100, 10, 6.25, 10, n=21, m=21), 6.25)
+    >>> round(float(h.cb), 3), abs(round(float(h.lcb_pct), 6))  # symmetric fore and aft: LCB at midship
+    (0.444, 0.0)
+
     Exact for the polyline sections; along x, Simpson's rule on the station positions (the kernel's
     :func:`~hullopt.geometry.longitudinal_integrals`).
     The draft must lie above the keel and at most at the deck, where the waterplane is the deck edge's (the

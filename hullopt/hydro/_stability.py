@@ -207,7 +207,44 @@ def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim
     """Righting levers at ``heels (k,)`` [rad] for the loading ``volume`` [m³], ``kg`` [m above the
     baseline], ``lcg`` [m from the AP] (default: the upright LCB, so the hull floats on even keel upright)
     and free-surface correction ``fsc`` [m]. One ``vmap`` over heels; differentiable in the geometry and
-    the loading."""
+    the loading.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    volume : float
+        Displaced volume [m³] of the loading.
+    kg : float
+        Centre of gravity [m above the baseline].
+    heels : Array, shape (k,)
+        Heel angles [rad], positive to starboard (either side gives the same levers for a symmetric hull).
+    lcg : float or None
+        Longitudinal centre of gravity [m from the AP]; None: the upright LCB.
+    fsc : float
+        Free-surface correction [m], subtracted as ``fsc·sin φ``.
+    free_trim : bool
+        Find the trim that balances the LCG at each heel (True) or keep the upright trim.
+
+    Returns
+    -------
+    StabilityCurve
+        ``gz (k,)`` [m], righting positive; ``kn (k,)`` [m]; ``gm0`` [m]; see :class:`StabilityCurve`.
+
+    Examples
+    --------
+    A box barge 100 × 20 m at 5 m draft with KG 5 m: GM = KB + BM − KG = 2.5 + 20²/(12·5) − 5 = 4.1667 m,
+    and before the deck edge immerses the wall-sided formula GZ = sin φ (GM + ½ BM tan² φ) = 0.8550 m at
+    φ = 0.2 rad:
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> import jax.numpy as jnp
+    >>> from hullopt.models import box
+    >>> from hullopt.hydro import gz_curve
+    >>> c = gz_curve(box(100, 20, 10), 10000.0, 5.0, jnp.array([0.2]), free_trim=False)
+    >>> round(float(c.gm0), 4), round(float(c.gz[0]), 4)
+    (4.1667, 0.855)
+    """
     dtype = sections.yz.dtype
     volume, kg, fsc = (jnp.asarray(v, dtype=dtype) for v in (volume, kg, fsc))
     up = upright(sections, volume)

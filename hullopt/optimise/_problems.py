@@ -226,14 +226,93 @@ def non_dominated(points: Array) -> Array:
 
 def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
     """Auto-fit: meet the targets with the least deformation (Levenberg–Marquardt, bounded). With ``traced``
-    the cost of each step is kept in ``history`` (:func:`~hullopt.optimise.fit_traced`); both ``vmap``."""
+    the cost of each step is kept in ``history`` (:func:`~hullopt.optimise.fit_traced`); both ``vmap``.
+
+    Parameters
+    ----------
+    design : Design
+        The problem: ``design.model(params) → Sections`` at ``design.draft`` [m], its ``targets`` (SI, as
+        :func:`make_targets` takes them) and tolerances.
+    p0, lower, upper : pytree of Array
+        Start and bounds of the parameters (same structure; ``lower < p0 < upper``, units of the model's
+        parameters).
+    traced : bool
+        Keep the cost after each step in ``result.history``.
+    **kw
+        Passed to the solver (:func:`~hullopt.optimise.fit`: ``max_steps``, ``rtol``, ``atol``).
+
+    Returns
+    -------
+    SolveResult
+        ``params`` (like ``p0``), ``residuals`` (target − achieved, SI), ``max_violation`` (≤ 1: ``met``),
+        ``objective``, ``solver_ok``, ``steps``, ``history`` when traced.
+
+    Examples
+    --------
+    A Wigley hull whose beam is scaled by ``1 + p``: its volume scales by ``1 + p``, so the fit to 1.2 times the
+    parent's volume is ``p = 0.2``:
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> import jax.numpy as jnp
+    >>> from hullopt.geometry import Sections
+    >>> from hullopt.models import wigley
+    >>> from hullopt.hydro import hydrostatics
+    >>> from hullopt.optimise import Design, Objective, make_targets, solve_fit
+    >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
+    >>> def model(p):
+    ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
+    >>> v0 = float(hydrostatics(hull, 6.25).volume)
+    >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": 1.2 * v0}))
+    >>> r = solve_fit(design, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
+    >>> round(float(r.params), 4), bool(r.met)
+    (0.2, True)
+    """
     from ._solvers import fit, fit_traced
 
     return (fit_traced if traced else fit)(design.residuals, p0, lower, upper, tol=design.fit_tolerances(p0), **kw)
 
 
 def solve_minimum(design: Design, p0, lower, upper, **kw):
-    """Minimise the objective with the targets held (augmented Lagrangian over BFGS, bounded)."""
+    """Minimise the objective with the targets held (augmented Lagrangian over BFGS, bounded).
+
+    Parameters
+    ----------
+    design : Design
+        The problem: ``design.model(params) → Sections`` at ``design.draft`` [m], its ``targets`` (SI, as
+        :func:`make_targets` takes them) and tolerances, and the ``objective`` to minimise (scaled by its value at the parent).
+    p0, lower, upper : pytree of Array
+        Start and bounds of the parameters (same structure; ``lower < p0 < upper``, units of the model's
+        parameters).
+    **kw
+        Passed to the solver (:func:`~hullopt.optimise.minimise_constrained`: ``max_steps``, ``rtol``, ``atol``, ``outer`` rounds).
+
+    Returns
+    -------
+    SolveResult
+        ``params`` (like ``p0``), ``residuals`` (target − achieved, SI), ``max_violation`` (≤ 1: ``met``),
+        ``objective``, ``solver_ok``, ``steps``, ``history`` (per round).
+
+    Examples
+    --------
+    A Wigley hull whose beam is scaled by ``1 + p``: its volume scales by ``1 + p``, so with the volume held at 1.2 times the
+    parent's volume is ``p = 0.2``:
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> import jax.numpy as jnp
+    >>> from hullopt.geometry import Sections
+    >>> from hullopt.models import wigley
+    >>> from hullopt.hydro import hydrostatics
+    >>> from hullopt.optimise import Design, Objective, make_targets, solve_minimum
+    >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
+    >>> def model(p):
+    ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
+    >>> v0 = float(hydrostatics(hull, 6.25).volume)
+    >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": 1.2 * v0}),
+    ...                 objective=Objective("k_aw", jnp.asarray(7.7)))
+    >>> r = solve_minimum(design, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
+    >>> round(float(r.params), 4), bool(r.met)
+    (0.2, True)
+    """
     from ._solvers import minimise_constrained
 
     return minimise_constrained(design.objective_value, design.constraints, p0, lower, upper,

@@ -36,7 +36,35 @@ def speed_coefficient(bf, smooth: float | None = None) -> Array:
 
 def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
     """K_AW = Bf·α_T·(1 + C_U(Bf)·Fn) (patent eq. 2 over ½ρgζ²B; claim 1). With α_T = 1 this is the
-    short-wave value the patent's tables list."""
+    short-wave value the patent's tables list.
+
+    Parameters
+    ----------
+    bf : float or Array
+        Bluntness coefficient Bf of the waterline (dimensionless, 0 … 1; :func:`bluntness`).
+    fn : float or Array
+        Froude number U/√(g·Lpp) (:func:`froude_number`), ahead positive; broadcasts with ``bf``.
+    alpha_T : float or Array
+        Draft coefficient α_T (:func:`alpha_t`); 1 in short waves.
+    smooth : float or None
+        Width τ of the soft maximum in C_U (:func:`speed_coefficient`); None: the patent's kinked maximum.
+
+    Returns
+    -------
+    Array
+        K_AW, dimensionless (the added resistance over ½ρgζ²B), shape of ``bf``, ``fn`` broadcast.
+
+    Examples
+    --------
+    C_U = max(68 − 310·Bf, 10): 37 at Bf = 0.1 and 10 at Bf = 0.5, so at Fn = 0.2 K_AW = 0.1·(1 + 37·0.2)
+    = 0.84 and 0.5·(1 + 10·0.2) = 1.5:
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> import jax.numpy as jnp
+    >>> from hullopt.waves import k_aw
+    >>> [round(float(k), 6) for k in k_aw(jnp.array([0.1, 0.5]), 0.2)]
+    [0.84, 1.5]
+    """
     return jnp.asarray(bf, dtype=float) * alpha_T * (1.0 + speed_coefficient(bf, smooth) * fn)
 
 

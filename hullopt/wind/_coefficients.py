@@ -231,7 +231,40 @@ def blendermann(v: WindVariables, psi, ship: str = DEFAULT_SHIP_TYPE) -> Coeffic
 
 def wind_coefficients(v: WindVariables, psi, model: str = "fujiwara1998", *, ship: str = DEFAULT_SHIP_TYPE,
                       y56: str = "L*H_C/A_L") -> Coefficients:
-    """C_X, C_Y, C_N, C_K of ``model`` (one of :data:`MODELS`) at the relative wind angles ``psi`` [rad]."""
+    """C_X, C_Y, C_N, C_K of ``model`` (one of :data:`MODELS`) at the relative wind angles ``psi`` [rad].
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables of the hull above water and its parts (:func:`wind_variables`, SI).
+    psi : float or Array
+        Relative wind angle [rad]: 0 = head wind, the angle the wind comes *from*, positive from starboard.
+    model : str
+        One of :data:`MODELS` (``"fujiwara1998"``, ``"fujiwara2005"``, ``"isherwood"``, ``"blendermann"``).
+    ship : str
+        Blendermann's ship type (see :func:`blendermann_types`).
+    y56 : str
+        Fujiwara 1998's choice of the variable of its Y5/Y6 terms.
+
+    Returns
+    -------
+    Coefficients
+        Dimensionless ``cx``, ``cy``, ``cn``, ``ck``, shape of ``psi``; signs in the module docstring (a head
+        wind pushes astern: C_X < 0).
+
+    Examples
+    --------
+    The coarse Wigley with a 20 × 8 × 10 m house: head wind pushes it astern with no side force (C_Y = 0
+    by symmetry); C_X −0.884 is a measured value (Fujiwara 1998):
+
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> from hullopt.models import wigley
+    >>> from hullopt.wind import box_parts, wind_variables, wind_coefficients
+    >>> house = box_parts(["house"], ["superstructure"], 10.0, 30.0, 10.0, 20.0, 8.0)
+    >>> c = wind_coefficients(wind_variables(wigley(100, 10, 6.25, 10, n=21, m=21), 6.25, house), 0.0)
+    >>> round(float(c.cx), 3), abs(round(float(c.cy), 6))
+    (-0.884, 0.0)
+    """
     if model == "fujiwara1998":
         return fujiwara1998(v, psi, y56)
     if model == "fujiwara2005":
