@@ -268,6 +268,65 @@ def test_cli_features_and_deform(tmp_path):
     assert main(["deform", "dtc", str(bad), "--out", str(tmp_path / "h.stl")]) == 2
 
 
+_MOVE = 'segment = -1\nx_fixed1 = 0\nx_moved = 40\nx_fixed2 = 150\nd = [0.1, 0.1]\n'
+
+
+@pytest.mark.parametrize("table, field", [
+    ("[[apex_move]]\n" + _MOVE + "wrong = 1\n", "apex_move.0.wrong"),  # unknown key
+    ("[[apex_move]]\n" + _MOVE.replace("d = [0.1, 0.1]", "d = [0.1]"), "apex_move.0.d"),
+    ("[[apex_move]]\n" + _MOVE.replace("x_moved = 40", 'x_moved = "forty"'), "apex_move.0.x_moved"),
+    ("[[contour_edit]]\nline = \"keel\"\nx_a = 0\nx_b = 10\n", "contour_edit.0.line"),
+    ("colour = 1\n[[apex_move]]\n" + _MOVE, "colour"),
+])
+def test_deform_design_errors_name_the_file_and_the_field(cli, tmp_path, table, field):
+    """`hullopt deform` validates its design TOML with the run config's models: one line, the file, the field."""
+    bad = tmp_path / "bad.toml"
+    bad.write_text('parent = "dtc"\n' + table)
+    code, _, err = cli("deform", "dtc", bad, "--out", tmp_path / "h.stl")
+    assert code == 2
+    line = err.strip()
+    assert "\n" not in line and line.startswith("error:") and str(bad) in line and field in line, line
+
+
+def test_deform_and_run_build_the_same_hull_from_the_same_tables(tmp_path):
+    """The same [[apex_move]]/[[distribution]]/[[contour_edit]] tables (defaults included: profile, modes)
+    give the same start parameters, bounds and hull in `hullopt deform` and in a run config's [design]."""
+    from hullopt.app.commands.features import read_design
+    from hullopt.app.config import load_config
+    from hullopt.app.run import build_problem
+
+    tables = ("[[{p}apex_move]]\nsegment = -1\nx_fixed1 = 50.0\nx_moved = 80.0\nx_fixed2 = 100.0\nd = [0.4, -0.3]\n"
+              "[[{p}distribution]]\nx_a = 0.0\nx_b = 100.0\nc = [0.06]\n")
+    (tmp_path / "d.toml").write_text('parent = "wigley"\n' + tables.format(p=""))
+    (tmp_path / "r.toml").write_text('kind = "fit"\n[hull]\nparent = "wigley"\n[targets]\ncb = 0.45\n'
+                                     + tables.format(p="design."))
+    model, p, name = read_design(tmp_path / "d.toml")
+    cfg, _ = load_config(tmp_path / "r.toml")
+    prob = build_problem(cfg)
+    from hullopt.app.config import load_design
+
+    assert name == "wigley" and load_design(tmp_path / "d.toml").apex_move[0].profile == "smooth"  # one default
+    for a, b in zip(jax.tree.leaves(p), jax.tree.leaves(prob.p0)):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+    s1, s2 = model(p), prob.design.model(prob.p0)
+    np.testing.assert_array_equal(np.asarray(s1.yz), np.asarray(s2.yz))
+    np.testing.assert_array_equal(np.asarray(s1.x), np.asarray(s2.x))
+
+
+def test_deform_design_parent_is_a_spec_relative_to_the_toml(tmp_path):
+    """A design TOML's ``parent`` may be any run-config parent spec, a file resolved beside the TOML."""
+    import shutil
+
+    from hullopt.app.config import load_design
+    from hullopt.models import save_features
+
+    save_features(load_parent("wigley"), tmp_path / "w.json")
+    (tmp_path / "sub").mkdir()
+    shutil.move(tmp_path / "w.json", tmp_path / "sub" / "w.json")
+    (tmp_path / "sub" / "d.toml").write_text('parent = "w.json"\n[[distribution]]\nx_a = 0.0\nx_b = 100.0\n')
+    assert load_design(tmp_path / "sub" / "d.toml").parent == str(tmp_path / "sub" / "w.json")
+
+
 def test_generate_hull_follows_its_sectional_area_curve():
     """A tanker-like hull from dimensions alone (320 × 58 × 30 m, T 20.8 m, bilge radius 3 m) against the
     formula it is built from: A(x) = a(x)·A_M with A_M = B·T − (4 − π)r²/2 and a = 1 on the parallel midbody

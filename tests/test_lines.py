@@ -189,3 +189,27 @@ def test_plot_cross_curves_draws_each_heel(tmp_path, drawn):
         np.testing.assert_allclose(ln.get_xdata(), disp, rtol=1e-15)
         np.testing.assert_allclose(ln.get_ydata(), kn[:, j], rtol=1e-15)
     assert ax.get_title(loc="left") == "Cross curves — box"
+
+def test_save_figure_is_atomic_and_closes_the_figure(tmp_path):
+    """The one figure saver: the PNG opens, no temporary file is left (also after a failed save), the figure is
+    closed either way."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from PIL import Image
+
+    from hullopt.drawing import save_figure
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    out = save_figure(fig, tmp_path / "a.png", dpi=50)
+    assert not plt.fignum_exists(fig.number)
+    with Image.open(out) as im:
+        im.verify()
+        assert im.format == "PNG"
+    fig, _ = plt.subplots()
+    with pytest.raises(ValueError):
+        save_figure(fig, tmp_path / "b.nosuchformat")
+    assert not plt.fignum_exists(fig.number)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png"]

@@ -78,6 +78,14 @@ class DesignConfig(_Strict):
         return self
 
 
+class DeformConfig(DesignConfig):
+    """``hullopt deform``'s design TOML: the run config's ``[design]`` tables at the top level
+    (``[[apex_move]]``, ``[[distribution]]``, ``[[contour_edit]]``, same fields and defaults) and, optionally,
+    the parent (any spec a run config's ``[hull] parent`` takes, relative to the TOML's folder)."""
+
+    parent: str | None = None
+
+
 class ObjectiveConfig(_Strict):
     kind: Literal[OBJECTIVES]  # type: ignore[valid-type]
     speed_kn: float = Field(gt=0)
@@ -173,14 +181,41 @@ def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig,
     try:
         cfg = RunConfig.model_validate(raw)
     except ValidationError as e:
-        err = e.errors()[0]
-        where = ".".join(str(p) for p in err["loc"])
-        msg = err["msg"].removeprefix("Value error, ")
-        more = f" (and {len(e.errors()) - 1} more)" if len(e.errors()) > 1 else ""
-        raise HullError(f"{path}: {where + ': ' if where else ''}{msg}{more}") from None
+        raise _invalid(path, e) from None
     from .parents import resolve_spec
 
     parent = resolve_spec(cfg.hull.parent, path.resolve().parent)  # a file beside the config, as wind's hull
     if parent != cfg.hull.parent:
         cfg.hull.parent = raw["hull"]["parent"] = parent  # config.json then names the file wherever it is read
     return cfg, raw
+
+
+def _invalid(path: Path, e: ValidationError) -> HullError:
+    """One line naming the file and the field of the first problem."""
+    err = e.errors()[0]
+    where = ".".join(str(p) for p in err["loc"])
+    msg = err["msg"].removeprefix("Value error, ")
+    more = f" (and {len(e.errors()) - 1} more)" if len(e.errors()) > 1 else ""
+    return HullError(f"{path}: {where + ': ' if where else ''}{msg}{more}")
+
+
+def load_design(path: str | Path) -> DeformConfig:
+    """Read and validate ``hullopt deform``'s design TOML with the run config's models (strict, the same
+    defaults); a parent file given relative to the TOML's folder made absolute. :class:`HullError` names the
+    file and the field of any problem."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except OSError as e:
+        raise HullError(f"{path}: cannot read the design ({e.strerror})") from None
+    except tomllib.TOMLDecodeError as e:
+        raise HullError(f"{path}: not valid TOML ({e})") from None
+    try:
+        cfg = DeformConfig.model_validate(raw)
+    except ValidationError as e:
+        raise _invalid(path, e) from None
+    if cfg.parent is not None:
+        from .parents import resolve_spec
+
+        cfg.parent = resolve_spec(cfg.parent, path.resolve().parent)
+    return cfg

@@ -3,12 +3,11 @@ convergence, Pareto fronts."""
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 import numpy as np
 
-from ..geometry import atomic_write_bytes
+from ..drawing import save_figure
 
 
 def _figure(*args, **kw):
@@ -21,11 +20,7 @@ def _figure(*args, **kw):
 
 
 def _save(plt, fig, path: Path) -> Path:
-    buf = io.BytesIO()
-    fig.savefig(buf, format=Path(path).suffix.lstrip(".") or "png", dpi=130, bbox_inches="tight")
-    plt.close(fig)
-    atomic_write_bytes(path, buf.getvalue())
-    return Path(path)
+    return save_figure(fig, path, dpi=130, bbox_inches="tight")
 
 
 def plot_body_plans(before, after, path: Path, every: int | None = None) -> Path:

@@ -23,7 +23,6 @@ from ..errors import HullError
 from ..hydro import hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model, save_features
 from ..optimise import (
-    TARGETS,
     Design,
     Objective,
     achieved,
@@ -31,10 +30,11 @@ from ..optimise import (
     non_dominated,
     solve_fit,
     solve_minimum,
+    target_errors,
     with_objective_scale,
 )
 from ..constants import KNOT
-from .config import ObjectiveConfig, RunConfig
+from .config import DesignConfig, ObjectiveConfig, RunConfig
 from .output import console, write_hull_file, write_json
 from .parents import parent_digest, run_parent
 from .programs import cached_call
@@ -57,18 +57,10 @@ def objective_from(cfg: ObjectiveConfig) -> Objective:
                      wind_speed=jnp.asarray(cfg.wind_speed), wind_angle=jnp.asarray(np.radians(cfg.wind_angle_deg)))
 
 
-def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
-    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design);
-    ``parent``: the feature hull to deform instead of the config's (a run folder's kept ``parent.json``).
-
-    No hull is evaluated here: the objective and fairness scales (their values at the parent) are set by
-    :func:`~hullopt.optimise.with_objective_scale` inside the jitted solve programs."""
-    # a hull spec's features: extracted once, then kept
-    hull = parent if parent is not None else run_parent(cfg.hull.parent, cfg.hull.draft)
-    draft = cfg.hull.draft or hull.design_draft
-    if draft is None:
-        raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
-    d = cfg.design
+def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") -> tuple:
+    """``(model, p0, half)``: the feature model of a design's tables on ``hull``, its start parameters and the
+    half-widths of its bounds (numpy leaves); :class:`HullError` naming the field (``where`` + table) when a
+    start value is not inside its bound. Shared by ``hullopt run`` and ``hullopt deform``."""
     model = feature_model(
         hull,
         [ApexMove(m.segment, m.x_fixed1, m.x_moved, m.x_fixed2, m.profile) for m in d.apex_move],
@@ -82,7 +74,7 @@ def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
     for i, g in enumerate(d.distribution):
         c = g.c or []
         if len(c) > g.modes:
-            raise HullError(f"design.distribution[{i}].c: {len(c)} values for {g.modes} modes")
+            raise HullError(f"{where}distribution[{i}].c: {len(c)} values for {g.modes} modes")
         dist0[i, : len(c)] = c
         dist_b[i] = g.bound
     # numpy leaves: building a problem runs no JAX op (each eager op costs a compile or a cache read)
@@ -90,11 +82,26 @@ def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
                        np.array([e.amplitude for e in d.contour_edit], float))
     half = FeatureParams(np.array([[m.bound] * 2 for m in d.apex_move], float).reshape(-1, 2), dist_b,
                          np.array([e.bound for e in d.contour_edit], float))
-    lower = jax.tree.map(lambda h: -h, half)
     for name, v, b in (("apex_move d", p0.apex, half.apex), ("distribution c", p0.distribution, half.distribution),
                        ("contour_edit amplitude", p0.contour, half.contour)):
         if np.any(np.abs(np.asarray(v)) >= np.asarray(b)):
-            raise HullError(f"design: a start value of {name} is not inside its bound")
+            raise HullError(f"{where.rstrip('.') or 'design'}: a start value of {name} is not inside its bound")
+    return model, p0, half
+
+
+def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
+    """The :class:`~hullopt.optimise.Design`, start and bounds of a config (HullError on a bad design);
+    ``parent``: the feature hull to deform instead of the config's (a run folder's kept ``parent.json``).
+
+    No hull is evaluated here: the objective and fairness scales (their values at the parent) are set by
+    :func:`~hullopt.optimise.with_objective_scale` inside the jitted solve programs."""
+    # a hull spec's features: extracted once, then kept
+    hull = parent if parent is not None else run_parent(cfg.hull.parent, cfg.hull.draft)
+    draft = cfg.hull.draft or hull.design_draft
+    if draft is None:
+        raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
+    model, p0, half = design_params(cfg.design, hull)
+    lower = jax.tree.map(lambda h: -h, half)
     try:
         targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg)
     except ValueError as e:
@@ -130,6 +137,7 @@ class Outcome(eqx.Module):
     parent: object  # Hydrostatics of the parent at the draft
     final: object  # Hydrostatics of the final design
     achieved: object  # the target particulars of the final design
+    errors: object  # ... their errors (optimise.target_errors: the solvers' residuals, normalised units)
     areas: object  # sectional-area curves (2, n) [m²]: parent, final
     objective: object  # the objective of the final design (None without one)
     objective_parent: object  # ... and of the parent
@@ -141,7 +149,8 @@ def measure(d: Design, p0, final) -> Outcome:
     h0, h1 = hydrostatics(before, d.draft), hydrostatics(after, d.draft)
     areas = jnp.stack([sectional_areas(before, d.draft), sectional_areas(after, d.draft)])
     obj = (d.objective(after, d.draft), d.objective(before, d.draft)) if d.objective is not None else (None, None)
-    return Outcome(before, after, h0, h1, achieved(h1, after, d.targets.names, d.targets.kg), areas, *obj)
+    a = achieved(h1, after, d.targets.names, d.targets.kg)
+    return Outcome(before, after, h0, h1, a, target_errors(a, d.targets), areas, *obj)
 
 
 def solve_and_measure(d: Design, p0, lower, upper, kind: str, max_steps: int, outer: int):
@@ -166,11 +175,12 @@ def _particulars(h) -> dict:
     return {k: float(v) for k, v in h.to_dict().items()}
 
 
-def _target_report(d: Design, achieved_values) -> dict:
+def _target_report(d: Design, achieved_values, errors) -> dict:
+    """Target, achieved value, error (:func:`~hullopt.optimise.target_errors`, computed in the measuring
+    program), tolerance and met per target."""
     out = {}
-    for k, t, tol, v in zip(d.targets.names, np.asarray(d.targets.values), np.asarray(d.targets.tol),
-                            np.asarray(achieved_values)):
-        err = v / t - 1.0 if TARGETS[k][0] else v - t
+    for k, t, tol, v, err in zip(d.targets.names, np.asarray(d.targets.values), np.asarray(d.targets.tol),
+                                 np.asarray(achieved_values), np.asarray(errors)):
         out[k] = {"target": float(t), "achieved": float(v), "error": float(err), "tolerance": float(tol),
                   "met": bool(abs(err) <= tol)}
     return out
@@ -215,7 +225,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
             "met": met,
             "iterations": int(res.steps),
             "max_violation": float(res.max_violation),
-            "targets": _target_report(d, m.achieved),
+            "targets": _target_report(d, m.achieved, m.errors),
             "params": _params_dict(res.params),
         }
         if d.objective is not None:

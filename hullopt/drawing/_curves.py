@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._save import save_figure
+
 
 def _figure(*args, **kw):
     import matplotlib
@@ -18,12 +20,7 @@ def _figure(*args, **kw):
 
 
 def _save(plt, fig, path) -> Path:
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp{path.suffix}")
-    fig.savefig(tmp, dpi=150, bbox_inches="tight")
-    plt.close(fig)
-    os.replace(tmp, path)
-    return path
+    return save_figure(fig, path, dpi=150, bbox_inches="tight")
 
 
 # (field of Hydrostatics, label, scale for display)

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import HullError
 from ..geometry import Sections, atomic_write_bytes
+from ._save import save_figure
 
 LINES_FORMATS = ("png", "svg", "pdf", "dxf")
 
@@ -162,11 +163,7 @@ def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
 
     fig.legend([Line2D([], [], **_STYLE[k]) for k in ("station", "waterline", "buttock")],
                ["stations", "waterlines", "buttocks"], loc="lower right", fontsize=8, ncol=3)
-    tmp = path.with_name(f".{path.name}.tmp{path.suffix}")
-    fig.savefig(tmp, dpi=150)
-    plt.close(fig)
-    os.replace(tmp, path)
-    return path
+    return save_figure(fig, path, dpi=150)
 
 
 def write_lines_dxf(plan: LinesPlan, path: str | os.PathLike) -> Path:

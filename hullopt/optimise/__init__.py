@@ -17,5 +17,6 @@ from ._problems import make_targets as make_targets
 from ._problems import non_dominated as non_dominated
 from ._problems import solve_fit as solve_fit
 from ._problems import solve_minimum as solve_minimum
+from ._problems import target_errors as target_errors
 from ._problems import target_residuals as target_residuals
 from ._problems import with_objective_scale as with_objective_scale

@@ -91,12 +91,19 @@ def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=Non
     return jnp.stack(out) if out else jnp.zeros(0)
 
 
-def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
-    """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``)."""
-    a = achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg)
+def target_errors(values, targets: Targets) -> Array:
+    """The error of each target given its achieved ``values`` (:func:`achieved`), in the normalised units of the
+    module's table (relative or absolute): what the solvers drive to zero and the run report shows; a target
+    is met when ``|error| ≤ targets.tol``."""
+    a = jnp.asarray(values)
     rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
     # safe_div: a zero target (LCB amidships) must not poison the gradient
     return jnp.where(rel, safe_div(a, targets.values, rel) - 1.0, a - targets.values)
+
+
+def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
+    """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``)."""
+    return target_errors(achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg), targets)
 
 
 # ----------------------------------------------------------------------------------------------- objectives

@@ -13,6 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 import typer
 
+from ...drawing import save_figure
 from ...errors import HullError
 from ...fairing import (
     RESIDUALS, aft_body_noise, coons_surface, curve_curvature, fair_offsets, fixed_offsets, graph_curvatures, measure,
@@ -114,8 +115,7 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
     axes[0].set_ylabel("z [m]")
     fig.tight_layout()
     files = [out / "body_plan.png"]
-    fig.savefig(files[0], dpi=110)
-    plt.close(fig)
+    save_figure(fig, files[0], dpi=110)
 
     fig, axes = plt.subplots(2, 2, figsize=(13, 6.5), sharex=True, sharey=True)
     for col, (xf, zf_, yy, h, k, _, _), label in zip(range(2), fields, ("before", "after")):
@@ -132,8 +132,7 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
     fig.suptitle(f"{title}: curvature-shaded hull side (x, z)")
     fig.tight_layout()
     files.append(out / "curvature.png")
-    fig.savefig(files[1], dpi=110)
-    plt.close(fig)
+    save_figure(fig, files[1], dpi=110)
     return [str(f) for f in files]
 
 

@@ -3,7 +3,6 @@ design TOML → a deformed hull)."""
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Annotated
 
@@ -13,81 +12,25 @@ import typer
 from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
 from ...hydro import hydrostatics
-from ...models import (ApexMove, ContourEdit, Distribution, FeatureParams, check_design, extract_parent,
-                       feature_model, load_parent, parent_names)
+from ...models import check_design, extract_parent, load_parent, parent_names
 from .._app import app
 from ..hulls import load_hull
 from ..output import console, write_hull_file, write_json
 
-_KEYS = {
-    "apex_move": ({"segment", "x_fixed1", "x_moved", "x_fixed2", "d"}, {"profile"}),
-    "distribution": ({"x_a", "x_b", "c"}, {"curves"}),
-    "contour_edit": ({"line", "x_a", "x_b", "amplitude"}, {"shape"}),
-}
+def read_design(path: Path, parent: str | None = None, draft: float | None = None):
+    """A design TOML → ``(model, params, parent spec)``, validated by the run config's models
+    (:func:`~hullopt.app.config.load_design`) and built as ``hullopt run`` builds its start point
+    (:func:`~hullopt.app.run.design_params`); ``parent`` (the PARENT argument) before the TOML's ``parent``.
+    :class:`HullError` naming the file and the field on bad input."""
+    from ..config import load_design
+    from ..parents import run_parent
+    from ..run import design_params
 
-
-def _items(cfg: dict, key: str, where: str) -> list[dict]:
-    items = cfg.get(key, [])
-    if not isinstance(items, list) or not all(isinstance(i, dict) for i in items):
-        raise HullError(f"{where}: '{key}' must be a list of tables ([[{key}]])")
-    need, opt = _KEYS[key]
-    for k, it in enumerate(items):
-        if missing := need - it.keys():
-            raise HullError(f"{where}: [[{key}]] #{k + 1} misses {', '.join(sorted(missing))}")
-        if unknown := it.keys() - need - opt:
-            raise HullError(f"{where}: [[{key}]] #{k + 1} has unknown key {sorted(unknown)[0]!r}; expected "
-                            f"{', '.join(sorted(need | opt))}")
-    return items
-
-
-def _number(v, what: str) -> float:
-    if isinstance(v, bool) or not isinstance(v, int | float):
-        raise HullError(f"{what} must be a number, got {v!r}")
-    return float(v)
-
-
-def read_design(path: Path, parent: str | None = None):
-    """A design TOML → ``(model, params, parent name)``; :class:`HullError` naming the field on bad input."""
-    try:
-        cfg = tomllib.loads(path.read_text())
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        raise HullError(f"{path}: cannot read the design ({e})") from None
-    if unknown := cfg.keys() - {"parent", *_KEYS}:
-        raise HullError(f"{path}: unknown key {sorted(unknown)[0]!r}; expected parent, {', '.join(_KEYS)}")
-    name = parent or cfg.get("parent")
+    cfg = load_design(path)
+    name = parent or cfg.parent
     if not name:
         raise HullError(f"{path}: give the parent (a key 'parent = \"dtc\"' or the PARENT argument)")
-    hull = load_parent(name.removeprefix("parent:"))
-    moves, d = [], []
-    for k, it in enumerate(_items(cfg, "apex_move", str(path))):
-        w = f"{path}: [[apex_move]] #{k + 1}"
-        if not isinstance(it["segment"], int):
-            raise HullError(f"{w}: segment must be an integer")
-        moves.append(ApexMove(it["segment"], *(_number(it[f], f"{w}: {f}") for f in ("x_fixed1", "x_moved", "x_fixed2")),
-                              it.get("profile", "linear")))
-        if not (isinstance(it["d"], list) and len(it["d"]) == 2):
-            raise HullError(f"{w}: d must be two numbers [dy, dz] in m")
-        d.append([_number(v, f"{w}: d") for v in it["d"]])
-    dists, coef = [], []
-    for k, it in enumerate(_items(cfg, "distribution", str(path))):
-        w = f"{path}: [[distribution]] #{k + 1}"
-        c = it["c"] if isinstance(it["c"], list) else [it["c"]]
-        curves = it.get("curves", "all")
-        dists.append(Distribution(_number(it["x_a"], f"{w}: x_a"), _number(it["x_b"], f"{w}: x_b"),
-                                  curves if isinstance(curves, str) else tuple(curves), max(1, len(c))))
-        coef.append([_number(v, f"{w}: c") for v in c])
-    edits, amp = [], []
-    for k, it in enumerate(_items(cfg, "contour_edit", str(path))):
-        w = f"{path}: [[contour_edit]] #{k + 1}"
-        edits.append(ContourEdit(str(it["line"]), _number(it["x_a"], f"{w}: x_a"), _number(it["x_b"], f"{w}: x_b"),
-                                 it.get("shape", "bump")))
-        amp.append(_number(it["amplitude"], f"{w}: amplitude"))
-    model = feature_model(hull, moves, dists, edits)
-    modes = max((len(c) for c in coef), default=0)
-    dist = np.zeros((len(coef), modes))
-    for g, c in enumerate(coef):
-        dist[g, : len(c)] = c
-    params = FeatureParams(np.array(d).reshape(len(d), 2), dist, np.array(amp))
+    model, params, _ = design_params(cfg, run_parent(name, draft), where="")
     return model, params, name
 
 
@@ -123,8 +66,9 @@ def plot_features(hull, path: Path, title: str = "") -> None:
     ax.set_ylabel("z [m]")
     ax.set_title(title or f"Feature curves — {hull.name}")
     ax.legend(fontsize=7, loc="upper center")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    from ...drawing import save_figure
+
+    save_figure(fig, path, dpi=120)
 
 
 @app.command()
@@ -157,8 +101,9 @@ def features(
 @app.command()
 def deform(
     parent: Annotated[str, typer.Argument(help=f"Parent (parent:NAME or NAME: {', '.join(parent_names())}; "
-                                               "or a parent .json)")],
-    params: Annotated[Path, typer.Argument(help="Design TOML: [[apex_move]], [[distribution]], [[contour_edit]]")],
+                                               "a parent .json; or any hull spec a run config's parent takes)")],
+    params: Annotated[Path, typer.Argument(help="Design TOML: [[apex_move]], [[distribution]], [[contour_edit]] "
+                                                "(the fields and defaults of a run config's [design])")],
     out: Annotated[Path, typer.Option(help=f"Output mesh (.{', .'.join(EXPORT_FORMATS)})")] = Path("hull.stl"),
     draft: Annotated[float | None, typer.Option(help="Draft for the report [m] (default: the parent's)")] = None,
 ) -> None:
@@ -167,7 +112,7 @@ def deform(
         raise HullError(f"--out {out}: unknown mesh format {out.suffix!r}; expected .{', .'.join(EXPORT_FORMATS)}")
     if not params.is_file():
         raise HullError(f"{params}: no such design file")
-    model, p, _ = read_design(params, parent)
+    model, p, _ = read_design(params, parent, draft)
     sec = check_design(model, p)
     t = draft if draft is not None else model.hull.design_draft
     if t is not None:

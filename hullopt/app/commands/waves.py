@@ -182,9 +182,9 @@ def _plot(path: Path, out: dict) -> None:
     ax.grid(alpha=0.3)
     ax.legend()
     fig.tight_layout()
+    from ...drawing import save_figure
+
     try:
-        fig.savefig(path)
+        save_figure(fig, path)
     except (ValueError, OSError) as e:
         raise HullError(f"--plot {path}: {e}") from None
-    finally:
-        plt.close(fig)

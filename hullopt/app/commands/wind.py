@@ -49,8 +49,9 @@ def _plot(path: Path, psi_deg, coeffs: dict[str, np.ndarray], title: str) -> Non
     ax.set_thetamax(180)
     ax.set_title(title + "\nψ from ahead (0°) to astern (180°)", fontsize=9)
     ax.legend(loc="lower left", fontsize=8)
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    from ...drawing import save_figure
+
+    save_figure(fig, path, dpi=120, bbox_inches="tight")
 
 
 @app.command()

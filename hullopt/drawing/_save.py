@@ -1,0 +1,26 @@
+"""The one way hullopt saves a matplotlib figure: rendered in memory (the format from the file's suffix, PNG
+when it has none), then written atomically (a temporary file in the same folder, renamed), the figure closed."""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+
+from ..geometry import atomic_write_bytes
+
+
+def save_figure(fig, path: str | os.PathLike, **savefig_kw) -> Path:
+    """Save ``fig`` to ``path`` atomically and close it (also when saving fails); ``savefig_kw`` go to
+    ``Figure.savefig`` (``dpi``, ``bbox_inches``…). A reader never sees a half-written file, and a failed save
+    leaves no temporary file. ValueError for a format matplotlib cannot write, OSError for a bad folder."""
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    try:
+        buf = io.BytesIO()
+        fig.savefig(buf, format=path.suffix.lstrip(".").lower() or "png", **savefig_kw)
+        atomic_write_bytes(path, buf.getvalue())
+    finally:
+        plt.close(fig)
+    return path
