@@ -113,7 +113,7 @@ def solve_values(problem, values, i_bf: int, outer: int, max_steps: int, mesh):
     >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
     >>> def model(p):
     ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
-    >>> v0 = float(hydrostatics(hull, 6.25).volume)
+    >>> v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
     >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": v0}),
     ...                 objective=Objective("k_aw", jnp.asarray(7.7)))
     >>> beam = lambda s, draft: hydrostatics(s, draft).bwl

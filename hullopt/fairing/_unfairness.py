@@ -261,9 +261,10 @@ def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
     >>> import jax; jax.config.update("jax_enable_x64", True)
     >>> from hullopt.models import box, wigley
     >>> from hullopt.fairing import unfairness
-    >>> round(float(unfairness(box(100, 20, 10))), 6)
+    >>> u = jax.jit(unfairness)
+    >>> round(float(u(box(100, 20, 10))), 6)
     0.0
-    >>> round(float(unfairness(wigley(100, 10, 6.25, 10, n=21, m=21))), -1)
+    >>> round(float(u(wigley(100, 10, 6.25, 10, n=21, m=21))), -1)
     26870.0
     """
     yz = sections.yz

@@ -59,6 +59,11 @@ def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
 def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatics:
     """Hydrostatics at ``draft`` [m above the baseline]; see :class:`Hydrostatics`.
 
+    Exact for the polyline sections; along x, Simpson's rule on the station positions (the kernel's
+    :func:`~hullopt.geometry.longitudinal_integrals`).
+    The draft must lie above the keel and at most at the deck, where the waterplane is the deck edge's (the
+    caller checks: see :func:`check_draft`).
+
     Parameters
     ----------
     sections : Sections
@@ -83,14 +88,9 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
     >>> import jax; jax.config.update("jax_enable_x64", True)
     >>> from hullopt.models import wigley
     >>> from hullopt.hydro import hydrostatics
-    >>> h = hydrostatics(wigley(100, 10, 6.25, 10, n=21, m=21), 6.25)
+    >>> h = jax.jit(hydrostatics)(wigley(100, 10, 6.25, 10, n=21, m=21), 6.25)  # pure JAX: jit, grad, vmap
     >>> round(float(h.cb), 3), abs(round(float(h.lcb_pct), 6))  # symmetric fore and aft: LCB at midship
     (0.444, 0.0)
-
-    Exact for the polyline sections; along x, Simpson's rule on the station positions (the kernel's
-    :func:`~hullopt.geometry.longitudinal_integrals`).
-    The draft must lie above the keel and at most at the deck, where the waterplane is the deck edge's (the
-    caller checks: see :func:`check_draft`).
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     x, lpp = sections.x, sections.lpp

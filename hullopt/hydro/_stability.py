@@ -241,7 +241,8 @@ def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim
     >>> import jax.numpy as jnp
     >>> from hullopt.models import box
     >>> from hullopt.hydro import gz_curve
-    >>> c = gz_curve(box(100, 20, 10), 10000.0, 5.0, jnp.array([0.2]), free_trim=False)
+    >>> gz = jax.jit(gz_curve, static_argnames="free_trim")
+    >>> c = gz(box(100, 20, 10), 10000.0, 5.0, jnp.array([0.2]), free_trim=False)
     >>> round(float(c.gm0), 4), round(float(c.gz[0]), 4)
     (4.1667, 0.855)
     """

@@ -466,7 +466,8 @@ def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> Fe
     >>> from hullopt.models import load_parent, feature_model, ApexMove
     >>> from hullopt.hydro import hydrostatics
     >>> model = feature_model(load_parent("wigley"), moves=[ApexMove(-1, 50, 80, 100, "smooth")])
-    >>> round(float(hydrostatics(model(model.zeros()), 6.25).cb), 3)
+    >>> cb = jax.jit(lambda p: hydrostatics(model(p), 6.25).cb)
+    >>> round(float(cb(model.zeros())), 3)
     0.444
     """
     moves, distributions, edits = tuple(moves), tuple(distributions), tuple(edits)

@@ -268,7 +268,7 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
     >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
     >>> def model(p):
     ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
-    >>> v0 = float(hydrostatics(hull, 6.25).volume)
+    >>> v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
     >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": 1.2 * v0}))
     >>> r = solve_fit(design, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
     >>> round(float(r.params), 4), bool(r.met)
@@ -313,7 +313,7 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
     >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
     >>> def model(p):
     ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
-    >>> v0 = float(hydrostatics(hull, 6.25).volume)
+    >>> v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
     >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": 1.2 * v0}),
     ...                 objective=Objective("k_aw", jnp.asarray(7.7)))
     >>> r = solve_minimum(design, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))

@@ -229,7 +229,8 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
     >>> import jax; jax.config.update("jax_enable_x64", True)
     >>> from hullopt.models import wigley
     >>> from hullopt.waves import mean_added_resistance
-    >>> r = mean_added_resistance("nmri", wigley(100, 10, 6.25, 10, n=21, m=21), 6.25, 7.7, 3.0, 9.0)
+    >>> r = jax.jit(mean_added_resistance, static_argnums=0)(
+    ...     "nmri", wigley(100, 10, 6.25, 10, n=21, m=21), 6.25, 7.7, 3.0, 9.0)
     >>> float(r.motion), round(float(r.total) / 1e3, 2)
     (0.0, 13.45)
     """

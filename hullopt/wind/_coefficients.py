@@ -261,7 +261,8 @@ def wind_coefficients(v: WindVariables, psi, model: str = "fujiwara1998", *, shi
     >>> from hullopt.models import wigley
     >>> from hullopt.wind import box_parts, wind_variables, wind_coefficients
     >>> house = box_parts(["house"], ["superstructure"], 10.0, 30.0, 10.0, 20.0, 8.0)
-    >>> c = wind_coefficients(wind_variables(wigley(100, 10, 6.25, 10, n=21, m=21), 6.25, house), 0.0)
+    >>> v = jax.jit(wind_variables)(wigley(100, 10, 6.25, 10, n=21, m=21), 6.25, house)
+    >>> c = wind_coefficients(v, 0.0)
     >>> round(float(c.cx), 3), abs(round(float(c.cy), 6))
     (-0.884, 0.0)
     """
