@@ -286,12 +286,14 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
     ----------
     design : Design
         The problem: ``design.model(params) → Sections`` at ``design.draft`` [m], its ``targets`` (SI, as
-        :func:`make_targets` takes them) and tolerances, and the ``objective`` to minimise (scaled by its value at the parent).
+        :func:`make_targets` takes them) and tolerances, and the ``objective`` to minimise (scaled by its
+        value at the parent).
     p0, lower, upper : pytree of Array
         Start and bounds of the parameters (same structure; ``lower < p0 < upper``, units of the model's
         parameters).
     **kw
-        Passed to the solver (:func:`~hullopt.optimise.minimise_constrained`: ``max_steps``, ``rtol``, ``atol``, ``outer`` rounds).
+        Passed to the solver (:func:`~hullopt.optimise.minimise_constrained`: ``max_steps``, ``rtol``,
+        ``atol``, ``outer`` rounds).
 
     Returns
     -------
@@ -301,8 +303,8 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
 
     Examples
     --------
-    A Wigley hull whose beam is scaled by ``1 + p``: its volume scales by ``1 + p``, so with the volume held at 1.2 times the
-    parent's volume is ``p = 0.2``:
+    A Wigley hull whose beam is scaled by ``1 + p``: its volume scales by ``1 + p``, so with the volume held
+    at 1.2 times the parent's the minimum is ``p = 0.2`` (the target pins it):
 
     >>> import jax; jax.config.update("jax_enable_x64", True)
     >>> import jax.numpy as jnp
