@@ -167,12 +167,7 @@ def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig,
     parent file given relative to the config's folder made absolute). :class:`HullError` names the file and
     the field of any problem."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text())
-    except OSError as e:
-        raise HullError(f"{path}: cannot read the config ({e.strerror})") from None
-    except tomllib.TOMLDecodeError as e:
-        raise HullError(f"{path}: not valid TOML ({e})") from None
+    raw = _read_toml(path, "config")
     for item in overrides:
         key, sep, text = item.partition("=")
         if not sep or not key:
@@ -190,6 +185,16 @@ def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig,
     return cfg, raw
 
 
+def _read_toml(path: Path, what: str) -> dict:
+    """The TOML table of ``path``; :class:`HullError` naming the file if it cannot be read or parsed."""
+    try:
+        return tomllib.loads(path.read_text())
+    except OSError as e:
+        raise HullError(f"{path}: cannot read the {what} ({e.strerror})") from None
+    except tomllib.TOMLDecodeError as e:
+        raise HullError(f"{path}: not valid TOML ({e})") from None
+
+
 def _invalid(path: Path, e: ValidationError) -> HullError:
     """One line naming the file and the field of the first problem."""
     err = e.errors()[0]
@@ -204,12 +209,7 @@ def load_design(path: str | Path) -> DeformConfig:
     defaults); a parent file given relative to the TOML's folder made absolute. :class:`HullError` names the
     file and the field of any problem."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text())
-    except OSError as e:
-        raise HullError(f"{path}: cannot read the design ({e.strerror})") from None
-    except tomllib.TOMLDecodeError as e:
-        raise HullError(f"{path}: not valid TOML ({e})") from None
+    raw = _read_toml(path, "design")
     try:
         cfg = DeformConfig.model_validate(raw)
     except ValidationError as e:

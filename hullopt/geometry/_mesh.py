@@ -347,10 +347,6 @@ def mesh_checks(mesh: trimesh.Trimesh) -> dict:
     }
 
 
-def _valid(checks: dict) -> bool:
-    return checks["watertight"] and checks["winding_consistent"] and checks["bodies"] == 1 and not checks["tiny_faces"]
-
-
 def weld_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     """The mesh as a file stores it, and valid there: vertices in float32, closed, consistently wound, one
     body, no degenerate face.
@@ -384,7 +380,7 @@ def weld_mesh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
         seen = welded.copy()
         seen.merge_vertices()  # what a reader does
         checks = mesh_checks(seen)
-        if _valid(checks):
+        if MeshReport(path=Path(), **checks).ok:
             return welded
     raise ValueError(f"the mesh cannot be made valid in float32 ({checks})")
 
