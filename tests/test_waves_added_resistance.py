@@ -9,9 +9,9 @@ from helpers import check_grad
 from scipy.integrate import quad
 
 from hullopt.hydro import hydrostatics
-from hullopt.models import wigley
+from hullopt.models import blunt_bow, wigley
 from hullopt.waves import (
-    BF_KINK, G, RHO_SEA, beaufort_sea_state, blunt_bow, bluntness, bretschneider, evaluate_modifications, ittc_1978, jonswap, k_aw,
+    BF_KINK, G, RHO_SEA, beaufort_sea_state, bluntness, bretschneider, evaluate_modifications, ittc_1978, jonswap, k_aw,
     mean_added_resistance, method_resistance, nmri_added_resistance, omega_from_wavelength, particulars,
     select_lower_k_aw, snnm, spectral_mean, speed_coefficient, spreading, stawave1,
 )

@@ -4,6 +4,7 @@ from ._builtins import BUILTINS as BUILTINS
 from ._builtins import box as box
 from ._builtins import wigley as wigley
 from ._lackenby import lackenby as lackenby
+from ._modifications import blunt_bow as blunt_bow
 from ._offsets import OffsetSurface as OffsetSurface
 from ._offsets import OffsetTable as OffsetTable
 from ._offsets import offset_surface as offset_surface

@@ -25,7 +25,6 @@ from ._bessel import k0e as k0e
 from ._bessel import k1 as k1
 from ._bessel import k1e as k1e
 from ._program import ProgramResult as ProgramResult
-from ._program import blunt_bow as blunt_bow
 from ._program import evaluate_modifications as evaluate_modifications
 from ._program import select_lower_k_aw as select_lower_k_aw
 from ._spectra import BEAUFORT as BEAUFORT

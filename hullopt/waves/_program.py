@@ -1,5 +1,6 @@
 """The patent's program (JP2009-286166 claim 6, fig. 18): compute Bf and K_AW of a hull, modify the hull,
-recompute, and keep the hull with the lower K_AW — plus a simple bow-bluntness modification to drive it."""
+recompute, and keep the hull with the lower K_AW. The modification is any pure ``(Sections, p) -> Sections``
+passed in, e.g. :func:`hullopt.models.blunt_bow` (models own the hull modifications)."""
 
 from __future__ import annotations
 
@@ -14,20 +15,6 @@ from ..constants import G
 from ..geometry import Sections
 from ._added_resistance import froude_number, k_aw, speed_coefficient
 from ._waterline import bluntness
-
-
-def blunt_bow(sections: Sections, p, x_start=None) -> Sections:
-    """Blunt (``p > 0``) or sharpen (``−1 < p < 0``) the entrance: half-breadths y are scaled by
-    1 + p·sin²(πξ/2), ξ = (x − x_start)/(x_fwd − x_start) ∈ [0, 1] from ``x_start`` (default midship) to the
-    forward-most station. Stations aft of ``x_start`` are unchanged and the scaling starts with zero slope,
-    so the hull stays smooth; heights and station positions are kept, and a stem (y = 0) stays a stem.
-    Near the stem the entrance half-angle E becomes atan((1 + p)·tan E). Pure and differentiable in ``p``."""
-    x = sections.x
-    x0 = 0.5 * sections.lpp if x_start is None else jnp.asarray(x_start, dtype=x.dtype)
-    xi = jnp.clip((x - x0) / (x[-1] - x0), 0.0, 1.0)
-    f = 1.0 + p * jnp.sin(0.5 * jnp.pi * xi) ** 2
-    yz = sections.yz.at[..., 0].multiply(f[:, None])
-    return Sections(x=x, yz=yz, lpp=sections.lpp)
 
 
 class ProgramResult(eqx.Module):
@@ -66,7 +53,7 @@ def select_lower_k_aw(sections: Sections, modify: Callable[[Sections, Array], Se
     """Claim 6: compute Bf, K_AW of ``sections`` (steps 1802–1803), modify it by ``modify(sections, p)`` for
     every ``p`` in ``params`` (1804), recompute (1806), compare and keep the hull with the lowest K_AW
     (1807–1808; the original on ties). ``modify`` may be any pure ``(Sections, p) -> Sections``, e.g.
-    :func:`blunt_bow` or a feature-curve deformation."""
+    :func:`hullopt.models.blunt_bow` or a feature-curve deformation."""
     params = jnp.atleast_1d(jnp.asarray(params, dtype=sections.yz.dtype))
     bf, c_u, kaw, fn = eqx.filter_jit(evaluate_modifications)(sections, modify, params, draft, speed, heading, g)
     best = int(jnp.argmin(kaw))  # argmin keeps the first (the original) on ties

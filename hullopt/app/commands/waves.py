@@ -12,7 +12,7 @@ import typer
 
 from ...constants import G, KNOT, RHO_SEA
 from ...errors import HullError
-from ...waves import blunt_bow as blunt_bow_modification
+from ...models import blunt_bow as blunt_bow_modification
 from ...waves import (
     AFT_OPTIONS, METHODS, SPECTRA, mean_added_resistance, method_resistance,
     nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
