@@ -8,11 +8,8 @@ from scipy.integrate import quad
 from scipy.interpolate import CubicSpline as ScipySpline
 
 from conftest import REPO
-from hullopt.fairing import (
-    RESIDUALS, coons_surface, graph_curvatures, measure, section_curvature, spline_slopes, surface_curvatures,
-    unfairness,
-)
-from hullopt.geometry import Sections, natural_cubic_spline
+from hullopt.fairing import RESIDUALS, graph_curvatures, measure, section_curvature, surface_curvatures, unfairness
+from hullopt.geometry import Sections, coons_surface, natural_cubic_spline, spline_slopes
 from hullopt.models import offsets_to_sections, read_offsets, wigley
 
 from helpers import check_grad

@@ -1,12 +1,7 @@
-"""Fairing: the Coons-patch hull surface and its curvature (seed 001, Katsui & Norisada 2005, §2), and
-unfairness functionals and automatic fairing that are hullopt's own (the seed's text stops before it defines
-its functionals)."""
+"""Fairing: the curvature of the Coons-patch hull surface (seed 001, Katsui & Norisada 2005, §2; the surface
+itself is the kernel's :class:`~hullopt.geometry.CoonsSurface`), and unfairness functionals and automatic
+fairing that are hullopt's own (the seed's text stops before it defines its functionals)."""
 
-from ._coons import CoonsSurface as CoonsSurface
-from ._coons import coons_sections as coons_sections
-from ._coons import coons_surface as coons_surface
-from ._coons import hermite_basis as hermite_basis
-from ._coons import spline_slopes as spline_slopes
 from ._curvature import curve_curvature as curve_curvature
 from ._curvature import graph_curvatures as graph_curvatures
 from ._curvature import polyline_curvature as polyline_curvature

@@ -26,8 +26,8 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
-from ..geometry import Sections, longitudinal_integrals
-from ._coons import coons_sections, coons_surface
+from ..geometry import Sections, coons_surface, longitudinal_integrals
+from ..models import coons_sections
 from ._unfairness import RESIDUALS
 
 VOLUME_TOL = 1e-3  # relative displacement tolerance

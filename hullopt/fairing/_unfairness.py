@@ -50,8 +50,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, safe_div
-from ._coons import CoonsSurface
+from ..geometry import CoonsSurface, Sections, safe_div
 from ._curvature import _safe_unit, graph_curvatures, polyline_curvature
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(3)

@@ -1,5 +1,9 @@
-"""The geometry kernel: the shared hull type, exact section integrals, splines, meshes."""
+"""The geometry kernel: the shared hull type, exact section integrals, splines, the Coons-patch surface, meshes."""
 
+from ._coons import CoonsSurface as CoonsSurface
+from ._coons import coons_surface as coons_surface
+from ._coons import hermite_basis as hermite_basis
+from ._coons import spline_slopes as spline_slopes
 from ._integrate import LongitudinalIntegrals as LongitudinalIntegrals
 from ._integrate import longitudinal_integrals as longitudinal_integrals
 from ._integrate import simpson_weights as simpson_weights

@@ -3,6 +3,7 @@
 from ._builtins import BUILTINS as BUILTINS
 from ._builtins import box as box
 from ._builtins import wigley as wigley
+from ._coons import coons_sections as coons_sections
 from ._lackenby import lackenby as lackenby
 from ._modifications import blunt_bow as blunt_bow
 from ._offsets import OffsetSurface as OffsetSurface

@@ -16,8 +16,9 @@ import typer
 from ...drawing import save_figure
 from ...errors import HullError
 from ...fairing import (
-    RESIDUALS, aft_body_noise, coons_surface, curve_curvature, fair_offsets, fixed_offsets, graph_curvatures, measure,
+    RESIDUALS, aft_body_noise, curve_curvature, fair_offsets, fixed_offsets, graph_curvatures, measure,
 )
+from ...geometry import coons_surface
 from ...hydro import hydrostatics
 from ...models import OffsetTable, offset_surface, read_offsets
 from .._app import app

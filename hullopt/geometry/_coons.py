@@ -1,4 +1,6 @@
-"""The Coons-patch hull surface of seed 001 (Katsui & Norisada 2005, §2.1).
+"""The Coons-patch hull surface of seed 001 (Katsui & Norisada 2005, §2.1): a surface representation of the
+kernel, beside the splines it is built from (its sampling into :class:`Sections` is
+:func:`hullopt.models.coons_sections`; its curvature and unfairness are in :mod:`hullopt.fairing`).
 
 The hull's port side is the graph ``y = f(x, z)`` over the offset grid: stations ``x (s,)`` [m from the AP],
 waterlines ``z (w,)`` [m above the baseline] and half-breadths ``y (s, w)`` [m]. The frame lines (one per
@@ -18,7 +20,7 @@ with the corner points ``Q`` the offsets and the corner tangents ``Qu = hx ∂y/
 ``Qv = hz ∂y/∂z`` (frame splines). A spline segment is a cubic fixed by its end values and slopes, so every
 patch reproduces its four boundary curves exactly and neighbouring patches share value and cross slope
 along their common edge (the surface is C¹); its curvature jumps across patch edges — the reason the
-unfairness functionals of :mod:`._unfairness` compare one-sided values there. The x and z components of
+unfairness functionals of :mod:`hullopt.fairing` compare one-sided values there. The x and z components of
 the patch are linear in (u, v), so the surface is the graph of ``f`` over (x, z).
 """
 
@@ -28,7 +30,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, natural_cubic_spline
+from ._splines import natural_cubic_spline
 
 
 def hermite_basis(t, nu: int = 0) -> Array:
@@ -94,7 +96,7 @@ class CoonsSurface(eqx.Module):
 def spline_slopes(knots: Float[Array, " k"], values: Float[Array, "k ..."], end: str = "not-a-knot") -> Array:
     """Slopes at the knots of the cubic spline through ``(knots, values)`` (values ``(k, ...)``).
 
-    ``end="natural"``: zero curvature at both ends (:func:`~hullopt.geometry.natural_cubic_spline`, the
+    ``end="natural"``: zero curvature at both ends (:func:`natural_cubic_spline`, the
     offset-table model of seed 003). ``end="not-a-knot"`` (``k ≥ 4``; fewer knots fall back to natural):
     the third derivative is continuous at the second and the last-but-one knot, so the spline reproduces
     any cubic — a parabolic waterline keeps its end curvature instead of gaining an artificial
@@ -143,16 +145,3 @@ def coons_surface(x: Float[Array, " s"], z: Float[Array, " w"], y: Float[Array, 
     top = jnp.concatenate([q, qv], axis=-1)  # (…, 2, 4)
     bottom = jnp.concatenate([qu, jnp.zeros_like(qu)], axis=-1)
     return CoonsSurface(x=x, z=z, coef=jnp.concatenate([top, bottom], axis=-2))
-
-
-def coons_sections(surface: CoonsSurface, lpp, n_stations: int = 121, n_points: int = 81) -> Sections:
-    """Sample ``surface`` on ``n_stations`` equally spaced stations (made odd, for Simpson's rule) and
-    ``n_points`` equally spaced heights, clipped at ``y = 0`` and closed at the keel with a centreline
-    point, as the offset-table model does. Differentiable in the surface."""
-    n_stations += 1 - n_stations % 2
-    xf = jnp.linspace(surface.x[0], surface.x[-1], n_stations)
-    zf = jnp.linspace(surface.z[0], surface.z[-1], n_points)
-    yy = jnp.maximum(surface(xf[:, None], zf[None, :]), 0.0)
-    yz = jnp.stack([yy, jnp.broadcast_to(zf, yy.shape)], axis=-1)
-    keel = jnp.stack([jnp.zeros_like(xf), jnp.full_like(xf, zf[0])], -1)
-    return Sections(x=xf, yz=jnp.concatenate([keel[:, None], yz], axis=1), lpp=jnp.asarray(lpp, yy.dtype))
