@@ -73,8 +73,9 @@ def test_independent_of_breadth_scaling():
     np.testing.assert_allclose(BF(wedge_hull(np.arctan(2 * np.tan(e))), 5.0), np.sin(np.arctan(2 * np.tan(e))) ** 2)
 
 
-def _patent_bf_wigley(length, beam, alpha):
-    """Patent eq. 3 on the smooth Wigley waterline y = (B/2)(1 − (2ξ/L)²) by adaptive quadrature."""
+def _patent_bf_wigley(length, beam, alpha, entrance_only=False):
+    """Patent eq. 3 on the smooth Wigley waterline y = (B/2)(1 − (2ξ/L)²) by adaptive quadrature; with
+    ``entrance_only`` over the lit entrance (x > L/2, β > 0) only."""
 
     def slope(x):
         return -(beam / 2) * 8 * (x - length / 2) / length**2
@@ -84,6 +85,7 @@ def _patent_bf_wigley(length, beam, alpha):
         beta = np.arctan(-yp)  # waterline angle, positive in the entrance
         ang = alpha + beta if side == "I" else alpha - beta
         lit = np.sin(ang) > 0 if side == "I" else np.sin(beta - alpha) > 0
+        lit = lit and (beta > 0 or not entrance_only)
         return np.sin(ang) ** 2 * np.sin(beta) * np.sqrt(1 + yp**2) * lit
 
     # split where the integrand has kinks: midship and the lit/shadow switches β = ∓α
@@ -99,10 +101,11 @@ def _patent_bf_wigley(length, beam, alpha):
 def test_wigley_matches_patent_integral(deg):
     s = wigley(100.0, 10.0, 6.25, 10.0, n=401, m=3)
     a = np.radians(deg)
-    got = np.asarray(BF(s, 6.25, jnp.array([a, -a])))
-    ref = _patent_bf_wigley(100.0, 10.0, a)
-    np.testing.assert_allclose(got, ref, rtol=2e-4, atol=2e-6)  # polyline with 400 segments: O(h²)
-    np.testing.assert_allclose(got[0], got[1], rtol=1e-14)  # ±α on a symmetric hull
+    for aft, entrance_only in (("include", False), ("exclude", True)):
+        got = np.asarray(BF(s, 6.25, jnp.array([a, -a]), aft=aft))
+        ref = _patent_bf_wigley(100.0, 10.0, a, entrance_only)
+        np.testing.assert_allclose(got, ref, rtol=2e-4, atol=2e-6)  # polyline with 400 segments: O(h²)
+        np.testing.assert_allclose(got[0], got[1], rtol=1e-14)  # ±α on a symmetric hull
 
 
 def test_head_seas_closed_form_and_aft_option():
@@ -112,12 +115,15 @@ def test_head_seas_closed_form_and_aft_option():
     np.testing.assert_allclose(BF(s, 6.25, 0.0), ref, rtol=2e-4)
     np.testing.assert_allclose(BF(s, 6.25, 0.0, aft="exclude"), BF(s, 6.25, 0.0, aft="include"), rtol=1e-14)
     # beam seas: the lit aft body of the weather side counts against the bow when included;
-    # fore-aft symmetric Wigley: the two cancel exactly, excluding leaves the entrance part
+    # fore-aft symmetric Wigley: the two cancel exactly, excluding (the default) leaves the entrance part
     a = np.radians(90.0)
-    np.testing.assert_allclose(BF(s, 6.25, a), 0.0, atol=1e-14)
-    assert float(BF(s, 6.25, a, aft="exclude")) > 0.05
-    # following seas mirror head seas on a fore-aft symmetric hull
-    np.testing.assert_allclose(BF(s, 6.25, np.pi), -BF(s, 6.25, 0.0), rtol=1e-12)
+    np.testing.assert_allclose(BF(s, 6.25, a, aft="include"), 0.0, atol=1e-14)
+    assert float(BF(s, 6.25, a)) > 0.05
+    np.testing.assert_allclose(BF(s, 6.25, a), BF(s, 6.25, a, aft="exclude"), rtol=0)
+    # following seas: included, the run mirrors head seas on a fore-aft symmetric hull; by default no
+    # part of the entrance is lit
+    np.testing.assert_allclose(BF(s, 6.25, np.pi, aft="include"), -BF(s, 6.25, 0.0), rtol=1e-12)
+    assert float(BF(s, 6.25, np.pi)) == 0.0
     with pytest.raises(ValueError, match="aft"):
         bluntness(s, 6.25, 0.0, aft="both")
 

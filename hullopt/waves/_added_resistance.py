@@ -4,6 +4,12 @@ R_AWR = ½ρgζ_a²·B·Bf·α_T·(1 + α_U),  K_AW = R_AWR / (½ρgζ_a²B) = B
 α_T = π²I₁²(k_e d)/(π²I₁²(k_e d) + K₁²(k_e d)), k_e = k(1 + Ω cos α)², Ω = ωU/g, k = ω²/g (patent eqs. 6–8),
 1 + α_U = 1 + C_U·Fn, C_U = max(68 − 310·Bf(α), 10) (eqs. 9, 11, 12), Fn = U/√(g·Lpp).
 
+Eq. 11 holds "for Bf > 0" and a reflected wave pushes the ship back, never forward: K_AW uses
+Bf⁺ = max(Bf, 0) (:func:`positive_part`), so C_U is only ever evaluated at Bf ≥ 0 and the reflection part is
+never negative. With the default lit range (``aft="exclude"``, :func:`~hullopt.waves.bluntness_of_waterline`)
+Bf ≥ 0 already; the clamp matters for ``aft="include"``, whose lit run and transom make Bf < 0 in following
+and quartering seas.
+
 Shapes: ``omega`` (any shape W) and ``heading`` (any shape H) give per-wave results of shape W + H.
 Units SI: ω [rad/s], U [m/s], α [rad] (0 = head seas), ζ_a [m], forces [N].
 """
@@ -34,9 +40,23 @@ def speed_coefficient(bf, smooth: float | None = None) -> Array:
     return C_U_MIN + smooth * jax.nn.softplus((lin - C_U_MIN) / smooth)
 
 
+def positive_part(bf, smooth: float | None = None) -> Array:
+    """Bf⁺ = max(Bf, 0), or with ``smooth = τ`` the C¹ ramp 2b²/w − b³/w² on 0 < b < w = τ/310 (the Bf width
+    of :func:`speed_coefficient`'s soft maximum; 0.0032 for τ = 1): exact for Bf ≤ 0 and Bf ≥ w, below the
+    exact value by at most 4w/27 inside, so following seas stay exactly 0 and the gradient is finite."""
+    bf = jnp.asarray(bf, dtype=float)
+    if smooth is None:
+        return jnp.maximum(bf, 0.0)
+    w = smooth / -C_U_SLOPE
+    b = jnp.clip(bf, 0.0, w)
+    ramp = (2.0 - b / w) * b * b / w
+    return jnp.where(bf >= w, bf, ramp)
+
+
 def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
-    """K_AW = Bf·α_T·(1 + C_U(Bf)·Fn) (patent eq. 2 over ½ρgζ²B; claim 1). With α_T = 1 this is the
-    short-wave value the patent's tables list.
+    """K_AW = Bf⁺·α_T·(1 + C_U(Bf⁺)·Fn) (patent eq. 2 over ½ρgζ²B; claim 1), Bf⁺ = max(Bf, 0)
+    (:func:`positive_part`: eq. 11 holds for Bf > 0 and the reflection part is never negative). With
+    α_T = 1 this is the short-wave value the patent's tables list.
 
     Parameters
     ----------
@@ -47,7 +67,8 @@ def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
     alpha_T : float or Array
         Draft coefficient α_T (:func:`alpha_t`); 1 in short waves.
     smooth : float or None
-        Width τ of the soft maximum in C_U (:func:`speed_coefficient`); None: the patent's kinked maximum.
+        Width τ of the soft maximum in C_U (:func:`speed_coefficient`) and of the ramp in Bf⁺
+        (:func:`positive_part`); None: the patent's kinked maximum and the exact max(Bf, 0).
 
     Returns
     -------
@@ -65,7 +86,8 @@ def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
     >>> [round(float(k), 6) for k in k_aw(jnp.array([0.1, 0.5]), 0.2)]
     [0.84, 1.5]
     """
-    return jnp.asarray(bf, dtype=float) * alpha_T * (1.0 + speed_coefficient(bf, smooth) * fn)
+    bf = positive_part(bf, smooth)
+    return bf * alpha_T * (1.0 + speed_coefficient(bf, smooth) * fn)
 
 
 def froude_number(speed, lpp, g: float = G) -> Array:
@@ -89,8 +111,9 @@ def encounter_wavenumber(omega, speed, heading, g: float = G) -> Array:
 class NMRIResult(eqx.Module):
     """Added resistance by reflection, NMRI/patent formula. Shapes: H = heading's, W + H per wave.
 
-    bf (H): bluntness coefficient; fn (): Froude number; c_u (H): speed coefficient C_U;
-    k_aw_short (H): Bf(1 + C_U Fn), the short-wave limit (α_T = 1); alpha_t (W+H); k_aw (W+H);
+    bf (H): bluntness coefficient (as computed; < 0 only with ``aft="include"``); fn (): Froude number;
+    c_u (H): speed coefficient C_U at Bf⁺ = max(Bf, 0) (68 where Bf ≤ 0, where it multiplies 0);
+    k_aw_short (H): Bf⁺(1 + C_U Fn) ≥ 0, the short-wave limit (α_T = 1); alpha_t (W+H); k_aw (W+H);
     r_awr (W+H): R_AWR [N] for the given amplitude; beam (): B_wl [m].
     """
 
@@ -121,21 +144,24 @@ def nmri_added_resistance(
     rho: float = RHO_SEA,
     g: float = G,
     smooth: float | None = None,
-    aft: str = "include",
+    aft: str = "exclude",
 ) -> NMRIResult:
     """R_AWR and K_AW in regular waves of frequencies ``omega`` [rad/s] from headings ``heading`` [rad].
 
     ``draft`` [m] is both the waterline for Bf and d in α_T; ``speed`` U [m/s]; ``amplitude`` ζ_a [m];
-    ``smooth`` τ for :func:`speed_coefficient` (None: the exact max); ``aft``: see
-    :func:`~hullopt.waves.bluntness`. Pure and differentiable in the sections, draft, speed and ω;
+    ``smooth`` τ for :func:`speed_coefficient` and :func:`positive_part` (None: the exact max); ``aft``: the
+    lit range, see :func:`~hullopt.waves.bluntness_of_waterline` (default ``"exclude"``: the lit entrance).
+    The reflection part is never negative (Bf⁺ = max(Bf, 0)): in following seas it is 0. Pure and
+    differentiable in the sections, draft, speed and ω;
     finite (0) as ω → 0.
     """
     wl = waterline(sections, draft)
     om, hd = _outer(omega, heading)
     bf = bluntness_of_waterline(wl, hd, aft)
     fn = froude_number(speed, sections.lpp, g)
-    c_u = speed_coefficient(bf, smooth)
-    short = bf * (1.0 + c_u * fn)
+    bfp = positive_part(bf, smooth)
+    c_u = speed_coefficient(bfp, smooth)
+    short = bfp * (1.0 + c_u * fn)
     at = alpha_t(encounter_wavenumber(om, speed, hd, g) * draft)
     kaw = at * short
     b = wl.beam

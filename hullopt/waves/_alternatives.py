@@ -167,7 +167,7 @@ def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho
 
 
 def method_resistance(method: str, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *,
-                      kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft="include") -> WaveResistance:
+                      kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft="exclude") -> WaveResistance:
     """Added resistance [N] in regular waves by ``method`` (one of :data:`METHODS`), motion and reflection
     parts (NMRI: reflection only — its motion part needs a seakeeping code)."""
     if method == "nmri":
@@ -186,7 +186,7 @@ def method_resistance(method: str, sections: Sections, draft, speed, omega, head
 
 def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp, heading=0.0, *,
                           spectrum: str = "pm", gamma=3.3, spreading_s=None, omega_max=None, kyy=0.25,
-                          rho=RHO_SEA, g=G, smooth=None, aft="include", order: int = 8,
+                          rho=RHO_SEA, g=G, smooth=None, aft="exclude", order: int = 8,
                           n_dir: int = 16) -> WaveResistance:
     """Mean added resistance [N] in a sea state (H_s [m], peak period T_p [s], mean heading [rad]) by
     ``method``, motion and reflection parts; see :func:`~hullopt.waves.spectral_mean` for the spectrum,

@@ -16,7 +16,7 @@ from jaxtyping import Array, Float
 
 from ..geometry import Sections, safe_div, section_integrals
 
-AFT_OPTIONS = ("include", "exclude")
+AFT_OPTIONS = ("exclude", "include")  # the first is the default (see bluntness_of_waterline)
 
 
 class Waterline(eqx.Module):
@@ -81,7 +81,7 @@ def _side_integral(wl: Waterline, kx, ky, aft: str):
     return jnp.sum(safe_div(proj * proj * (-dy), l2, lit), axis=0)
 
 
-def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "include") -> Array:
+def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "exclude") -> Array:
     """Bf(α) of a waterline, for headings ``α`` [rad] (any shape; 0 = head seas, π = following seas).
 
     Bf = (1/B)[∫_I sin²(α+β_w) sin β_w dl + ∫_II sin²(α−β_w) sin β_w dl] (patent eq. 3), I and II the lit
@@ -91,11 +91,23 @@ def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "include") -> 
     force of a locally straight, fully reflecting wall. Illumination is judged locally, which is exact for
     convex waterlines (concave ones would need shadowing by other parts of the hull).
 
-    ``aft`` — the lit aft body in oblique seas (β_w < 0 there): ``"include"`` (default) counts it, with
-    its negative contribution (a thrust), as Faltinsen's asymptotic formula and SNNM's run terms do;
-    ``"exclude"`` integrates over forward-facing elements only. The two agree in head seas (|α| below
-    the smallest entrance angle), where no aft-facing element is lit. In head seas
-    Bf = (2/B) ∫_entrance sin³β_w dl; a wedge of half-angle E gives sin²E, a semicircle 2/3.
+    ``aft`` — which lit elements count. ``"exclude"`` (default) integrates over the lit elements that face
+    forward (n_x > 0, the entrance) only. Source: the patent quotes eq. 3 from Fujii & Takahashi (1975) and
+    defines I and II only by its Fig. 1 (not in the text hullopt has); Fujii & Takahashi's model, and
+    Kuroda, Tsujimoto et al.'s extension of it to oblique seas (the patent's eqs. 11–12, "for Bf > 0"),
+    is the reflection of the incident waves by the bow — the patent calls Bf the bluntness of the bow and
+    changes only the bow to change it. The rule hullopt applies is therefore: an element counts when the
+    incident waves illuminate it (−k̂·n > 0, judged locally) and it belongs to the entrance
+    (sin β_w > 0). Then Bf ≥ 0 at every heading; it is 0 from where the waves no longer reach the entrance
+    (α ≥ π − E for a wedge of half-angle E; α ≥ π/2 for a flat bow face) to following seas, and equals the
+    head-sea value at α = 0. ``"include"`` also counts the lit run and transom with their negative
+    contribution (β_w < 0: a thrust), as Faltinsen's asymptotic formula and SNNM's run terms do; in
+    following and quartering seas it makes Bf negative (a square-ended box: Bf = −cos²α beyond 90°),
+    outside the range of eq. 11 — kept for comparison; :func:`~hullopt.waves.nmri_added_resistance`
+    counts no negative reflection part whichever is chosen. The two agree in head seas (|α| below the
+    smallest entrance angle), where no aft-facing element is lit. In head seas
+    Bf = (2/B) ∫_entrance sin³β_w dl; a wedge of half-angle E gives sin²E, a semicircle 2/3, and in
+    oblique seas a wedge bow (half-breadth b = B/2) gives Bf = ½[sin²(α+E)·[α+E < π] + sin²(α−E)·[α < E]].
     """
     if aft not in AFT_OPTIONS:
         raise ValueError(f"aft={aft!r}: expected one of {AFT_OPTIONS}")
@@ -109,7 +121,7 @@ def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "include") -> 
     return safe_div(total, b, pos).reshape(shape)
 
 
-def bluntness(sections: Sections, draft, heading=0.0, aft: str = "include") -> Array:
+def bluntness(sections: Sections, draft, heading=0.0, aft: str = "exclude") -> Array:
     """Bluntness coefficient Bf of the waterline at ``draft`` [m] for headings ``heading`` [rad];
     see :func:`bluntness_of_waterline`."""
     return bluntness_of_waterline(waterline(sections, draft), heading, aft)

@@ -64,7 +64,7 @@ def waves(
     amplitude: Annotated[float, typer.Option(help="Regular-wave amplitude ζ_a [m] for r_awr.")] = 1.0,
     kyy: Annotated[float, typer.Option(help="Pitch radius of gyration / Lpp (STAWAVE-2, SNNM).")] = 0.25,
     smooth: Annotated[float | None, typer.Option(help="Soft-max width τ for C_U (default: exact max).")] = None,
-    aft: Annotated[str, typer.Option(help="Lit aft body in oblique seas: include or exclude.")] = "include",
+    aft: Annotated[str, typer.Option(help="Lit range of the waterline for Bf: exclude (the lit entrance only, the default) or include (also the lit run and transom, Bf < 0 in following seas; R_AWR is never negative).")] = "exclude",
     blunt_bow: Annotated[str | None, typer.Option("--blunt-bow", help="Claim-6 program: bow-bluntness values p to try, e.g. 0.5,1,2.")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; forces in N).")] = False,
     plot: Annotated[Path | None, typer.Option(help="Write a plot of K_AW against λ/L (.png, .pdf, .svg).")] = None,
