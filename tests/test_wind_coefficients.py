@@ -19,7 +19,9 @@ def ship():
 
 
 def test_fujiwara1998_by_hand(ship):
-    h = fujiwara1998_harmonics(ship)
+    """Seed 004 eqs. (1–7) by hand, with y56 as the seed prints it (L·H_C/A_L, an option; the default is
+    C·H_C/A_L, test_fujiwara1998_esso_osaka_published_harmonics)."""
+    h = fujiwara1998_harmonics(ship, "L*H_C/A_L")
     # Y1 = 0.684 + 0.717·C_BR/L − 3.22·C/L + 0.0281·A_L/A_OD + 0.0661·C/H_C + 0.298·A_T/(B·H_BR)
     #    = 0.684 + 0.717·(−0.3) − 3.22·(−0.02) + 0.0281·2.5 + 0.0661·(−0.4) + 0.298·0.625
     #    = 0.684 − 0.2151 + 0.0644 + 0.07025 − 0.02644 + 0.18625 = 0.76336
@@ -38,13 +40,40 @@ def test_fujiwara1998_by_hand(ship):
     # X5 = 0.0372 − 0.0075·2.5 − 0.103·(−0.3) + 0.0921·0.625 = 0.1069125
     for i, want in ((0, 0.15836), (1, -1.0505), (3, 0.04686), (5, 0.1069125)):
         assert float(h["X"][i]) == pytest.approx(want, abs=1e-12)
-    c = wind_coefficients(ship, jnp.deg2rad(jnp.array([0.0, 30.0, 90.0, 180.0])), "fujiwara1998")
+    c = wind_coefficients(ship, jnp.deg2rad(jnp.array([0.0, 30.0, 90.0, 180.0])), "fujiwara1998", y56="L*H_C/A_L")
     # C_X(0) = X0 + X1 + X3 + X5 = −0.7383675; C_X(180°) = X0 − X1 − X3 − X5 = 1.0550875
     assert float(c.cx[0]) == pytest.approx(-0.7383675, abs=1e-12)
     assert float(c.cx[3]) == pytest.approx(1.0550875, abs=1e-12)
     # C_Y(90°) = Y1 − Y3 + Y5 = 0.774979; C_Y(30°) = Y1/2 + Y3 + Y5/2 = 0.327602
     assert float(c.cy[2]) == pytest.approx(0.774979, abs=1e-12)
     assert float(c.cy[1]) == pytest.approx(0.327602, abs=1e-12)
+
+
+# The Esso Osaka 3 m model as the public Fortran source gives it (AmaneSakanashi/1216-Baysian-SI-MMG,
+# shipsim/ship/esso_osaka/f2py_mmg/MMG_model.f90: lpp, breadth, AT, AL, AOD, LCW, LCBR, HBR, HC) and the
+# harmonics published beside it (inputfiles/MMG_params_EssoOsaka3m.csv, column "EDF original"; its XX0 and
+# XX1 cells repeat two rudder values and are not harmonics).
+ESSO = dict(L=3.0, B=0.48925, A_T=0.13544, A_L=0.52038, A_OD=0.14230, C=-0.01299, C_BR=-0.06209, H_BR=0.294,
+            H_C=0.10359, A_SS=0.1, S=1.0, M=0.0)
+ESSO_PUBLISHED = {("X", 3): 0.060273613, ("X", 5): 0.044558221, ("Y", 1): 1.058172083, ("Y", 3): 0.002321463,
+                  ("Y", 5): -0.015293452, ("N", 1): -0.030727798, ("N", 2): 0.10411637, ("N", 3): -0.00088}
+
+
+def test_fujiwara1998_esso_osaka_published_harmonics():
+    """The default y56 group C·H_C/A_L reproduces the eight published harmonics (NN3 is printed to 2
+    significant figures); the seed's printed L·H_C/A_L changes only Y5, to −0.0331 (C_Y(90°) −1.7 %)."""
+    v = WindVariables.from_scalars(**ESSO)
+    h = fujiwara1998_harmonics(v)
+    for (comp, i), want in ESSO_PUBLISHED.items():
+        tol = 5e-6 if (comp, i) == ("N", 3) else 1e-9  # printed to 9 digits (measured ≤ 5e-10); NN3 to 5 decimals
+        assert float(h[comp][i]) == pytest.approx(want, abs=tol), (comp, i)
+    printed = fujiwara1998_harmonics(v, "L*H_C/A_L")
+    assert float(printed["Y"][5]) == pytest.approx(-0.0331, abs=5e-5)
+    for (comp, i) in ESSO_PUBLISHED:
+        if (comp, i) != ("Y", 5):
+            assert float(printed[comp][i]) == float(h[comp][i])
+    cy = [float(wind_coefficients(v, np.pi / 2, y56=g).cy) for g in ("C*H_C/A_L", "L*H_C/A_L")]
+    assert cy[1] / cy[0] - 1.0 == pytest.approx(-0.017, abs=1e-3)
 
 
 @pytest.mark.parametrize("model", MODELS)

@@ -80,7 +80,7 @@ class HullWindConfig(_Strict):
     model: str = "fujiwara1998"
     ship_type: str = DEFAULT_SHIP_TYPE
     rho_air: float = RHO_AIR
-    y56: str = "L*H_C/A_L"
+    y56: str = "C*H_C/A_L"  # Fujiwara 1998's Y5 group; "L*H_C/A_L" as seed 004 eq. (7) prints it
     parts: list[PartConfig] = []
 
     @field_validator("model")
@@ -122,7 +122,7 @@ class DrawingsConfig(_Strict):
     model: str = "fujiwara1998"
     ship_type: str = DEFAULT_SHIP_TYPE
     rho_air: float = RHO_AIR
-    y56: str = "L*H_C/A_L"
+    y56: str = "C*H_C/A_L"  # Fujiwara 1998's Y5 group; "L*H_C/A_L" as seed 004 eq. (7) prints it
 
     def part_specs(self) -> list[PartSpec]:
         return [PartSpec(p.name, p.kind, p.colour, p.polygon and [list(q) for q in p.polygon], p.group, p.tolerance)

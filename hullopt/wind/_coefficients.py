@@ -10,9 +10,12 @@ with q = ½ρU², H_L = A_L/L. C_X is even in ψ; C_Y, C_N, C_K are odd. For ψ 
 the bow to lee (area forward of mid-length) and a positive C_K heels to lee. Models without a roll moment
 return C_K = NaN. Variables are those of :class:`~hullopt.wind.WindVariables` (C forward positive).
 
-* ``fujiwara1998`` — Fujiwara, Ueno & Nimura (1998) harmonics (seed 004 eqs. 1–7). The term y56 is
-  ``L·H_C/A_L`` as printed in seed 004 eq. (7) (the Fortran/Python sources use ``C·H_C/A_L``; pass
-  ``y56="C*H_C/A_L"`` for theirs).
+* ``fujiwara1998`` — Fujiwara, Ueno & Nimura (1998) harmonics (seed 004 eqs. 1–7). The variable of the term
+  y56 is ``C·H_C/A_L`` by default, as every public implementation has it (the Fortran and Python sources the
+  table is transcribed from); with it the Esso Osaka model's harmonics X3, X5, Y1, Y3, Y5, N1, N2, N3 equal
+  the values published beside that code (Y5 −0.01529; tests/test_wind_coefficients.py). Seed 004 eq. (7)
+  prints ``L·H_C/A_L`` (and so does one MATLAB port): pass ``y56="L*H_C/A_L"`` for the printed form (Esso
+  Osaka: Y5 −0.0331, C_Y(90°) 1.7 % lower).
 * ``fujiwara2005`` — the Fujiwara, Ueno & Ikeda (2005) C_X adopted by ISO 15016:2015 (C_AA = −C_X; at ψ = 90°
   the mean of 80° and 100°), with C_Y, C_N from ShipMMG.jl (single source, unverified; no C_K).
 * ``isherwood`` — Isherwood (1972) tables, linear in angle (no C_K).
@@ -100,16 +103,22 @@ def _fujiwara1998_table(y56: str) -> dict[str, dict[int, list[tuple[float, str]]
     return table
 
 
-def fujiwara1998_harmonics(v: WindVariables, y56: str = "L*H_C/A_L") -> dict[str, dict[int, Array]]:
-    """The harmonics X_i, Y_i, N_i, K_i of seed 004 eqs. (1b–4b): ``{"X": {0: X0, 1: X1, …}, …}``."""
-    if y56 not in ("L*H_C/A_L", "C*H_C/A_L"):
-        raise HullError(f"y56 {y56!r}: expected 'L*H_C/A_L' (seed 004 eq. 7) or 'C*H_C/A_L'")
+Y56_OPTIONS = ("C*H_C/A_L", "L*H_C/A_L")  # the default (public implementations), seed 004 eq. (7) as printed
+
+
+def fujiwara1998_harmonics(v: WindVariables, y56: str = "C*H_C/A_L") -> dict[str, dict[int, Array]]:
+    """The harmonics X_i, Y_i, N_i, K_i of seed 004 eqs. (1b–4b): ``{"X": {0: X0, 1: X1, …}, …}``; ``y56``
+    the variable of the Y5 term y56: ``"C*H_C/A_L"`` (default, the public implementations) or
+    ``"L*H_C/A_L"`` (seed 004 eq. 7 as printed)."""
+    if y56 not in Y56_OPTIONS:
+        raise HullError(f"y56 {y56!r}: expected 'C*H_C/A_L' (the default, as public implementations have it) "
+                        "or 'L*H_C/A_L' (seed 004 eq. 7 as printed)")
     s = v.scalars()
     return {comp: {i: sum(c * _group(s, e) for c, e in terms) for i, terms in harm.items()}
             for comp, harm in _fujiwara1998_table(y56).items()}
 
 
-def fujiwara1998(v: WindVariables, psi, y56: str = "L*H_C/A_L") -> Coefficients:
+def fujiwara1998(v: WindVariables, psi, y56: str = "C*H_C/A_L") -> Coefficients:
     """Fujiwara, Ueno & Nimura (1998): C_X = Σ X_i cos iψ, C_Y, C_N, C_K = Σ (·)_i sin iψ."""
     h = fujiwara1998_harmonics(v, y56)
     psi = jnp.asarray(psi, dtype=float)
@@ -230,7 +239,7 @@ def blendermann(v: WindVariables, psi, ship: str = DEFAULT_SHIP_TYPE) -> Coeffic
 
 
 def wind_coefficients(v: WindVariables, psi, model: str = "fujiwara1998", *, ship: str = DEFAULT_SHIP_TYPE,
-                      y56: str = "L*H_C/A_L") -> Coefficients:
+                      y56: str = "C*H_C/A_L") -> Coefficients:
     """C_X, C_Y, C_N, C_K of ``model`` (one of :data:`MODELS`) at the relative wind angles ``psi`` [rad].
 
     Parameters
@@ -244,7 +253,8 @@ def wind_coefficients(v: WindVariables, psi, model: str = "fujiwara1998", *, shi
     ship : str
         Blendermann's ship type (see :func:`blendermann_types`).
     y56 : str
-        Fujiwara 1998's choice of the variable of its Y5/Y6 terms.
+        Fujiwara 1998: the variable of the Y5 term y56, ``"C*H_C/A_L"`` (default, as the public
+        implementations) or ``"L*H_C/A_L"`` (seed 004 eq. 7 as printed).
 
     Returns
     -------
