@@ -1,17 +1,89 @@
-"""The Typer application object; command modules in ``commands/`` register themselves on it."""
+"""The Typer application object; command modules in ``commands/`` register themselves on it.
+
+Help texts are plain text: units in brackets (``help="Ship speed [kn]."``) must not be read as rich markup
+(rich would print ``Ship speed .``). Every command registered with ``@app.command()`` gets the
+:class:`PlainHelpCommand` class, which escapes its help, its parameters' help and its epilog once, here."""
+
+from __future__ import annotations
+
+from importlib.metadata import PackageNotFoundError, version
+from typing import Annotated
 
 import typer
+from rich.markup import escape
+from typer.core import HAS_RICH, TyperCommand, TyperGroup
 
-app = typer.Typer(
+from .output import JSON_UNITS, exit_code_help
+
+HELP = "Differentiable hull-form optimiser: hydrostatics, added resistance, wind, fitting, fairing."
+EPILOG = f"{JSON_UNITS}\n\n{exit_code_help()}"
+
+
+def _plain(text: str | None) -> str | None:
+    """``text`` escaped for rich markup (where typer reads help as rich markup), so it prints as written."""
+    return escape(text) if text and HAS_RICH else text
+
+
+def _escape_help(cmd) -> None:
+    if not cmd.short_help and cmd.help:  # the list of commands: the first paragraph on one line
+        cmd.short_help = " ".join(cmd.help.strip().split("\n\n")[0].split())
+    cmd.help, cmd.epilog, cmd.short_help = _plain(cmd.help), _plain(cmd.epilog), _plain(cmd.short_help)
+    for p in cmd.params:
+        if getattr(p, "help", None):
+            p.help = _plain(p.help)
+
+
+class PlainHelpCommand(TyperCommand):
+    """A command whose help texts print as written (units in brackets kept)."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        _escape_help(self)
+
+
+class PlainHelpGroup(TyperGroup):
+    """The ``hullopt`` group, its help and options printed as written."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        _escape_help(self)
+
+
+class _Typer(typer.Typer):
+    def command(self, *args, **kwargs):
+        kwargs.setdefault("cls", PlainHelpCommand)
+        return super().command(*args, **kwargs)
+
+
+app = _Typer(
     name="hullopt",
-    help="Differentiable hull-form optimiser: hydrostatics, added resistance, wind, fitting, fairing.",
+    cls=PlainHelpGroup,
+    help=HELP,
+    epilog=EPILOG,
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
 )
 
 
+def package_version() -> str:
+    """hullopt's version from the installed package's metadata ('unknown' when it is not installed)."""
+    try:
+        return version("hullopt")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def _version(value: bool) -> None:
+    if value:
+        print(f"hullopt {package_version()}")
+        raise typer.Exit(0)
+
+
 @app.callback()
-def _main() -> None:
+def _main(
+    show_version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+                                               help="Print hullopt's version and exit.")] = False,
+) -> None:
     """Differentiable hull-form optimiser: hydrostatics, added resistance, wind, fitting, fairing."""
     # A callback keeps the app a group of commands even when only the invoked command is registered.

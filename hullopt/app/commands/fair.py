@@ -3,7 +3,6 @@ measures and the fairing problem are hullopt's own) with a before/after report a
 
 from __future__ import annotations
 
-from contextlib import nullcontext
 from functools import partial
 from pathlib import Path
 from typing import Annotated
@@ -23,7 +22,7 @@ from ...hydro import hydrostatics
 from ...models import OffsetTable, offset_surface, read_offsets
 from .._app import app
 from ..hulls import load_hull
-from ..output import console, print_json, table, write_json
+from ..output import EXIT_NOT_CONVERGED, busy, fmt, print_json, quantity, say, table, warn, write_json
 
 FAIR_HULL_HELP = ("offsets .csv (faired as given), or any other hull spec (builtin:…, mesh): its sections are "
                   "resampled on --stations × --waterlines offsets")
@@ -152,7 +151,10 @@ def fair(
     out: Annotated[Path | None, typer.Option(help="Folder for report.json, faired_offsets.csv, body_plan.png, curvature.png.")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
 ) -> None:
-    """Fair a hull's offsets by minimising an unfairness measure, holding displacement, LCB and the contour."""
+    """Fair a hull's offsets by minimising an unfairness measure, holding displacement, LCB and the contour.
+
+    Exit code 5 when the solver does not converge (the report says "converged": false; the offsets and plots
+    of the last iterate are still written)."""
     if measure_name not in RESIDUALS:
         raise HullError(f"--measure {measure_name!r}: expected one of {', '.join(RESIDUALS)}")
     for name, v, ok in (("--proximity", proximity, proximity >= 0), ("--noise", noise, noise >= 0),
@@ -161,6 +163,20 @@ def fair(
             raise HullError(f"{name} {v}: must be a {'positive' if name == '--max-move' else 'non-negative'} number")
     if out is not None and out.exists() and not out.is_dir():
         raise HullError(f"--out {out}: exists and is not a folder")
+    with busy("reading the hull", quiet=json) as stage:
+        report = _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, seed, stations,
+                       waterlines, out)
+    if json:
+        print_json(report)
+    else:
+        _print_fair(report)
+    if not report["converged"]:
+        raise typer.Exit(EXIT_NOT_CONVERGED)
+
+
+def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, seed, stations, waterlines,
+          out) -> dict:
+    """The work of ``hullopt fair`` (``stage(text)`` names each step on the progress display): its report."""
     x, z, y, lpp, design, name = hull_offsets(hull, stations, waterlines)
     t = draft if draft is not None else design
     if t is None:
@@ -177,8 +193,9 @@ def fair(
     if not free.any():
         raise HullError("no offset is free to move (all are fixed: zero, contour, flat of side, or outside --region)")
     given = aft_body_noise(x, y, noise, seed, lpp=lpp, free=free) if noise > 0 else y
-    with console.status("fairing…") if not json else nullcontext():
-        res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity)
+    stage(f"fairing {int(free.sum())} offsets ({measure_name}; BFGS in augmented-Lagrangian rounds)")
+    res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity)
+    stage("measuring the faired surface")
     # hydrostatics of the spline surface the offsets define (as `hullopt hydro` reads the written table)
     surface = offset_surface(OffsetTable(x=x, z=z, y=y, lpp=lpp))
     hydro = jax.jit(lambda yy: hydrostatics(surface(yy), t))
@@ -206,22 +223,37 @@ def fair(
         e1 = float(np.sqrt(np.mean((res.y - y)[free] ** 2)))
         report.update(noise=noise, noise_rms=e0, residual_error_rms=e1, noise_removed=1 - e1 / e0 if e0 else 0.0)
     if out is not None:
+        stage("writing the offsets and the plots")
         out.mkdir(parents=True, exist_ok=True)
         _write_offsets(out / "faired_offsets.csv", x, z, res.y, lpp, f"{name} faired by hullopt ({measure_name})")
         report["files"] = [str(out / "report.json"), str(out / "faired_offsets.csv"),
                            *_plots(out, x, z, given, res.y, lpp, name)]
         write_json(out / "report.json", report)
-    if json:
-        print_json(report)
-        return
-    rows = [[f"unfairness ({m})", d["before"], d["after"]] for m, d in all_measures.items()]
-    rows += [["volume [m³]", v0, v1], ["LCB [m from AP]", lcb0, lcb1]]
-    table(f"Fairing — {name} (measure {measure_name}, T = {t:g} m)", ["", "before", "after"], rows)
-    console.print(f"{measure_name} fell by {100 * res.reduction:.1f} %; max move {report['max_move']:.4f} m; "
-                  f"displacement {report['volume_change_pct']:+.4f} %, LCB {report['lcb_shift_pct_lpp']:+.4f} % Lpp")
-    if noise > 0:
-        console.print(f"noise removed: {100 * report['noise_removed']:.1f} % (rms {report['noise_rms']:.4f} → "
-                      f"{report['residual_error_rms']:.4f} m)")
-    if out is not None:
-        console.print("wrote " + ", ".join(report["files"]))
+    return report
 
+
+def _print_fair(report: dict) -> None:
+    """The before/after table and the summary lines of ``hullopt fair``."""
+    def pct(v):  # a change in %, to 3 significant figures, signed
+        return "–" if v is None else ("+" if fmt(v, 3) != "0" and v > 0 else "") + fmt(v, 3)
+
+    rows = [[f"unfairness ({m})", d["before"], d["after"],
+             pct(100 * (d["after"] / d["before"] - 1) if d["before"] else None)]
+            for m, d in report["measures"].items()]
+    v0, v1, lcb0, lcb1 = (report[k] for k in ("volume_before", "volume_after", "lcb_before", "lcb_after"))
+    rows += [["volume ∇ [m³]", v0, v1, pct(report["volume_change_pct"])],
+             ["LCB [m from AP]", lcb0, lcb1, pct(report["lcb_shift_pct_lpp"])]]
+    table(f"Fairing — {report['hull']} (measure {report['measure']}, T = {fmt(report['draft'])} m)",
+          ["", "before", "after", "change [%]"], rows, by="row",
+          caption="unfairness: the measure's sum of squares (dimensionless); LCB change in % Lpp")
+    say(f"{report['measure']} fell by {100 * report['reduction']:.1f} % in {report['steps']} steps; largest move "
+        f"{quantity(report['max_move'], 'm', ref=1)}; displacement {report['volume_change_pct']:+.4f} %, LCB "
+        f"{report['lcb_shift_pct_lpp']:+.4f} % Lpp")
+    if "noise" in report:
+        say(f"noise removed: {100 * report['noise_removed']:.1f} % (rms {quantity(report['noise_rms'], 'm', ref=1)} → "
+            f"{quantity(report['residual_error_rms'], 'm', ref=1)})")
+    if "files" in report:
+        say("wrote " + ", ".join(report["files"]))
+    if not report["converged"]:
+        warn(f"the fairing did not converge in {report['steps']} steps: the result is the last iterate "
+             f"(exit code {EXIT_NOT_CONVERGED})")

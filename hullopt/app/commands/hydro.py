@@ -14,22 +14,14 @@ from ...geometry import EXPORT_FORMATS
 from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
 from .._app import app
 from ..hulls import LoadedHull, load_hull
-from ..output import console, parse_range, print_json, table, write_hull_file
+from ..output import PARTICULARS, parse_range, print_json, say, table, unit_scale, write_hull_file
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
              "a run folder, offsets .csv, a mesh (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=&half=) "
              "or a CAD surface (igs, step; ?tol=)")
 
 # (key, label, unit, scale for display)
-ROWS = [
-    ("draft", "Draft T", "m", 1), ("volume", "Volume ∇", "m³", 1), ("displacement", "Displacement Δ", "t", 1e-3),
-    ("wetted_surface", "Wetted surface S", "m²", 1), ("cb", "Cb", "", 1), ("cp", "Cp", "", 1), ("cm", "Cm", "", 1),
-    ("cwp", "Cwp", "", 1), ("lcb", "LCB from AP", "m", 1), ("lcb_pct", "LCB from midship", "% Lpp", 1),
-    ("kb", "KB", "m", 1), ("awp", "Awp", "m²", 1), ("lcf", "LCF from AP", "m", 1),
-    ("lcf_pct", "LCF from midship", "% Lpp", 1), ("bmt", "BM_T", "m", 1), ("bml", "BM_L", "m", 1),
-    ("kmt", "KM_T", "m", 1), ("tpc", "TPC", "t/cm", 1), ("mct", "MCT 1 cm", "t·m/cm", 1),
-    ("lwl", "Lwl", "m", 1), ("bwl", "Bwl", "m", 1),
-]
+ROWS = [(key, *v) for key, v in PARTICULARS.items()]
 
 
 def check_draft(hull: LoadedHull, draft: float, what: str = "--draft") -> float:
@@ -93,9 +85,11 @@ def hydro(
     if json:
         print_json(records[0] if len(records) == 1 and drafts is None else records)
         return
-    rows = [[f"{label} [{unit}]" if unit else label, *(r[key] * s for r in records)] for key, label, unit, s in ROWS]
+    rows = [[f"{label} [{unit}]" if unit else label, *(float(r[key]) * s for r in records)]
+            for key, label, unit, s in ROWS]
     table(f"Hydrostatics — {h.name} (Lpp {float(h.sections.lpp):g} m, ρ {rho:g} kg/m³)",
-          ["quantity", *(f"T = {t:.3f} m" for t in ts)], rows)
+          ["quantity at draft T →", *(f"{t:.3f} m" for t in ts)], rows, by="row",
+          scale=[unit_scale(unit) for _, _, unit, _ in ROWS])
 
 
 @app.command()
@@ -110,4 +104,4 @@ def export(
         raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
     h = load_hull(hull)
     written = write_hull_file(h.sections, out, h.design_draft)
-    console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)
+    say(f"wrote {out} ({written.summary()}; read back)")

@@ -8,9 +8,10 @@ from typing import Annotated
 import typer
 
 from ...errors import HullError
+from ...optimise import TARGETS
 from .._app import app
 from ..config import load_config
-from ..output import console, print_json, table
+from ..output import displayed, fmt, label, print_json, quantity, say, styled, table, unit_scale, warn
 
 
 @app.command("run")
@@ -48,26 +49,82 @@ def run_command(
         raise typer.Exit(3)
 
 
+# the particulars the summary of a run compares, parent → design (with the targets' own keys)
+SUMMARY_KEYS = ("displacement", "volume", "wetted_surface", "cb", "cp", "cm", "cwp", "lcb_pct", "lcf_pct", "kb",
+                "kmt", "awp", "lwl", "bwl")
+
+
+def _signed(v: float, sig: int = 3, ref: float | None = None) -> str:
+    text = fmt(v, sig, ref)
+    return text if text.startswith("-") or float(text.replace("−", "-")) == 0 else f"+{text}"
+
+
 def _summary(report: dict, folder: Path) -> None:
+    """What a run did, as a naval architect reads it: the targets with their units, the particulars and the
+    objective parent → design with the change, and the report's warnings."""
     if report.get("partial"):
-        console.print(f"shard {report['shard']}: chunks {', '.join(map(str, report['chunks_done']))} of "
-                      f"{report['chunks_total']} done in {folder}/chunks; when every shard has run, combine the "
-                      "folders with: hullopt merge DIR… --out OUT")
+        say(f"shard {report['shard']}: chunks {', '.join(map(str, report['chunks_done']))} of "
+            f"{report['chunks_total']} done in {folder}/chunks; when every shard has run, combine the "
+            "folders with: hullopt merge DIR… --out OUT")
         return
     if report["kind"] == "pareto":
-        rows = [[f"{d['bf_target']:.3f}", d["measure"], d["objective"], "yes" if d["met"] else "NO",
-                 "★" if d["pareto"] else ""] for d in report["designs"]]
-        table(f"Pareto sweep ({report['pareto_count']} non-dominated)",
-              ["Bf", report["objective"]["measure"], report["objective"]["name"], "targets met", "front"], rows)
+        o = report["objective"]
+        rows = [[f"{d['bf_target']:.3f}", displayed(o["measure"], d["measure"])[0],
+                 displayed(o["name"], d["objective"])[0], "yes" if d["met"] else "NO", "★" if d["pareto"] else ""]
+                for d in report["designs"]]
+        table(f"Pareto sweep: {len(rows)} designs, {report['pareto_count']} non-dominated (★)",
+              ["Bf target", label(o["measure"]), label(o["name"]), "targets met", "front"], rows)
     else:
-        rows = [[k, v["target"], v["achieved"], v["error"], v["tolerance"], "yes" if v["met"] else "NO"]
-                for k, v in report["targets"].items()]
-        table(f"{report['kind']}: {report['iterations']} steps, converged: {report['converged']}",
-              ["target", "wanted", "achieved", "error", "tolerance", "met"], rows)
-        if "objective" in report:
-            o = report["objective"]
-            console.print(f"{o['name']}: {o['value']:.6g} (parent {o['parent']:.6g}, "
-                          f"{100 * (o['value'] / o['parent'] - 1):+.2f} %)")
-        if "message" in report:
-            console.print(f"[red]{report['message']}[/red]")
-    console.print(f"results in {folder}/ (report.json, hull.stl, offsets.csv, plots)")
+        say(f"{report['kind']}: {report['iterations']} steps, converged: {'yes' if report['converged'] else 'no'}, "
+            f"targets met: {'yes' if report['met'] else 'NO'}", style="bold")
+        _targets(report["targets"])
+        _changes(report)
+    for w in _warnings(report):
+        warn(w)
+    say(f"results in {folder}/ (report.json, hull.stl, offsets.csv, plots)")
+
+
+def _targets(targets: dict) -> None:
+    """The targets table: wanted and achieved in the particular's unit; the error and its tolerance as the
+    solvers measure them (relative ones in %, the others in the particular's unit)."""
+    rows = []
+    for k, v in targets.items():
+        (want, unit), (got, _) = displayed(k, v["target"]), displayed(k, v["achieved"])
+        relative = TARGETS.get(k, (False,))[0]
+        scale, eunit = (100.0, "%") if relative else (1.0, unit)
+        ref = max(abs(want), abs(got), unit_scale(unit))
+        tol = v["tolerance"] * scale
+        rows.append([label(k), fmt(want, 5, ref), fmt(got, 5, ref),
+                     quantity(v["error"] * scale, eunit, 2, ref=tol), quantity(tol, eunit, 2),
+                     "yes" if v["met"] else styled("NO", "bold red")])
+    table("Targets", ["target", "wanted", "achieved", "error", "tolerance", "met"], rows)
+
+
+def _changes(report: dict) -> None:
+    """Particulars (and the objective) parent → design: both values, the change and the relative change."""
+    keys = [k for k in (*SUMMARY_KEYS, *report["targets"]) if k in report.get("parent", {})]
+    rows = []
+    for k in dict.fromkeys(keys):
+        (a, _), (b, unit) = displayed(k, report["parent"][k]), displayed(k, report["achieved"][k])
+        ref = max(abs(a), abs(b), unit_scale(unit))
+        rel = "" if unit == "% Lpp" or abs(a) < 1e-12 else _signed(100 * (b / a - 1), 3, ref=1)
+        rows.append([label(k), fmt(a, 5, ref), fmt(b, 5, ref), _signed(b - a, 5, ref), rel])
+    if "objective" in report:
+        o = report["objective"]
+        (a, _), (b, unit) = displayed(o["name"], o["parent"]), displayed(o["name"], o["value"])
+        ref = max(abs(a), abs(b))
+        rel = _signed(100 * (b / a - 1), 3, ref=1) if abs(a) > 1e-12 else ""
+        rows.append([styled(f"objective: {label(o['name'])}", "bold"), fmt(a, 5, ref), fmt(b, 5, ref),
+                     _signed(b - a, 5, ref), rel])
+    table("Parent → design", ["", "parent", "design", "change", "change [%]"], rows)
+
+
+def _warnings(report: dict) -> list[str]:
+    """The report's warnings: its ``warnings`` list, its ``message`` (targets not met), and a solver that
+    stopped short of converging."""
+    out = [str(w) for w in report.get("warnings", [])]
+    if report.get("message"):
+        out.append(report["message"])
+    if report.get("met") and not report.get("converged", True):
+        out.append("the solver stopped before it converged (the targets are met)")
+    return out

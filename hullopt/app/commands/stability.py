@@ -16,7 +16,7 @@ from ...geometry import export_mesh, split_for_print, to_trimesh
 from ...hydro import RHO_SEA, cross_curves, heeled_integrals, hydrostatic_table, icll_sheer, stability, with_sheer
 from .._app import app
 from ..hulls import LoadedHull, load_hull
-from ..output import console, parse_range, print_json, table
+from ..output import EXIT_CRITERIA, busy, fmt, parse_range, print_json, quantity, say, styled, table, warn
 from .hydro import HULL_HELP, check_draft, parse_displacement
 
 SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
@@ -65,7 +65,9 @@ def stability_cmd(
     plot: Annotated[Path | None, typer.Option(help="Save the GZ curve (.png, .svg, .pdf).")] = None,
     kn_plot: Annotated[Path | None, typer.Option(help="Save the cross curves (needs --cross).")] = None,
 ) -> None:
-    """GZ curve, GM₀, angle of vanishing stability and the IMO IS Code 2008 §2.2 criteria for a loading."""
+    """GZ curve, GM₀, angle of vanishing stability and the IMO IS Code 2008 §2.2 criteria for a loading.
+
+    Exit code 4 when some criterion fails (the table and the JSON say which), so that a script can gate on it."""
     if not (np.isfinite(rho) and rho > 0):
         raise HullError(f"--rho {rho}: must be a positive density in kg/m³")
     for name, v in (("--kg", kg), ("--fsc", fsc), ("--lcg", 0.0 if lcg is None else lcg)):
@@ -84,52 +86,85 @@ def stability_cmd(
         _check_out(kn_plot, PLOT_FORMATS, "--kn-plot")
         if cross is None:
             raise HullError("--kn-plot needs --cross START:STOP:COUNT (displacements in t)")
-    h = load_hull(hull)
-    sections = _sectioned(h, sheer)
-    volume = _volume(sections, displacement, rho)
-    if lcg is not None and not (float(sections.x[0]) <= lcg <= float(sections.x[-1])):
-        raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(sections.x[0]):g} … {float(sections.x[-1]):g} m)")
-    theta_f = None if flooding_angle is None else jnp.deg2rad(jnp.asarray(flooding_angle))
-    arr = jnp.asarray  # arrays, not Python floats: filter_jit would compile once per value
-    res = eqx.filter_jit(stability)(sections, arr(volume), arr(kg), jnp.deg2rad(arr(deg)),
-                                    None if lcg is None else arr(lcg), arr(fsc), not fixed_trim, theta_f)
-    c, crit = res.curve, res.criteria
-    out = {
-        "hull": h.name, "displacement": rho * volume, "volume": volume, "kg": kg, "lcg": float(c.lcg), "fsc": fsc,
-        "sheer": sheer, "free_trim": not fixed_trim, "heel_deg": deg, "gz": c.gz, "kn": c.kn,
-        "trim_deg": np.rad2deg(np.arctan(np.asarray(c.trim))), "level": c.level, "converged": c.converged,
-        "gm0": float(c.gm0), "gz_max": float(crit.gz_max), "angle_gz_max_deg": np.rad2deg(float(crit.angle_gz_max)),
-        "vanishing_angle_deg": np.rad2deg(float(crit.vanishing_angle)), "criteria": crit.to_list(),
-    }
-    if cross is not None:
-        disp_t = parse_range(cross, "--cross")
-        vols = np.array([_volume(sections, f"{float(d)}", rho, "--cross value") for d in disp_t])
-        kn = eqx.filter_jit(cross_curves)(sections, jnp.asarray(vols), jnp.deg2rad(jnp.asarray(deg)), not fixed_trim)
-        out["cross_curves"] = {"displacement": disp_t * 1e3, "heel_deg": deg, "kn": kn}
-        if kn_plot is not None:
-            from ...drawing import plot_cross_curves
+    with busy("reading the hull", quiet=json) as stage:
+        h = load_hull(hull)
+        sections = _sectioned(h, sheer)
+        volume = _volume(sections, displacement, rho)
+        if lcg is not None and not (float(sections.x[0]) <= lcg <= float(sections.x[-1])):
+            raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(sections.x[0]):g} … "
+                            f"{float(sections.x[-1]):g} m)")
+        theta_f = None if flooding_angle is None else jnp.deg2rad(jnp.asarray(flooding_angle))
+        arr = jnp.asarray  # arrays, not Python floats: filter_jit would compile once per value
+        stage(f"GZ curve: equilibrium at {len(deg)} heels")
+        res = eqx.filter_jit(stability)(sections, arr(volume), arr(kg), jnp.deg2rad(arr(deg)),
+                                        None if lcg is None else arr(lcg), arr(fsc), not fixed_trim, theta_f)
+        c, crit = res.curve, res.criteria
+        out = {
+            "hull": h.name, "displacement": rho * volume, "volume": volume, "kg": kg, "lcg": float(c.lcg),
+            "fsc": fsc, "sheer": sheer, "free_trim": not fixed_trim, "heel_deg": deg, "gz": c.gz, "kn": c.kn,
+            "trim_deg": np.rad2deg(np.arctan(np.asarray(c.trim))), "level": c.level, "converged": c.converged,
+            "gm0": float(c.gm0), "gz_max": float(crit.gz_max),
+            "angle_gz_max_deg": np.rad2deg(float(crit.angle_gz_max)),
+            "vanishing_angle_deg": np.rad2deg(float(crit.vanishing_angle)), "criteria": crit.to_list(),
+        }
+        if cross is not None:
+            disp_t = parse_range(cross, "--cross")
+            stage(f"cross curves: {len(disp_t)} displacements × {len(deg)} heels")
+            vols = np.array([_volume(sections, f"{float(d)}", rho, "--cross value") for d in disp_t])
+            kn = eqx.filter_jit(cross_curves)(sections, jnp.asarray(vols), jnp.deg2rad(jnp.asarray(deg)),
+                                              not fixed_trim)
+            out["cross_curves"] = {"displacement": disp_t * 1e3, "heel_deg": deg, "kn": kn}
+            if kn_plot is not None:
+                from ...drawing import plot_cross_curves
 
-            plot_cross_curves(disp_t, np.deg2rad(deg), kn, kn_plot, h.name)
-    if plot is not None:
-        from ...drawing import plot_gz
+                stage("plotting the cross curves")
+                plot_cross_curves(disp_t, np.deg2rad(deg), kn, kn_plot, h.name)
+        if plot is not None:
+            from ...drawing import plot_gz
 
-        plot_gz(c, plot, crit, h.name)
+            stage("plotting the GZ curve")
+            plot_gz(c, plot, crit, h.name)
     if not bool(np.all(np.asarray(c.converged))):
         bad = deg[~np.asarray(c.converged)]
-        console.print(f"[yellow]warning: no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°[/]")
+        warn(f"no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°")
+    failed = [r["criterion"] for r in out["criteria"] if not r["pass"]]
     if json:
         print_json(out)
-        return
-    rows = [[f"{a:g}", float(g), float(k), float(t)] for a, g, k, t in zip(deg, c.gz, c.kn, out["trim_deg"])]
-    table(f"GZ curve — {h.name}: Δ {rho * volume / 1e3:,.0f} t, KG {kg:g} m, LCG {float(c.lcg):.3f} m, "
-          f"GM₀ {float(c.gm0):.3f} m", ["heel [°]", "GZ [m]", "KN [m]", "trim [°, bow down]"], rows)
-    crows = [[r["criterion"], f"{r['value']:.4g} {r['unit']}", f"≥ {r['required']:g}", f"{r['margin_exact']:+.4g}",
-              "[green]pass[/]" if r["pass"] else "[red]FAIL[/]"] for r in out["criteria"]]
-    table("IMO IS Code 2008 Part A §2.2", ["criterion", "value", "required", "margin", ""], crows)
-    van = out["vanishing_angle_deg"]
-    console.print(f"GZmax {out['gz_max']:.3f} m at {out['angle_gz_max_deg']:.1f}°; angle of vanishing stability "
-                  + (f"{van:.1f}°" if np.isfinite(van) else "beyond 90°"))
+    else:
+        _print_stability(out, h.name, rho, plot, kn_plot)
+    if failed:
+        if not json:
+            say(f"{len(failed)} of {len(out['criteria'])} criteria fail: {'; '.join(failed)} (exit code "
+                f"{EXIT_CRITERIA})", style="bold red")
+        raise typer.Exit(EXIT_CRITERIA)
 
+
+def _print_stability(out: dict, name: str, rho: float, plot: Path | None, kn_plot: Path | None) -> None:
+    """The GZ table, the IS Code criteria with their units and the cross curves of ``hullopt stability``."""
+    deg = np.asarray(out["heel_deg"])
+    rows = [[f"{a:g}", float(g), float(k), float(t)] for a, g, k, t in zip(deg, out["gz"], out["kn"], out["trim_deg"])]
+    # the GZ and KN columns share one scale (KN's), so that a GZ of round-off next to an upright ship reads 0
+    scale = max(float(np.max(np.abs(out["kn"]))), float(np.max(np.abs(out["gz"]))), 1.0)
+    table(f"GZ curve — {name}: Δ {fmt(out['displacement'] / 1e3)} t, KG {quantity(out['kg'], 'm')}, "
+          f"LCG {quantity(out['lcg'], 'm')} from AP, GM₀ {quantity(out['gm0'], 'm', ref=1)}"
+          + (f", FSC {quantity(out['fsc'], 'm')}" if out["fsc"] else ""),
+          ["heel [°]", "GZ [m]", "KN [m]", "trim [°, bow down]"], rows, scale=[None, scale, scale, 1.0])
+    crows = [[r["criterion"], float(r["value"]), float(r["required"]), float(r["margin_exact"]), r["unit"],
+              styled("pass", "green") if r["pass"] else styled("FAIL", "bold red")] for r in out["criteria"]]
+    table("IMO IS Code 2008 Part A §2.2", ["criterion", "value", "required ≥", "margin", "unit", ""], crows,
+          by="row", sig=3)
+    van = out["vanishing_angle_deg"]
+    say(f"GZmax {quantity(out['gz_max'], 'm', ref=1)} at {quantity(out['angle_gz_max_deg'], '°', 3, ref=10)}; "
+        "angle of vanishing stability " + (quantity(van, "°", 3, ref=10) if np.isfinite(van) else "beyond 90°"))
+    if "cross_curves" in out:
+        cc = out["cross_curves"]
+        kn = np.asarray(cc["kn"])
+        table("Cross curves KN [m]", ["Δ [t] \\ heel", *(f"{a:g}°" for a in cc["heel_deg"])],
+              [[fmt(d / 1e3), *map(float, row)] for d, row in zip(cc["displacement"], kn)],
+              scale=[None] + [float(np.abs(kn).max())] * kn.shape[1])
+    for p in (plot, kn_plot):
+        if p is not None:
+            say(f"wrote {p}")
 
 @app.command()
 def lines(
@@ -160,17 +195,17 @@ def lines(
     plan = lines_plan(h.sections, h.name, n_waterlines=waterlines, n_buttocks=buttocks)
     for p in out:
         save_lines(plan, p)
-        console.print(f"wrote {p}")
+        say(f"wrote {p}")
     if curves is not None:
         lo = max(0.0, float(h.sections.keel))
         drafts = np.linspace(lo, float(h.sections.depth), 22)[1:-1]  # 20 drafts, the deck left out
         for t in drafts:
             check_draft(h, float(t), "draft")
         plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name)
-        console.print(f"wrote {curves}")
+        say(f"wrote {curves}")
     if offsets is not None:
         (write_offsets_wide if layout == "wide" else write_offsets_stations)(h.sections, offsets, name=h.name)
-        console.print(f"wrote {offsets} ({layout} layout)")
+        say(f"wrote {offsets} ({layout} layout)")
 
 
 def parse_scale(text: str) -> float:

@@ -147,7 +147,7 @@ def _print(out: dict) -> None:
            ["K_AW (short waves, NMRI)", out["k_aw"]], [f"R_AWR short waves, ζ={out['amplitude']:g} m [kN]", out["r_awr_short"] / 1e3]]
           + ([[f"mean R_AW, Hs {out['hs']:g} m, Tp {out['tp']:g} s [kN]", out["mean_raw"] / 1e3],
               ["  motion part [kN]", out["mean_raw_motion"] / 1e3], ["  reflection part [kN]", out["mean_raw_reflection"] / 1e3]]
-             if "mean_raw" in out else []))
+             if "mean_raw" in out else []), by="row")
     table("Regular waves", ["λ/L", "ω [rad/s]", "α_T", "K_AW", "R_AWM [kN]", "R_AWR [kN]", "R_AW [kN]"],
           [[f"{r:.3f}", w, a, k, m / 1e3, f / 1e3, tt / 1e3] for r, w, a, k, m, f, tt in zip(
               out["lambda_over_l"], out["omega"], out["alpha_t"], out["k_aw_per_wave"], out["r_awm"], out["r_awr"],

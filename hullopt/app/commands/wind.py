@@ -14,7 +14,7 @@ from ...errors import HullError
 from ...wind import MODELS, check_parts, drawing_variables, ship_type, wind_coefficients, wind_variables
 from .._app import app
 from ..hulls import load_hull
-from ..output import console, print_json, table
+from ..output import print_json, say, table
 from ..wind_config import DrawingsConfig, config_parts, read_wind_config
 from .hydro import check_draft
 
@@ -103,10 +103,10 @@ def wind(
         print_json({"model": model, "variables": variables, "coefficients": {"psi_deg": psi_deg, **coeffs}})
         return
     table(f"Wind variables — {name}", ["variable", "value"],
-          [[f"{k} [{u}]" if u else k, variables[k]] for k, u in ROWS] +
-          [[k, variables[k]] for k in extra])
+          [[f"{k} [{u}]" if u else k, int(round(variables[k])) if k == "M" else variables[k]] for k, u in ROWS] +
+          [[k, variables[k]] for k in extra], by="row")
     table(f"Wind coefficients — {model}" + (f" ({ship})" if model == "blendermann" else ""),
           ["ψ [deg]", "C_X", "C_Y", "C_N", "C_K"],
           [[f"{p:g}", *(float(coeffs[k][i]) for k in ("cx", "cy", "cn", "ck"))] for i, p in enumerate(psi_deg)])
     if plot is not None:
-        console.print(f"wrote {plot}")
+        say(f"wrote {plot}")
