@@ -1,0 +1,66 @@
+"""``hullopt resistance``: Michell's R_w against the Wigley's closed forms, the Holtrop–Mennen parts adding up,
+effective power, the table, and bad input."""
+
+import json
+
+import numpy as np
+import pytest
+from test_michell import wigley_reference
+
+import hullopt.app.cli as cli
+
+HULL = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=101&m=33"
+KNOT = 1852.0 / 3600.0
+
+
+@pytest.fixture(autouse=True)
+def _no_global_config(monkeypatch):
+    monkeypatch.setattr(cli, "configure_jax", lambda: None)  # tests already run in float64
+
+
+def run(capsys, *args):
+    code = cli.main(["resistance", *args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_json_records(capsys):
+    code, out, _ = run(capsys, HULL, "--speed", "14.59,18.28", "--json")
+    assert code == 0
+    recs = json.loads(out)
+    assert [r["speed_kn"] for r in recs] == [14.59, 18.28]
+    for r in recs:
+        for key in ("speed_kn", "fn", "r_wave_michell", "r_f", "form_factor", "r_w", "r_b", "r_tr", "r_a",
+                    "r_total_holtrop", "r_total_michell", "p_e_holtrop", "p_e_michell"):
+            assert key in r and np.isfinite(r[key])
+        u = r["speed_kn"] * KNOT
+        assert r["fn"] == pytest.approx(u / np.sqrt(9.80665 * 100.0), rel=1e-12)
+        # Michell against the Wigley's closed forms (the sections of 101 × 33: 6e-4 below, test_michell)
+        assert r["r_wave_michell"] == pytest.approx(wigley_reference(r["fn"]), rel=1e-3)
+        # Holtrop–Mennen's total is the sum of its parts; the Michell total swaps in R_w for R_W + R_B + R_TR
+        parts = r["form_factor"] * r["r_f"] + r["r_app"] + r["r_a"]
+        assert r["r_total_holtrop"] == pytest.approx(parts + r["r_w"] + r["r_b"] + r["r_tr"], rel=1e-12)
+        assert r["r_total_michell"] == pytest.approx(parts + r["r_wave_michell"], rel=1e-12)
+        # ITTC 1957 friction by hand: C_F = 0.075/(log10 Rn − 2)², ν = 1.18831e-6 m²/s (ITTC, sea water at 15 °C)
+        cf = 0.075 / (np.log10(u * 100.0 / 1.18831e-6) - 2.0) ** 2
+        assert r["cf"] == pytest.approx(cf, rel=1e-12)
+        assert r["p_e_holtrop"] == pytest.approx(r["r_total_holtrop"] * u, rel=1e-12)
+        assert r["p_e_michell"] == pytest.approx(r["r_total_michell"] * u, rel=1e-12)
+
+
+def test_table_and_range(capsys):
+    code, out, _ = run(capsys, "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=9", "--speed", "10:20:3",
+                       "--levels", "9")
+    assert code == 0 and "Calm-water resistance" in out and "R_w Michell [kN]" in out and "20.00" in out
+
+
+@pytest.mark.parametrize("args,needle", [
+    ([HULL, "--speed", "-3"], "--speed"),
+    ([HULL, "--speed", "ten"], "--speed"),
+    ([HULL, "--speed", "1:2"], "--speed"),
+    ([HULL, "--speed", "10", "--draft", "12"], "--draft"),
+    ([HULL, "--speed", "10", "--levels", "1"], "--levels"),
+])
+def test_bad_input_is_one_clear_line(capsys, args, needle):
+    code, out, err = run(capsys, *args)
+    assert code == 2 and needle in err and err.count("\n") == 1
