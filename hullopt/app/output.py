@@ -103,9 +103,12 @@ def unit_scale(unit: str) -> float:
     return 1.0 if unit in ("% Lpp", "%", "°", "deg") else 0.0
 
 
-def label(key: str, unit: bool = True) -> str:
-    """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``)."""
+def label(key: str, unit: bool = True, short: bool = False) -> str:
+    """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``); ``short``: an
+    objective by its symbol alone (``mean_added_resistance`` → ``R_AW [kN]``), for column headers."""
     name, u, _ = _units(key)
+    if short and key in OBJECTIVE_UNITS:
+        name = name.split()[-1]
     return f"{name} [{u}]" if unit and u else name
 
 

@@ -263,7 +263,7 @@ def _progress(quiet: bool, counted: bool = False) -> Progress:
     """A transient progress display: a spinner with the elapsed time, plus a bar and "k/N" when ``counted``."""
     counts = [BarColumn(), MofNCompleteColumn()] if counted else []
     return Progress(SpinnerColumn(), TextColumn("{task.description}"), *counts, TimeElapsedColumn(),
-                    console=console, disable=quiet, transient=True)
+                    console=console, disable=quiet or not console.is_terminal, transient=True)
 
 
 # ----------------------------------------------------------------------------------------------- sweeps

@@ -171,6 +171,8 @@ def fair(
     else:
         _print_fair(report)
     if not report["converged"]:
+        warn(f"the fairing did not converge in {report['steps']} steps: the result is the last iterate "
+             f"(exit code {EXIT_NOT_CONVERGED})")
         raise typer.Exit(EXIT_NOT_CONVERGED)
 
 
@@ -254,6 +256,3 @@ def _print_fair(report: dict) -> None:
             f"{quantity(report['residual_error_rms'], 'm', ref=1)})")
     if "files" in report:
         say("wrote " + ", ".join(report["files"]))
-    if not report["converged"]:
-        warn(f"the fairing did not converge in {report['steps']} steps: the result is the last iterate "
-             f"(exit code {EXIT_NOT_CONVERGED})")

@@ -72,8 +72,13 @@ def _summary(report: dict, folder: Path) -> None:
         rows = [[f"{d['bf_target']:.3f}", displayed(o["measure"], d["measure"])[0],
                  displayed(o["name"], d["objective"])[0], "yes" if d["met"] else "NO", "★" if d["pareto"] else ""]
                 for d in report["designs"]]
-        table(f"Pareto sweep: {len(rows)} designs, {report['pareto_count']} non-dominated (★)",
-              ["Bf target", label(o["measure"]), label(o["name"]), "targets met", "front"], rows)
+        table(f"Pareto sweep: {len(rows)} designs, {report['pareto_count']} non-dominated (★); "
+              f"{label(o['measure'], unit=False)} against {label(o['name'], unit=False)}",
+              ["Bf target", label(o["measure"], short=True), label(o["name"], short=True), "targets met", "front"],
+              rows)
+        missed = sum(not d["met"] for d in report["designs"])
+        if missed:
+            warn(f"{missed} of {len(rows)} designs miss their targets (exit code 3); they are left off the front")
     else:
         say(f"{report['kind']}: {report['iterations']} steps, converged: {'yes' if report['converged'] else 'no'}, "
             f"targets met: {'yes' if report['met'] else 'NO'}", style="bold")
