@@ -30,19 +30,20 @@ from _common import save, timeit  # noqa: E402
 from jax.flatten_util import ravel_pytree  # noqa: E402
 
 from hullopt.app.config import load_config  # noqa: E402
-from hullopt.app.run import KNOT, build_problem  # noqa: E402
+from hullopt.app.run import build_problem  # noqa: E402
+from hullopt.constants import KNOT  # noqa: E402
 from hullopt.hydro import hydrostatics  # noqa: E402
 from hullopt.models import wigley  # noqa: E402
-from hullopt.optimise import Objective  # noqa: E402
+from hullopt.optimise import CalmResistance, KAw, MeanAddedResistance, WindAddedResistance  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "configs" / "min_added_resistance.toml"
 V = jnp.asarray(15.0 * KNOT)
 OBJECTIVES = (
-    Objective(kind="k_aw", speed=V),
-    Objective(kind="mean_added_resistance", speed=V, hs=jnp.asarray(3.0), tp=jnp.asarray(9.0)),
-    Objective(kind="wind_added_resistance", speed=V, wind_speed=jnp.asarray(15.0), wind_angle=jnp.asarray(0.3)),
-    Objective(kind="calm_resistance", speed=V),
+    KAw(speed=V),
+    MeanAddedResistance(speed=V, hs=jnp.asarray(3.0), tp=jnp.asarray(9.0)),
+    WindAddedResistance(speed=V, wind_speed=jnp.asarray(15.0), wind_angle=jnp.asarray(0.3)),
+    CalmResistance(speed=V),
 )
 
 

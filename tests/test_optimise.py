@@ -1,6 +1,9 @@
 """Design problems and solvers: auto-fit to targets (vmapped over several target pairs, near and far,
 feasible and not), constrained minimisation, gradients of the full objective, Pareto filtering, jaxopt."""
 
+import dataclasses
+from typing import ClassVar
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -11,8 +14,13 @@ from hullopt.constants import KNOT
 from hullopt.hydro import hydrostatics
 from hullopt.models import ApexMove, ContourEdit, Distribution, feature_model, load_parent
 from hullopt.optimise import (
+    OBJECTIVES,
+    CalmResistance,
     Design,
+    KAw,
+    MeanAddedResistance,
     Objective,
+    WindAddedResistance,
     fit,
     make_targets,
     minimise_constrained,
@@ -96,8 +104,8 @@ def test_objective_gradient_matches_finite_differences(wigley_design):
     model, p0, lo, hi, parent = wigley_design
     d = Design(model=model, draft=jnp.asarray(6.25), param_scale=hi,
                targets=make_targets({"cb": float(parent.cb), "lcb_pct": 0.0, "volume": float(parent.volume)}),
-               objective=Objective("mean_added_resistance", jnp.asarray(15 * KNOT), jnp.asarray(3.0),
-                                   jnp.asarray(9.0), jnp.asarray(0.0)))
+               objective=MeanAddedResistance(jnp.asarray(15 * KNOT), jnp.asarray(3.0), jnp.asarray(9.0),
+                                             jnp.asarray(0.0)))
     d = with_objective_scale(d, p0)
     p = jax.tree.map(lambda a: 0.2 * jnp.ones_like(a), p0)
     f = eqx.filter_jit(lambda q: jnp.concatenate([d.objective_value(q)[None], d.constraints(q)]))
@@ -154,7 +162,7 @@ def test_jaxopt_adapter_respects_bounds():
 @pytest.mark.parametrize("kind", ["calm_resistance", "wind_added_resistance", "k_aw"])
 def test_other_objectives_differentiate_through_the_design(wigley_design, kind):
     model, p0, lo, hi, parent = wigley_design
-    obj = Objective(kind, jnp.asarray(15 * KNOT), wind_speed=jnp.asarray(15.0), wind_angle=jnp.asarray(0.4))
+    obj = OBJECTIVES[kind].from_config({"speed_kn": 15.0, "wind_speed": 15.0, "wind_angle_deg": np.degrees(0.4)})
     p = jax.tree.map(lambda a: 0.1 * jnp.ones_like(a), p0)
     f = eqx.filter_jit(lambda q: obj(model(q), 6.25))
     v = jax.tree.map(lambda a: jnp.ones_like(a), p0)
@@ -164,10 +172,53 @@ def test_other_objectives_differentiate_through_the_design(wigley_design, kind):
     assert np.isfinite(float(jvp)) and float(jvp) == pytest.approx(float(fd), rel=1e-5, abs=1e-9 * abs(float(f(p))))
 
 
+def test_objectives_registry_is_built_from_the_classes():
+    """One class per kind, each registered by its name with an SI unit and a description; the config accepts
+    exactly the registered kinds; a new subclass is one class (registered on definition)."""
+    from hullopt.app.config import ObjectiveConfig
+
+    assert OBJECTIVES == {"k_aw": KAw, "mean_added_resistance": MeanAddedResistance,
+                          "calm_resistance": CalmResistance, "wind_added_resistance": WindAddedResistance}
+    assert {k: c.unit for k, c in OBJECTIVES.items()} == {"k_aw": "-", "mean_added_resistance": "N",
+                                                          "calm_resistance": "N", "wind_added_resistance": "N"}
+    assert all(c.name == k and c.description and issubclass(c, Objective) for k, c in OBJECTIVES.items())
+    assert set(ObjectiveConfig.model_fields["kind"].annotation.__args__) == set(OBJECTIVES)
+    with pytest.raises(TypeError):
+        Objective()  # abstract
+    # only the fields a kind needs; the config's units (knots, degrees) converted to SI
+    m = MeanAddedResistance.from_config({"speed_kn": 10.0, "hs": 3.0, "tp": 9.0, "heading_deg": 90.0,
+                                         "wind_speed": 7.0})
+    assert {f.name for f in dataclasses.fields(m)} == {"speed", "hs", "tp", "heading", "smooth"}
+    assert float(m.speed) == pytest.approx(10 * 1852 / 3600, rel=1e-15)
+    assert float(m.heading) == pytest.approx(np.pi / 2, rel=1e-15)
+    assert {f.name for f in dataclasses.fields(CalmResistance)} == {"speed"}
+    with pytest.raises(ValueError, match="needs a sea state"):
+        MeanAddedResistance.from_config({"speed_kn": 10.0, "hs": 0.0, "tp": 9.0})
+    with pytest.raises(ValueError, match="needs wind_speed"):
+        WindAddedResistance.from_config({"speed_kn": 10.0})
+
+    class Draft(Objective):
+        name: ClassVar[str] = "test_draft_only"
+        unit: ClassVar[str] = "m"
+        description: ClassVar[str] = "the draft"
+
+        def __call__(self, sections, draft):
+            return jnp.asarray(draft, dtype=float)
+
+        @classmethod
+        def from_config(cls, options):
+            return cls()
+
+    try:
+        assert OBJECTIVES["test_draft_only"] is Draft and float(Draft()(None, 2.0)) == 2.0
+    finally:
+        del OBJECTIVES["test_draft_only"]
+
+
 def test_fairness_term_is_scaled_by_the_parent_and_penalises_wiggles(wigley_design):
     model, p0, lo, hi, parent = wigley_design
     d = Design(model=model, draft=jnp.asarray(6.25), targets=make_targets({"cb": float(parent.cb)}),
-               objective=Objective("k_aw", jnp.asarray(15 * KNOT)), fairness=0.5, param_scale=hi)
+               objective=KAw(jnp.asarray(15 * KNOT)), fairness=0.5, param_scale=hi)
     d = with_objective_scale(d, p0)
     f = eqx.filter_jit(lambda q: d.objective_value(q))
     assert float(f(p0)) == pytest.approx(1.0 + 0.5, rel=1e-12)  # both terms are one at the parent

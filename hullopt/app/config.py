@@ -22,7 +22,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..errors import HullError
-from ..optimise import OBJECTIVES, TARGETS, make_targets
+from ..optimise import OBJECTIVES, TARGETS, Objective, make_targets
 
 
 class _Strict(BaseModel):
@@ -87,7 +87,10 @@ class DeformConfig(DesignConfig):
 
 
 class ObjectiveConfig(_Strict):
-    kind: Literal[OBJECTIVES]  # type: ignore[valid-type]
+    """An ``[objective]`` table: ``kind`` one of :data:`~hullopt.optimise.OBJECTIVES` (the registered classes)
+    and the options, in config units, that its ``from_config`` reads (it names what a kind needs and lacks)."""
+
+    kind: Literal[tuple(OBJECTIVES)]  # type: ignore[valid-type]
     speed_kn: float = Field(gt=0)
     hs: float = Field(default=0.0, ge=0)
     tp: float = Field(default=10.0, gt=0)
@@ -97,12 +100,13 @@ class ObjectiveConfig(_Strict):
     wind_angle_deg: float = Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")
 
     @model_validator(mode="after")
-    def _sea(self):
-        if self.kind == "mean_added_resistance" and self.hs <= 0:
-            raise ValueError("mean_added_resistance needs a sea state: hs > 0 [m] and tp [s]")
-        if self.kind == "wind_added_resistance" and self.wind_speed <= 0:
-            raise ValueError("wind_added_resistance needs wind_speed > 0 [m/s]")
+    def _options(self):
+        self.build()  # the kind's own checks (a sea state, a wind), as ValueError
         return self
+
+    def build(self) -> Objective:
+        """The :class:`~hullopt.optimise.Objective` of this table (SI; no JAX op runs)."""
+        return OBJECTIVES[self.kind].from_config(self.model_dump())
 
 
 class SweepConfig(_Strict):

@@ -69,6 +69,14 @@ def plot_convergence(history, path: Path, xlabel: str = "step") -> Path:
     return _save(plt, fig, path)
 
 
+def _label(name: str) -> str:
+    """An objective's axis label with its unit from its class (none for a coefficient)."""
+    from ..optimise import OBJECTIVES
+
+    unit = OBJECTIVES[name].unit if name in OBJECTIVES else "-"
+    return name.replace("_", " ") + (f" [{unit}]" if unit != "-" else "")
+
+
 def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path:
     plt, fig, ax = _figure(figsize=(6, 4.5))
     pts = np.array([[d["measure"], d["objective"]] for d in designs])
@@ -80,8 +88,8 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path
     ax.plot(pts[front, 0][order], pts[front, 1][order], "o-", color="C0", label="Pareto front")
     for d in designs:
         ax.annotate(f"{d['bf_target']:.2f}", (d["measure"], d["objective"]), fontsize=7, alpha=0.7)
-    ax.set_xlabel(xname.replace("_", " ") + (" [N]" if xname != "k_aw" else ""))
-    ax.set_ylabel(yname.replace("_", " ") + (" [N]" if yname != "k_aw" else ""))
+    ax.set_xlabel(_label(xname))
+    ax.set_ylabel(_label(yname))
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     ax.set_title("labels: Bf")

@@ -16,11 +16,13 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, Float
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
 from ..drawing import write_offsets_wide
 from ..errors import HullError
-from ..hydro import hydrostatics, sectional_areas
+from ..geometry import Sections
+from ..hydro import Hydrostatics, hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model, save_features
 from ..optimise import (
     Design,
@@ -33,7 +35,6 @@ from ..optimise import (
     target_errors,
     with_objective_scale,
 )
-from ..constants import KNOT
 from .config import DesignConfig, ObjectiveConfig, RunConfig
 from .output import console, write_hull_file, write_json
 from .parents import parent_digest, run_parent
@@ -52,9 +53,9 @@ class Problem:
 
 
 def objective_from(cfg: ObjectiveConfig) -> Objective:
-    return Objective(kind=cfg.kind, speed=jnp.asarray(cfg.speed_kn * KNOT), hs=jnp.asarray(cfg.hs),
-                     tp=jnp.asarray(cfg.tp), heading=jnp.asarray(np.radians(cfg.heading_deg)), smooth=cfg.smooth,
-                     wind_speed=jnp.asarray(cfg.wind_speed), wind_angle=jnp.asarray(np.radians(cfg.wind_angle_deg)))
+    """The objective of a config's ``[objective]`` table, by its kind's class in
+    :data:`~hullopt.optimise.OBJECTIVES`."""
+    return cfg.build()
 
 
 def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") -> tuple:
@@ -132,15 +133,15 @@ def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
 class Outcome(eqx.Module):
     """Everything a run folder shows of a parent and a final design, computed in one jitted program."""
 
-    before: object  # Sections of the parent
-    after: object  # Sections of the final design
-    parent: object  # Hydrostatics of the parent at the draft
-    final: object  # Hydrostatics of the final design
-    achieved: object  # the target particulars of the final design
-    errors: object  # ... their errors (optimise.target_errors: the solvers' residuals, normalised units)
-    areas: object  # sectional-area curves (2, n) [m²]: parent, final
-    objective: object  # the objective of the final design (None without one)
-    objective_parent: object  # ... and of the parent
+    before: Sections  # the parent
+    after: Sections  # the final design
+    parent: Hydrostatics  # of the parent at the draft
+    final: Hydrostatics  # of the final design
+    achieved: Float[Array, " t"]  # the target particulars of the final design
+    errors: Float[Array, " t"]  # ... their errors (optimise.target_errors: the solvers' residuals, normalised units)
+    areas: Float[Array, "2 n"]  # sectional-area curves [m²]: parent, final
+    objective: Float[Array, ""] | None  # the objective of the final design (None without one)
+    objective_parent: Float[Array, ""] | None  # ... and of the parent
 
 
 def measure(d: Design, p0, final) -> Outcome:
@@ -229,7 +230,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
             "params": _params_dict(res.params),
         }
         if d.objective is not None:
-            report["objective"] = {"name": d.objective.kind, "value": float(m.objective),
+            report["objective"] = {"name": d.objective.name, "value": float(m.objective),
                                    "parent": float(m.objective_parent)}
         if not met:
             worst = max(report["targets"].items(), key=lambda kv: abs(kv[1]["error"]) / kv[1]["tolerance"])

@@ -108,14 +108,14 @@ def solve_values(problem, values, i_bf: int, outer: int, max_steps: int, mesh):
     >>> from hullopt.geometry import Sections
     >>> from hullopt.models import wigley
     >>> from hullopt.hydro import hydrostatics
-    >>> from hullopt.optimise import Design, Objective, make_targets
+    >>> from hullopt.optimise import Design, KAw, make_targets
     >>> from hullopt.app.sweep import solve_values
     >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
     >>> def model(p):
     ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
     >>> v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
     >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": v0}),
-    ...                 objective=Objective("k_aw", jnp.asarray(7.7)))
+    ...                 objective=KAw(speed=jnp.asarray(7.7)))
     >>> beam = lambda s, draft: hydrostatics(s, draft).bwl
     >>> problem = (design, beam, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
     >>> mesh = jax.sharding.Mesh(jax.devices()[:1], ("d",))

@@ -7,10 +7,14 @@ from ._solvers import SolveResult as SolveResult
 from ._solvers import fit as fit
 from ._solvers import fit_traced as fit_traced
 from ._solvers import minimise_constrained as minimise_constrained
-from ._problems import OBJECTIVES as OBJECTIVES
+from ._objectives import OBJECTIVES as OBJECTIVES
+from ._objectives import CalmResistance as CalmResistance
+from ._objectives import KAw as KAw
+from ._objectives import MeanAddedResistance as MeanAddedResistance
+from ._objectives import Objective as Objective
+from ._objectives import WindAddedResistance as WindAddedResistance
 from ._problems import TARGETS as TARGETS
 from ._problems import Design as Design
-from ._problems import Objective as Objective
 from ._problems import Targets as Targets
 from ._problems import achieved as achieved
 from ._problems import make_targets as make_targets

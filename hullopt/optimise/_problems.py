@@ -27,13 +27,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.flatten_util import ravel_pytree
-from jaxtyping import Array
+from jaxtyping import Array, ArrayLike, Float, PyTree
 
 from ..geometry import Sections, safe_div
 from ..hydro import Hydrostatics, hydrostatics
-from ..resistance import holtrop_hull, holtrop_mennen
-from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
-from ..wind import no_parts, wind_added_resistance, wind_variables
+from ..waves import bluntness
+from ._objectives import Objective
 
 # name: (relative?, default tolerance)
 TARGETS: dict[str, tuple[bool, float]] = {
@@ -50,9 +49,9 @@ class Targets(eqx.Module):
     table); ``kg`` [m] for a GM target."""
 
     names: tuple[str, ...] = eqx.field(static=True)
-    values: Array
-    tol: Array
-    kg: Array | None = None
+    values: Float[ArrayLike, " t"]  # numpy as made (no JAX op), JAX under transforms
+    tol: Float[ArrayLike, " t"]
+    kg: Float[ArrayLike, ""] | None = None
 
 
 def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, kg: float | None = None) -> Targets:
@@ -106,68 +105,25 @@ def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
     return target_errors(achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg), targets)
 
 
-# ----------------------------------------------------------------------------------------------- objectives
-
-
-class Objective(eqx.Module):
-    """An objective of the hull at a draft: ``kind`` one of
-
-    * ``"k_aw"`` — K_AW in short head waves at ``speed`` [m/s] (patent; smooth C_U of width ``smooth``);
-    * ``"mean_added_resistance"`` — the sea-state mean R_AW [N] (NMRI, ``hs`` [m], ``tp`` [s], ``heading``
-      [rad], long-crested);
-    * ``"calm_resistance"`` — Holtrop–Mennen total [N] at ``speed``;
-    * ``"wind_added_resistance"`` — ISO 15016 ΔR_AA [N] at ``speed`` in a true wind of ``wind_speed`` [m/s]
-      from ``wind_angle`` [rad off the bow] on the hull above water plus ``parts`` (superstructure, cargo;
-      none: the bare hull).
-    """
-
-    kind: str = eqx.field(static=True)
-    speed: Array
-    hs: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
-    tp: Array = eqx.field(default_factory=lambda: jnp.asarray(1.0))
-    heading: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
-    smooth: float = eqx.field(static=True, default=1.0)
-    wind_speed: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
-    wind_angle: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
-    parts: object = None
-
-    def __call__(self, sections: Sections, draft) -> Array:
-        if self.kind == "k_aw":
-            fn = froude_number(self.speed, sections.lpp)
-            return k_aw(bluntness(sections, draft), fn, smooth=self.smooth)
-        if self.kind == "mean_added_resistance":
-            r = mean_added_resistance("nmri", sections, draft, self.speed, self.hs, self.tp, self.heading,
-                                      smooth=self.smooth)
-            return r.motion + r.reflection
-        if self.kind == "calm_resistance":
-            return holtrop_mennen(holtrop_hull(sections, draft), self.speed).total
-        if self.kind == "wind_added_resistance":
-            v = wind_variables(sections, draft, self.parts if self.parts is not None else no_parts())
-            return wind_added_resistance(v, self.speed, self.wind_speed, self.wind_angle)
-        raise ValueError(f"unknown objective {self.kind!r}")
-
-
-OBJECTIVES = ("k_aw", "mean_added_resistance", "calm_resistance", "wind_added_resistance")
-
-
 # ----------------------------------------------------------------------------------------------- the problem
 
 
 class Design(eqx.Module):
     """A design problem: ``model(params) → Sections`` at ``draft`` [m] with ``targets`` to hold, an optional
-    ``objective`` to minimise (scaled by ``objective_scale``, its value at the parent), a small penalty
-    ``smoothness`` · |params / param_scale|² that keeps the deformation the least needed, and a fairness
-    penalty ``fairness`` · U/U₀ (:func:`hullopt.fairing.unfairness`, U₀ = ``fairness_scale``, the parent's)."""
+    ``objective`` to minimise (an :class:`~hullopt.optimise.Objective`, scaled by ``objective_scale``, its value
+    at the parent), a small penalty ``smoothness`` · |params / param_scale|² that keeps the deformation the least
+    needed, and a fairness penalty ``fairness`` · U/U₀ (:func:`hullopt.fairing.unfairness`, U₀ =
+    ``fairness_scale``, the parent's)."""
 
-    model: Callable
-    draft: Array
+    model: Callable[..., Sections]
+    draft: Float[ArrayLike, ""]
     targets: Targets
     objective: Objective | None = None
-    objective_scale: Array = eqx.field(default_factory=lambda: np.asarray(1.0))
+    objective_scale: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: np.asarray(1.0))
     smoothness: float = eqx.field(static=True, default=1e-6)
-    param_scale: object = None
+    param_scale: PyTree[Float[ArrayLike, "..."]] | None = None  # like the parameters
     fairness: float = eqx.field(static=True, default=0.0)
-    fairness_scale: Array = eqx.field(default_factory=lambda: np.asarray(1.0))
+    fairness_scale: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: np.asarray(1.0))
 
     def sections(self, params) -> Sections:
         return self.model(params)
@@ -264,7 +220,7 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
     >>> from hullopt.geometry import Sections
     >>> from hullopt.models import wigley
     >>> from hullopt.hydro import hydrostatics
-    >>> from hullopt.optimise import Design, Objective, make_targets, solve_fit
+    >>> from hullopt.optimise import Design, make_targets, solve_fit
     >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
     >>> def model(p):
     ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
@@ -311,13 +267,13 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
     >>> from hullopt.geometry import Sections
     >>> from hullopt.models import wigley
     >>> from hullopt.hydro import hydrostatics
-    >>> from hullopt.optimise import Design, Objective, make_targets, solve_minimum
+    >>> from hullopt.optimise import Design, KAw, make_targets, solve_minimum
     >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
     >>> def model(p):
     ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
     >>> v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
     >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": 1.2 * v0}),
-    ...                 objective=Objective("k_aw", jnp.asarray(7.7)))
+    ...                 objective=KAw(speed=jnp.asarray(7.7)))
     >>> r = solve_minimum(design, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
     >>> round(float(r.params), 4), bool(r.met)
     (0.2, True)
