@@ -21,8 +21,11 @@ Order of operations (each is smooth in the parameters):
    height (the fore/aft profile), flat-of-bottom half-breadth, flat-of-side height, deck edge;
 3. **apex moves** (claim 5): one apex of an apex line moves by ``d = (dy, dz)`` [m]; every apex between the
    two fixed ends E1, E2 moves by ``d`` times the ratio of its projected distance on E1E2 to the nearer end
-   over the moved apex's (``profile="linear"``, the claim exactly; ``"smooth"`` uses the smoothstep of that
-   ratio, so the displacement has no kink at the moved apex or the ends);
+   over the moved apex's (``profile="linear"``, the claim exactly; ``"smooth"`` uses the quintic smootherstep
+   6r⁵ − 15r⁴ + 10r³ of that ratio r, so the displacement has zero slope and zero curvature at the moved apex
+   and at the fixed ends: C² there, no kink and no jump of curvature in the sections or the sectional-area
+   curve where the move starts — the cubic smoothstep 3r² − 2r³ it replaced was only C¹ and put the
+   largest curvature of the move right at the fixed ends);
 4. **frames** (claim 6): the auxiliary apexes keep their ratios along and across the chord, because they are
    stored as those ratios; each segment is rebuilt as the patent's cubic spline.
 
@@ -170,7 +173,7 @@ def load_parent(name: str) -> FeatureHull:
 class ApexMove:
     """Claim 5: on apex line ``segment`` (0 = lowest, −1 = uppermost), the apexes at the stations nearest
     ``x_fixed1`` and ``x_fixed2`` [m from AP] stay, the apex nearest ``x_moved`` moves by the parameter
-    vector; ``profile`` ``"linear"`` (the claim) or ``"smooth"``."""
+    vector; ``profile`` ``"linear"`` (the claim) or ``"smooth"`` (C² at the fixed ends and the moved apex)."""
 
     segment: int
     x_fixed1: float
@@ -219,6 +222,11 @@ class FeatureParams(eqx.Module):
 
 def _smoothstep(r):
     return r * r * (3.0 - 2.0 * r)
+
+
+def _smootherstep(r):
+    """6r⁵ − 15r⁴ + 10r³: 0 and 1 at r = 0 and 1 with zero first and second derivatives there."""
+    return r * r * r * (r * (6.0 * r - 15.0) + 10.0)
 
 
 class FeatureModel(eqx.Module):
@@ -369,7 +377,7 @@ def _move_weights(h: FeatureHull, mv: ApexMove) -> tuple[int, np.ndarray]:
     r[: i1 + 1] = 0.0
     r[i2:] = 0.0
     r[k] = 1.0
-    w = r if mv.profile == "linear" else _smoothstep(r)
+    w = r if mv.profile == "linear" else _smootherstep(r)
     return s, w
 
 
