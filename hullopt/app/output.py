@@ -103,6 +103,16 @@ def unit_scale(unit: str) -> float:
     return 1.0 if unit in ("% Lpp", "%", "°", "deg") else 0.0
 
 
+# the least decimals a naval architect reads a quantity in these units to (m: to the mm, t: to 0.1 t)
+UNIT_PLACES = {"m": 3, "m²": 1, "m³": 1, "t": 1, "% Lpp": 3, "t/cm": 2, "t·m/cm": 1, "m·rad": 3, "kN": 2,
+               "°": 1, "deg": 1}
+
+
+def unit_places(unit: str) -> int | None:
+    """The least decimals of a quantity in ``unit`` (:data:`UNIT_PLACES`; None: by significant figures only)."""
+    return UNIT_PLACES.get(unit)
+
+
 def label(key: str, unit: bool = True, short: bool = False) -> str:
     """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``); ``short``: an
     objective by its symbol alone (``mean_added_resistance`` → ``R_AW [kN]``), for column headers."""
@@ -147,15 +157,16 @@ def _is_number(v: Any) -> bool:
     return isinstance(v, float | int) and not isinstance(v, bool)
 
 
-def fmt(v: Any, sig: int = SIG, ref: float | None = None) -> str:
+def fmt(v: Any, sig: int = SIG, ref: float | None = None, places: int | None = None) -> str:
     """A number as a naval architect reads it: ``sig`` significant figures of ``ref`` (default ``|v|``; a
-    column's largest value, so that the column shares its decimals), fixed-point (``52083``, ``0.4444``,
-    ``-1.169``) unless the magnitude is below 1e-4 or from 1e9 (``3.21e-07``); round-off noise
-    (``|v| < 1e-9``, or rounding to zero at ``ref``'s decimals) as ``0``, never ``-0.000``; NaN or None as
-    ``–``, infinities as ``∞``. Integers print as they are, booleans as yes/no.
+    column's largest value, so that the column shares its decimals) but at least ``places`` decimals (e.g. 3
+    for metres, :func:`unit_places`), fixed-point (``52083``, ``0.4444``, ``-1.169``) unless the magnitude is
+    below 1e-4 or from 1e9 (``3.21e-07``); round-off noise (``|v| < 1e-9``, or rounding to zero at ``ref``'s
+    decimals) as ``0``, never ``-0.000``; NaN or None as ``–``, infinities as ``∞``. Integers print as they
+    are, booleans as yes/no.
 
-    >>> fmt(-7.105e-15), fmt(52083.3), fmt(0.44444), fmt(-1.222e-18, ref=6.1), fmt(2.5e-7)
-    ('0', '52083', '0.4444', '0.000', '2.500e-07')
+    >>> fmt(-7.105e-15), fmt(52083.3), fmt(0.44444), fmt(-1.222e-18, ref=6.1), fmt(2.5e-7), fmt(174.06, places=3)
+    ('0', '52083', '0.4444', '0.000', '2.500e-07', '174.060')
     """
     v = _scalar(v)
     if v is None:
@@ -170,6 +181,8 @@ def fmt(v: Any, sig: int = SIG, ref: float | None = None) -> str:
     if math.isinf(v):
         return "∞" if v > 0 else "−∞"
     d = decimals(abs(v) if ref is None else max(abs(float(ref)), abs(v) if abs(v) >= NOISE else 0.0), sig)
+    if d is not None and places is not None:
+        d = max(d, places)
     if abs(v) < NOISE:
         v = 0.0
     text = f"{v:.{sig - 1}e}" if d is None else f"{v:.{d}f}"
@@ -178,9 +191,9 @@ def fmt(v: Any, sig: int = SIG, ref: float | None = None) -> str:
     return text
 
 
-def quantity(v: Any, unit: str = "", sig: int = SIG, ref: float | None = None) -> str:
+def quantity(v: Any, unit: str = "", sig: int = SIG, ref: float | None = None, places: int | None = None) -> str:
     """``fmt(v)`` and its unit: ``quantity(52083.3, "m³")`` → ``'52083 m³'``; ``%`` and ``°`` sit on the number."""
-    text = fmt(v, sig, ref)
+    text = fmt(v, sig, ref, places)
     if not unit:
         return text
     return f"{text}{unit}" if unit in ("%", "°") else f"{text} {unit}"
@@ -200,12 +213,12 @@ def change(before: Any, after: Any, unit: str = "", sig: int = SIG) -> str:
 # ----------------------------------------------------------------------------------------------- terminal
 
 
-def _cell(v: Any, ref: float | None, sig: int) -> Text:
+def _cell(v: Any, ref: float | None, sig: int, places: int | None = None) -> Text:
     v = _scalar(v)
     if isinstance(v, Text):
         return v
     if isinstance(v, float):
-        return Text(fmt(v, sig, ref))
+        return Text(fmt(v, sig, ref, places))
     return Text(fmt(v) if _is_number(v) or isinstance(v, bool) or v is None else str(v))
 
 
@@ -216,22 +229,25 @@ def styled(text: str, style: str) -> Text:
 
 
 def table(title: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], *, by: str = "column",
-          sig: int = SIG, scale: Sequence[float | None] | None = None, caption: str | None = None) -> None:
+          sig: int = SIG, scale: Sequence[float | None] | None = None, places: Sequence[int | None] | None = None,
+          caption: str | None = None) -> None:
     """Print a table: its ``title`` above it, ``columns`` as headers (put units there, ``"GZ [m]"``, or in a
     row's label), float cells through :func:`fmt` sharing their decimals ``by`` column (or ``"row"``, for tables
     of one quantity per row: the first column then holds the labels) so that round-off prints as ``0``;
     ``scale``: per column (or row) a magnitude to show it at when larger than its largest value (e.g. a GZ
-    column that is round-off at 0° only, shown at the KN's scale). Strings are shown as they are (no rich
-    markup: use :func:`styled`). The first column is left-aligned, the others right-aligned; cells never wrap,
-    and a table wider than the console is split into tables that repeat its first column; ``caption``: a
-    note printed under it."""
+    column that is round-off at 0° only, shown at the KN's scale); ``places``: per column (or row) at least
+    so many decimals (:func:`unit_places` of its unit: 3 for metres, 1 for tonnes). Strings are shown as they
+    are (no rich markup: use :func:`styled`). The first column is left-aligned, the others right-aligned;
+    cells never wrap, and a table wider than the console is split into tables that repeat its first column;
+    ``caption``: a note printed under it."""
     if by not in ("column", "row"):
         raise ValueError(f"by={by!r}: expected 'column' or 'row'")
     rows = [[_scalar(v) for v in r] for r in rows]
     n = len(columns) if by == "column" else len(rows)
     scale = list(scale) if scale is not None else [None] * n
-    if len(scale) != n:
-        raise ValueError(f"scale: {len(scale)} values for {n} {by}s")
+    places = list(places) if places is not None else [None] * n
+    if len(scale) != n or len(places) != n:
+        raise ValueError(f"scale, places: {len(scale)}, {len(places)} values for {n} {by}s")
 
     def ref(values, floor) -> float | None:
         mags = [abs(v) for v in values if isinstance(v, float) and math.isfinite(v)]
@@ -240,9 +256,9 @@ def table(title: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], *, 
 
     if by == "column":
         refs = [ref([r[j] for r in rows if j < len(r)], scale[j]) for j in range(len(columns))]
-        cells = [[_cell(v, refs[j], sig) for j, v in enumerate(r)] for r in rows]
+        cells = [[_cell(v, refs[j], sig, places[j]) for j, v in enumerate(r)] for r in rows]
     else:
-        cells = [[_cell(v, ref(r, f), sig) for v in r] for r, f in zip(rows, scale)]
+        cells = [[_cell(v, ref(r, f), sig, d) for v in r] for r, f, d in zip(rows, scale, places)]
     if title:
         console.print(Text(title, style="bold"))
     heads = [Text(c) for c in columns]
@@ -267,7 +283,11 @@ def _split(heads: list[Text], cells: list[list[Text]], width: int) -> list[list[
             parts.append(cur)
             cur = [0]
         cur.append(j)
-    return [*parts, cur]
+    parts.append(cur)
+    # as many tables as the greedy split needs, but balanced (not 6 + 6 + 1 columns) where they still fit
+    per = math.ceil((len(heads) - 1) / len(parts))
+    even = [[0, *range(j, min(j + per, len(heads)))] for j in range(1, len(heads), per)]
+    return even if all(1 + sum(w[i] for i in part) <= width for part in even) else parts
 
 
 def say(text: str, style: str | None = None) -> None:

@@ -252,7 +252,8 @@ def _print_fair(report: dict) -> None:
         f"{quantity(report['max_move'], 'm', ref=1)}; displacement {report['volume_change_pct']:+.4f} %, LCB "
         f"{report['lcb_shift_pct_lpp']:+.4f} % Lpp")
     if "noise" in report:
-        say(f"noise removed: {100 * report['noise_removed']:.1f} % (rms {quantity(report['noise_rms'], 'm', ref=1)} → "
+        say(f"noise removed: {100 * report['noise_removed']:.1f} % "
+            f"(rms {quantity(report['noise_rms'], 'm', ref=1)} → "
             f"{quantity(report['residual_error_rms'], 'm', ref=1)})")
     if "files" in report:
         say("wrote " + ", ".join(report["files"]))

@@ -14,7 +14,7 @@ from ...geometry import EXPORT_FORMATS
 from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
 from .._app import app
 from ..hulls import LoadedHull, load_hull
-from ..output import PARTICULARS, parse_range, print_json, say, table, unit_scale, write_hull_file
+from ..output import PARTICULARS, parse_range, print_json, say, table, unit_places, write_hull_file
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
              "a run folder, offsets .csv, a mesh (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=&half=) "
@@ -89,7 +89,7 @@ def hydro(
             for key, label, unit, s in ROWS]
     table(f"Hydrostatics — {h.name} (Lpp {float(h.sections.lpp):g} m, ρ {rho:g} kg/m³)",
           ["quantity at draft T →", *(f"{t:.3f} m" for t in ts)], rows, by="row",
-          scale=[unit_scale(unit) for _, _, unit, _ in ROWS])
+          places=[unit_places(unit) for _, _, unit, _ in ROWS])
 
 
 @app.command()

@@ -16,7 +16,8 @@ from ...geometry import export_mesh, split_for_print, to_trimesh
 from ...hydro import RHO_SEA, cross_curves, heeled_integrals, hydrostatic_table, icll_sheer, stability, with_sheer
 from .._app import app
 from ..hulls import LoadedHull, load_hull
-from ..output import EXIT_CRITERIA, busy, fmt, parse_range, print_json, quantity, say, styled, table, warn
+from ..output import (EXIT_CRITERIA, busy, fmt, parse_range, print_json, quantity, say, styled, table, unit_places,
+                      warn)
 from .hydro import HULL_HELP, check_draft, parse_displacement
 
 SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
@@ -145,23 +146,24 @@ def _print_stability(out: dict, name: str, rho: float, plot: Path | None, kn_plo
     rows = [[f"{a:g}", float(g), float(k), float(t)] for a, g, k, t in zip(deg, out["gz"], out["kn"], out["trim_deg"])]
     # the GZ and KN columns share one scale (KN's), so that a GZ of round-off next to an upright ship reads 0
     scale = max(float(np.max(np.abs(out["kn"]))), float(np.max(np.abs(out["gz"]))), 1.0)
-    table(f"GZ curve — {name}: Δ {fmt(out['displacement'] / 1e3)} t, KG {quantity(out['kg'], 'm')}, "
-          f"LCG {quantity(out['lcg'], 'm')} from AP, GM₀ {quantity(out['gm0'], 'm', ref=1)}"
-          + (f", FSC {quantity(out['fsc'], 'm')}" if out["fsc"] else ""),
-          ["heel [°]", "GZ [m]", "KN [m]", "trim [°, bow down]"], rows, scale=[None, scale, scale, 1.0])
+    table(f"GZ curve — {name}: Δ {fmt(out['displacement'] / 1e3, places=1)} t, "
+          f"KG {quantity(out['kg'], 'm', places=3)}, LCG {quantity(out['lcg'], 'm', places=3)} from AP, GM₀ {quantity(out['gm0'], 'm', places=3)}"
+          + (f", FSC {quantity(out['fsc'], 'm', places=3)}" if out["fsc"] else ""),
+          ["heel [°]", "GZ [m]", "KN [m]", "trim [°, bow down]"], rows, scale=[None, scale, scale, 1.0],
+          places=[None, 3, 3, 3])
     crows = [[r["criterion"], float(r["value"]), float(r["required"]), float(r["margin_exact"]), r["unit"],
               styled("pass", "green") if r["pass"] else styled("FAIL", "bold red")] for r in out["criteria"]]
     table("IMO IS Code 2008 Part A §2.2", ["criterion", "value", "required ≥", "margin", "unit", ""], crows,
-          by="row", sig=3)
+          by="row", sig=3, places=[unit_places(r["unit"]) for r in out["criteria"]])
     van = out["vanishing_angle_deg"]
-    say(f"GZmax {quantity(out['gz_max'], 'm', ref=1)} at {quantity(out['angle_gz_max_deg'], '°', 3, ref=10)}; "
+    say(f"GZmax {quantity(out['gz_max'], 'm', places=3)} at {quantity(out['angle_gz_max_deg'], '°', 3, ref=10)}; "
         "angle of vanishing stability " + (quantity(van, "°", 3, ref=10) if np.isfinite(van) else "beyond 90°"))
     if "cross_curves" in out:
         cc = out["cross_curves"]
         kn = np.asarray(cc["kn"])
         table("Cross curves KN [m]", ["Δ [t] \\ heel", *(f"{a:g}°" for a in cc["heel_deg"])],
               [[fmt(d / 1e3), *map(float, row)] for d, row in zip(cc["displacement"], kn)],
-              scale=[None] + [float(np.abs(kn).max())] * kn.shape[1])
+              scale=[None] + [float(np.abs(kn).max())] * kn.shape[1], places=[None] + [3] * kn.shape[1])
     for p in (plot, kn_plot):
         if p is not None:
             say(f"wrote {p}")
@@ -257,7 +259,7 @@ def print_cmd(
         # each file welded for its format and checked as read back (watertight, one body, no degenerate face)
         written = [export_mesh(p, out / f"{stem}_{i}of{pieces}.{f}") for f in fmts]
         ext = p.bounds[:, 0]
-        rows.append([f"{i}", float(ext[0]), float(ext[1]), float(p.volume / 1e3), str(all(w.ok for w in written))])
+        rows.append([f"{i}", float(ext[0]), float(ext[1]), float(p.volume / 1e3), all(w.ok for w in written)])
     whole = mesh.volume * (1000.0 * s) ** 3 / 1e3
     table(f"{h.name} at 1:{1 / s:g} in {out} (mm)", ["piece", "x from [mm]", "x to [mm]", "volume [cm³]", "watertight"],
           rows + [["whole", float(mesh.bounds[0, 0] * 1000 * s), float(mesh.bounds[1, 0] * 1000 * s), float(whole), ""]])
