@@ -6,6 +6,7 @@ Help texts are plain text: units in brackets (``help="Ship speed [kn]."``) must 
 
 from __future__ import annotations
 
+import inspect
 from importlib.metadata import PackageNotFoundError, version
 from typing import Annotated
 
@@ -24,9 +25,19 @@ def _plain(text: str | None) -> str | None:
     return escape(text) if text and HAS_RICH else text
 
 
+def _reflow(text: str | None) -> str | None:
+    """Each paragraph of a docstring on one line (rich wraps it to the terminal; typer's rich mode would keep
+    the source's line breaks); a paragraph marked ``\\b`` (click: no rewrapping) kept as written."""
+    if not text:
+        return text
+    paragraphs = inspect.cleandoc(text).split("\n\n")
+    return "\n\n".join(p if p.startswith("\b") else " ".join(p.split()) for p in paragraphs)
+
+
 def _escape_help(cmd) -> None:
-    if not cmd.short_help and cmd.help:  # the list of commands: the first paragraph on one line
-        cmd.short_help = " ".join(cmd.help.strip().split("\n\n")[0].split())
+    cmd.help, cmd.epilog = _reflow(cmd.help), _reflow(cmd.epilog)
+    if not cmd.short_help and cmd.help:  # the list of commands: the first paragraph
+        cmd.short_help = cmd.help.split("\n\n")[0]
     cmd.help, cmd.epilog, cmd.short_help = _plain(cmd.help), _plain(cmd.epilog), _plain(cmd.short_help)
     for p in cmd.params:
         if getattr(p, "help", None):
@@ -74,10 +85,11 @@ def package_version() -> str:
         return "unknown"
 
 
-def _version(value: bool) -> None:
+def _version(value: bool) -> bool:
     if value:
         print(f"hullopt {package_version()}")
         raise typer.Exit(0)
+    return value  # click keeps a callback's return as the option's value
 
 
 @app.callback()
