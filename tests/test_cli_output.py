@@ -70,6 +70,8 @@ def test_table_shares_decimals_per_column_and_fits_100_columns(capsys, wide):
                  [["Volume ∇ [m³]", *(1234.5 * t for t in range(1, 15))]], by="row")
     text = capsys.readouterr().out
     assert max(cell_len(line) for line in text.splitlines()) <= 100 and text.count("Volume ∇ [m³]") >= 2
+    output.table("", ["only column"], [["x"]])  # nothing to split
+    assert "only column" in capsys.readouterr().out
 
 
 # ----------------------------------------------------------------------------------------------- help

@@ -284,6 +284,8 @@ def _split(heads: list[Text], cells: list[list[Text]], width: int) -> list[list[
             cur = [0]
         cur.append(j)
     parts.append(cur)
+    if len(parts) == 1:
+        return parts
     # as many tables as the greedy split needs, but balanced (not 6 + 6 + 1 columns) where they still fit
     per = math.ceil((len(heads) - 1) / len(parts))
     even = [[0, *range(j, min(j + per, len(heads)))] for j in range(1, len(heads), per)]
