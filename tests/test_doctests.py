@@ -9,15 +9,14 @@ import doctest
 
 import pytest
 
-from hullopt.app.sweep import solve_values
 from hullopt.fairing import unfairness
 from hullopt.hydro import gz_curve, hydrostatics
 from hullopt.models import feature_model
-from hullopt.optimise import solve_fit, solve_minimum
+from hullopt.optimise import solve_fit, solve_minimum, solve_pareto
 from hullopt.waves import k_aw, mean_added_resistance
 from hullopt.wind import wind_coefficients
 
-ENTRY_POINTS = [hydrostatics, gz_curve, feature_model, solve_fit, solve_minimum, solve_values, k_aw,
+ENTRY_POINTS = [hydrostatics, gz_curve, feature_model, solve_fit, solve_minimum, solve_pareto, k_aw,
                 mean_added_resistance, wind_coefficients, unfairness]
 FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 

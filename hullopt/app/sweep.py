@@ -1,5 +1,6 @@
 """Pareto sweeps at scale: fixed-size chunks, each solved as one jitted ``vmap`` sharded over the local
-devices, written atomically to ``chunks/chunk_KKKK.json`` and skipped on a rerun (resume).
+devices (:func:`hullopt.optimise.solve_pareto`, the library's ε-constraint sweep), written atomically to
+``chunks/chunk_KKKK.json`` and skipped on a rerun (resume).
 
 * ``shard=(k, N)`` solves only the chunks with ``index % N == k - 1`` (N machines, e.g. a Slurm array, split
   one sweep deterministically); :func:`merge` combines their run folders into the unsplit sweep's report.
@@ -23,11 +24,9 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.sharding import PartitionSpec as P
 
 from ..errors import HullError
-from ..hydro import hydrostatics
-from ..optimise import Design, make_targets, solve_minimum, with_objective_scale
+from ..optimise import make_targets, solve_pareto
 from .config import RunConfig
 from .output import write_json
 
@@ -58,77 +57,6 @@ def device_mesh() -> jax.sharding.Mesh:
     explicit sharding in types breaks optimistix's solvers."""
     devices = jax.local_devices()
     return jax.make_mesh((len(devices),), ("d",), axis_types=(jax.sharding.AxisType.Auto,), devices=devices)
-
-
-def _solve_one(d: Design, measure, p0, lower, upper, e, i_bf: int, outer: int, max_steps: int):
-    de = eqx.tree_at(lambda x: x.targets.values, d, d.targets.values.at[i_bf].set(e))
-    r = solve_minimum(de, p0, lower, upper, outer=outer, max_steps=max_steps)
-    s = de.model(r.params)
-    return r, de.objective(s, de.draft), measure(s, de.draft), hydrostatics(s, de.draft)
-
-
-@eqx.filter_jit
-def solve_values(problem, values, i_bf: int, outer: int, max_steps: int, mesh):
-    """Solve the sweep at ``values (k,)`` (k a multiple of the mesh size) as one ``vmap``, its batch split
-    over the mesh's devices (sharding constraints; XLA partitions the computation). ``problem = (design,
-    measure, p0, lower, upper)``. Module level, so the runs of one process share the compiled function.
-
-    The Python route of the Pareto (ε-constraint) sweep: at each value the target ``i_bf`` is set to it and
-    :func:`~hullopt.optimise.solve_minimum` minimises the objective with the targets held.
-
-    Parameters
-    ----------
-    problem : tuple
-        ``(design, measure, p0, lower, upper)``: a :class:`~hullopt.optimise.Design` with an objective,
-        ``measure(sections, draft)`` a scalar recorded per design (the sweep's Bf), and the start and bounds
-        of the parameters (pytrees).
-    values : Array, shape (k,)
-        The swept target's values, in its units (SI; Bf dimensionless); ``k`` a multiple of the mesh size.
-    i_bf : int
-        Index of the swept target in ``design.targets.names``.
-    outer, max_steps : int
-        Augmented-Lagrangian rounds and BFGS steps per round.
-    mesh : jax.sharding.Mesh
-        A 1-D mesh with axis ``"d"`` (:func:`device_mesh`).
-
-    Returns
-    -------
-    tuple
-        ``(result, objective, measure, hydrostatics)``, each batched over ``k``: the
-        :class:`~hullopt.optimise.SolveResult`, the objective (unscaled, its units), the measure and the
-        :class:`~hullopt.hydro.Hydrostatics` of each design.
-
-    Examples
-    --------
-    Sweep the volume (target 0) of a Wigley whose beam is scaled by ``1 + p``: 1.1 and 1.2 times the parent's
-    volume need ``p`` = 0.1 and 0.2, i.e. a beam of 11 and 12 m:
-
-    >>> import jax; jax.config.update("jax_enable_x64", True)
-    >>> import jax.numpy as jnp
-    >>> from hullopt.geometry import Sections
-    >>> from hullopt.models import wigley
-    >>> from hullopt.hydro import hydrostatics
-    >>> from hullopt.optimise import Design, KAw, make_targets
-    >>> from hullopt.app.sweep import solve_values
-    >>> hull = wigley(100, 10, 6.25, 10, n=21, m=21)
-    >>> def model(p):
-    ...     return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
-    >>> v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
-    >>> design = Design(model=model, draft=6.25, targets=make_targets({"volume": v0}),
-    ...                 objective=KAw(speed=jnp.asarray(7.7)))
-    >>> beam = lambda s, draft: hydrostatics(s, draft).bwl
-    >>> problem = (design, beam, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5))
-    >>> mesh = jax.sharding.Mesh(jax.devices()[:1], ("d",))
-    >>> r, objective, b, h = solve_values(problem, jnp.array([1.1, 1.2]) * v0, 0, 3, 100, mesh)
-    >>> [round(float(p), 4) for p in r.params], [round(float(x), 3) for x in b]
-    ([0.1, 0.2], [11.0, 12.0])
-    """
-    d, measure, p0, lower, upper = problem
-    d = with_objective_scale(d, p0)
-    batch = jax.sharding.NamedSharding(mesh, P("d"))
-    values = jax.lax.with_sharding_constraint(values, batch)
-    out = jax.vmap(lambda e: _solve_one(d, measure, p0, lower, upper, e, i_bf, outer, max_steps))(values)
-    return jax.tree.map(lambda a: jax.lax.with_sharding_constraint(a, batch), out)
 
 
 def chunk_values(cfg: RunConfig, k: int) -> np.ndarray:
@@ -165,7 +93,6 @@ class SweepPlan:
         tgt = make_targets(targets, cfg.tolerances, cfg.kg)
         self.cfg, self.prob = cfg, prob
         self.design = eqx.tree_at(lambda x: x.targets, prob.design, tgt)
-        self.i_bf = tgt.names.index("bf")
         self.measure = objective_from(sw.measure)
         self.chunk = sw.chunk
         self.n_chunks = -(-sw.count // sw.chunk)
@@ -185,10 +112,10 @@ class SweepPlan:
         size = -(-self.chunk // mesh.size) * mesh.size
         padded = np.concatenate([values, np.full(size - len(values), values[-1])])
         c = self.cfg.solver
-        problem = (self.design, self.measure, self.prob.p0, self.prob.lower, self.prob.upper)
-        r, obj, meas, h = jax.device_get(solve_values(problem, jnp.asarray(padded), self.i_bf, c.outer,
-                                                      c.max_steps, mesh))
-        hd = h.to_dict()
+        front = jax.device_get(solve_pareto(self.design, "bf", jnp.asarray(padded), self.prob.p0, self.prob.lower,
+                                            self.prob.upper, self.measure, outer=c.outer, max_steps=c.max_steps,
+                                            mesh=mesh))
+        r, obj, meas, hd = front.result, front.objective, front.measure, front.hydrostatics.to_dict()
         return [{
             "bf_target": float(e),
             "objective": float(obj[i]),

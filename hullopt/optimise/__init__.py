@@ -24,3 +24,5 @@ from ._problems import solve_minimum as solve_minimum
 from ._problems import target_errors as target_errors
 from ._problems import target_residuals as target_residuals
 from ._problems import with_objective_scale as with_objective_scale
+from ._pareto import ParetoResult as ParetoResult
+from ._pareto import solve_pareto as solve_pareto
