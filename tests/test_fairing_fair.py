@@ -9,10 +9,10 @@ import pytest
 
 from conftest import REPO
 from hullopt.app.cli import main
-from hullopt.fairing import aft_body_noise, fair_offsets, fixed_offsets
 from hullopt.geometry import coons_surface
 from hullopt.hydro import hydrostatics
 from hullopt.models import OffsetTable, coons_sections, offsets_to_sections, read_offsets
+from hullopt.optimise import aft_body_noise, fair_offsets, fixed_offsets
 
 L, B, T = 100.0, 10.0, 6.25
 

@@ -32,10 +32,9 @@ ALLOWED = {
 
 #: Departures from the floors that exist today: (importing module, imported package), e.g.
 #: ``("hullopt.waves._program", "models")``. Each is a debt, not a licence — move what is shared into the
-#: kernel, or take it as an argument, and strike the entry. Empty since resistance._holtrop and fairing._fair
+#: kernel, or take it as an argument, and strike the entry. Empty since resistance._holtrop and the fairing
 #: take ∇, LCB and the waterplane from the kernel (geometry.longitudinal_integrals) instead of hullopt.hydro.
-#: (fairing._fair samples the faired surface with models.coons_sections until fair_offsets moves to optimise.)
-KNOWN: set[tuple[str, str]] = {("hullopt.fairing._fair", "models")}
+KNOWN: set[tuple[str, str]] = set()
 
 
 def _module_name(path: Path) -> str:

@@ -1,6 +1,7 @@
 """Fairing: the curvature of the Coons-patch hull surface (seed 001, Katsui & Norisada 2005, §2; the surface
-itself is the kernel's :class:`~hullopt.geometry.CoonsSurface`), and unfairness functionals and automatic
-fairing that are hullopt's own (the seed's text stops before it defines its functionals)."""
+itself is the kernel's :class:`~hullopt.geometry.CoonsSurface`), and unfairness functionals that are
+hullopt's own (the seed's text stops before it defines its functionals). Automatic fairing, a design problem
+over these functionals, is :func:`hullopt.optimise.fair_offsets`."""
 
 from ._curvature import curve_curvature as curve_curvature
 from ._curvature import graph_curvatures as graph_curvatures
@@ -14,7 +15,3 @@ from ._unfairness import line_residuals as line_residuals
 from ._unfairness import mean_residuals as mean_residuals
 from ._unfairness import measure as measure
 from ._unfairness import unfairness as unfairness
-from ._fair import FairResult as FairResult
-from ._fair import aft_body_noise as aft_body_noise
-from ._fair import fair_offsets as fair_offsets
-from ._fair import fixed_offsets as fixed_offsets

@@ -24,5 +24,9 @@ from ._problems import solve_minimum as solve_minimum
 from ._problems import target_errors as target_errors
 from ._problems import target_residuals as target_residuals
 from ._problems import with_objective_scale as with_objective_scale
+from ._fairing import FairResult as FairResult
+from ._fairing import aft_body_noise as aft_body_noise
+from ._fairing import fair_offsets as fair_offsets
+from ._fairing import fixed_offsets as fixed_offsets
 from ._pareto import ParetoResult as ParetoResult
 from ._pareto import solve_pareto as solve_pareto

@@ -14,12 +14,11 @@ import typer
 
 from ...drawing import save_figure
 from ...errors import HullError
-from ...fairing import (
-    RESIDUALS, aft_body_noise, curve_curvature, fair_offsets, fixed_offsets, graph_curvatures, measure,
-)
+from ...fairing import RESIDUALS, curve_curvature, graph_curvatures, measure
 from ...geometry import coons_surface
 from ...hydro import hydrostatics
 from ...models import OffsetTable, offset_surface, read_offsets
+from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
 from .._app import app
 from ..hulls import load_hull
 from ..output import EXIT_NOT_CONVERGED, busy, fmt, print_json, quantity, say, table, warn, write_json
