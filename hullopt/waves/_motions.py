@@ -8,11 +8,17 @@ at the encounter frequency come from each section's own shape by Frank's close-f
 plus diffraction by the 2D Haskind relation (STF eq. 45 form) with STF's speed terms.
 
 R_AWM: Gerritsma & Beukelman (1972), "Analysis of the resistance increase in waves of a fast cargo ship",
-ISP 19 — the energy radiated by the damping waves, R_AWM = (k cos α/(2ω_e)) ∫ b'33 |V_z|² dx with the
+ISP 19 — the energy radiated by the damping waves, R_GB = (k cos α/(2ω_e)) ∫ b'33 |V_z|² dx with the
 speed-corrected damping b'33 = b33 − U da33/dx and the relative vertical velocity of each section and the
-water V_z = iω_e(η3 − ξη5) + Uη5 − iω κ(x) ζ_a e^{ikξ cos α} (κ the section's Smith factor, the weighted
-mean of e^{kz} over its wetted girth). GB is a head-to-beam-seas method: it is used for |α| ≤ 90° and its
-(negative) value in following seas is clipped to 0.
+water V_z = iω_e(η3 − ξη5) + Uη5 − V_w, V_w = iω κ(x) ζ_a e^{ikξ cos α} the water's vertical velocity
+(κ the section's Smith factor, the mean of e^{kz} over its wetted girth weighted as the waterplane breadth).
+
+hullopt's motion part is R_AWM = R_GB(free ship) − R_GB(ship held fixed, V_z = −V_w), clipped at 0. The
+fixed-ship term is GB's share of the diffraction (reflection) resistance — in short waves, where the ship
+no longer moves, GB alone tends to it and not to 0 (KCS at Fn 0.26: σ 1.0 at λ/L 0.3, 2.6 at 0.5) — and
+that share is what the NMRI reflection part R_AWR(Bf) models; subtracting it makes R_AW = R_AWM + R_AWR
+count the reflection once (KCS: σ_AWM 0.02 at λ/L 0.3, peak 7.2 at λ/L 1.2–1.3). GB is a head-to-beam-seas
+method: it is used for |α| ≤ 90°, and its value in following seas (cos α < 0) is clipped to 0.
 
 Conventions: x forward from the AP, ξ = x − LCB (the centre of gravity is at the LCB), z up; wave heading
 α = 0 head seas; time dependence e^{iω_e t}; incident elevation ζ_a e^{i(ω_e t + kξ cos α + ky sin α)} at
@@ -29,7 +35,7 @@ from jaxtyping import Array
 
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, longitudinal_integrals, simpson_weights
-from ._sections2d import heave_potential, panel_geometry, section_panels
+from ._sections2d import heave_potential, section_panels
 
 
 class Motions(eqx.Module):
@@ -69,7 +75,14 @@ def _station_coefficients(nodes, omega_e, k, sin_a, rho, g, n_gauss):
     fk = jnp.sum(2.0 * jnp.cos(ang) * ekz * normal[:, 1] * length)  # ∮ e^{kz} e^{iky sin α} n_z ds
     dif = jnp.sum(phi * (ekz * (2.0 * normal[:, 1] * jnp.cos(ang) - 2.0 * sin_a * normal[:, 0] * jnp.sin(ang))
                          * length).astype(complex))  # ∮ ψ3 e^{kz} e^{iky sin α}(n_z + i sin α n_y) ds
-    kappa = fk / jnp.sum(2.0 * normal[:, 1] * length)
+    # Smith factor: the e^{kz} mean over the wetted girth weighted as the waterplane breadth (fk/(−B_wl));
+    # a section with (almost) no waterline breadth — a bulb below the waterline ahead of the stem — takes
+    # e^{kz} at its mean depth instead.
+    denom = jnp.sum(2.0 * normal[:, 1] * length)
+    girth = jnp.sum(2.0 * length)
+    flat_enough = jnp.abs(denom) > 0.05 * girth
+    z_mean = jnp.sum(z * length) / jnp.sum(length)
+    kappa = jnp.where(flat_enough, fk / jnp.where(flat_enough, denom, -1.0), jnp.exp(k * z_mean))
     return a33, b33, fk, dif, kappa
 
 
@@ -83,8 +96,9 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     a, b = jnp.where(wet, a, 0.0), jnp.where(wet, b, 0.0)
     fk, dif, kappa = jnp.where(wet, fk, 0.0), jnp.where(wet, dif, 0.0), jnp.where(wet, kappa, 0.0)
     u = speed
-    # Transom (aftmost station) values; zero for a hull whose aftmost station has no wet section.
-    aa, ba, xa = a[0], b[0], xi[0]
+    # Transom values at the aftmost wet station (close to zero for a hull ending in a point).
+    i_a = jnp.argmax(wet)
+    aa, ba, xa = a[i_a], b[i_a], xi[i_a]
     a0, b0 = w @ a, w @ b
     a1, b1 = w @ (xi * a), w @ (xi * b)
     a2, b2 = w @ (xi**2 * a), w @ (xi**2 * b)
@@ -106,8 +120,8 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     h = c(rho * we * omega) * phase * dif
     wc, xic = c(w), c(xi)
     u_iwe = c(u) / jax.lax.complex(0.0, we)
-    f3 = wc @ (f_fk + h) + u_iwe * h[0]
-    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h[0]
+    f3 = wc @ (f_fk + h) + u_iwe * h[i_a]
+    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h[i_a]
     i55 = mass * kyy_m**2
 
     def z(re, im):
@@ -118,9 +132,11 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     eta = jnp.linalg.solve(m, jnp.stack([f3, f5]))
     eta3, eta5 = eta[0], eta[1]
     # Gerritsma–Beukelman radiated energy.
-    vz = z(0.0, we) * (eta3 - xic * eta5) + c(u) * eta5 - z(0.0, omega) * c(kappa) * phase
+    v_water = z(0.0, omega) * c(kappa) * phase
+    vz = z(0.0, we) * (eta3 - xic * eta5) + c(u) * eta5 - v_water
     b_prime = b - u * jnp.gradient(a, x)
-    r = k * cos_a / (2.0 * we) * (w @ (b_prime * jnp.abs(vz) ** 2))
+    # GB for the free ship minus GB for the ship held fixed (the diffraction part, which R_AWR represents).
+    r = k * cos_a / (2.0 * we) * (w @ (b_prime * (jnp.abs(vz) ** 2 - jnp.abs(v_water) ** 2)))
     r = jnp.maximum(r, 0.0)
     return we, k, eta3, eta5, r
 
@@ -160,8 +176,16 @@ def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0
     centre of gravity at the LCB; restoring from the waterplane, C55 = ρg(I_L + A_wp(LCF − LCB)²) +
     ρg∇(KB − KG).
     """
-    t = jnp.asarray(draft, dtype=sections.yz.dtype)
     omega = jnp.atleast_1d(jnp.asarray(omega, dtype=float))
+    one = _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g)
+    heading = jnp.asarray(heading, dtype=float)
+    we, k, eta3, eta5, r = jax.vmap(lambda om: one(om, heading))(omega)
+    return Motions(omega=omega, omega_e=we, k=k, heave=eta3, pitch=eta5, r_awm=r)
+
+
+def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g):
+    """The hull's frequency-independent parts, and ``(omega, heading) -> (ω_e, k, η3, η5, R_AWM)``."""
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
     li = longitudinal_integrals(sections, t)
     kg_ = t if kg is None else jnp.asarray(kg, dtype=float)
     x = sections.x
@@ -173,14 +197,27 @@ def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0
     c55 = rho * g * (li.i_l + li.awp * (li.lcf - li.lcb) ** 2) + rho * g * li.volume * (li.kb - kg_)
     nodes, wet = section_panels(sections, t, n_panels)
     kyy_m = kyy * sections.lpp
+    speed = jnp.asarray(speed, dtype=float)
+
+    def one(om, hd):
+        return _one_frequency(nodes, wet, x, w, xi, (mass, c33, c35, c55), om, hd, speed, kyy_m, rho, g, n_gauss)
+
+    return one
+
+
+def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kg=None,
+                            kyy=0.25, n_panels: int = 20, n_gauss: int = 4, rho: float = RHO_SEA,
+                            g: float = G) -> Array:
+    """R_AWM [N] in regular waves of amplitude ``amplitude`` [m], frequencies ``omega`` (W,) [rad/s] and
+    headings ``heading`` (H,) [rad] (0 head seas), shape W + H as the other methods' (``omega`` outer
+    ``heading``); see :func:`motions` for the model and the other parameters."""
+    omega = jnp.asarray(omega, dtype=float)
     heading = jnp.asarray(heading, dtype=float)
-
-    def one(om):
-        return _one_frequency(nodes, wet, x, w, xi, (mass, c33, c35, c55), om, heading, speed, kyy_m, rho, g,
-                              n_gauss)
-
-    we, k, eta3, eta5, r = jax.vmap(one)(omega)
-    return Motions(omega=omega, omega_e=we, k=k, heave=eta3, pitch=eta5, r_awm=r)
+    om = omega.reshape(omega.shape + (1,) * heading.ndim)
+    om, hd = jnp.broadcast_arrays(om, heading)
+    one = _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g)
+    r = jax.vmap(lambda o, h: one(o, h)[4])(om.ravel(), hd.ravel())
+    return jnp.asarray(amplitude, dtype=float) ** 2 * r.reshape(om.shape)
 
 
-__all__ = ["Motions", "motions", "panel_geometry"]
+__all__ = ["Motions", "motion_added_resistance", "motions"]

@@ -6,7 +6,7 @@ import importlib
 COMMANDS = {
     "hydro": "hydro", "export": "hydro", "run": "run", "merge": "merge", "features": "features",
     "deform": "features", "waves": "waves", "wind": "wind", "stability": "stability", "lines": "stability",
-    "print": "stability", "fair": "fair", "resistance": "resistance",
+    "print": "stability", "fair": "fair", "resistance": "resistance", "motions": "motions",
 }
 
 
