@@ -80,6 +80,7 @@ TARGET_UNITS: dict[str, tuple[str, str, float]] = {"gm": ("GM", "m", 1), "bf": (
 OBJECTIVE_UNITS: dict[str, tuple[str, str, float]] = {
     "k_aw": ("K_AW", "", 1), "mean_added_resistance": ("mean added resistance R_AW", "kN", 1e-3),
     "calm_resistance": ("calm-water resistance R_T", "kN", 1e-3),
+    "calm_resistance_michell": ("calm-water resistance (Michell) R_T", "kN", 1e-3),
     "wind_added_resistance": ("wind added resistance R_AA", "kN", 1e-3),
 }
 

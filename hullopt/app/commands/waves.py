@@ -19,7 +19,7 @@ from ...waves import (
 )
 from .._app import app
 from ..hulls import load_hull
-from ..output import console, parse_range, print_json, table
+from ..output import busy, console, parse_range, print_json, table
 from .hydro import HULL_HELP, check_draft
 
 
@@ -96,42 +96,43 @@ def waves(
         raise HullError(f"--lambda-over-l {lambda_over_l!r}: wave lengths must be positive")
     params = _parse_params(blunt_bow) if blunt_bow is not None else None
 
-    h = load_hull(hull)
-    if draft is None:
-        if h.design_draft is None:
-            raise HullError("give --draft (this hull has no design draft)")
-        draft = h.design_draft
-    t = check_draft(h, draft)
-    s = h.sections
-    lpp = float(s.lpp)
-    alpha = np.radians(heading)
-    omega = np.asarray(omega_from_wavelength(ratios * lpp))
-    nm, r = _regular(method, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft)
-    half = 0.5 * RHO_SEA * G * float(nm.beam)
-    out = {
-        "hull": h.name, "method": method, "draft": t, "speed": u, "speed_kn": speed, "heading_deg": heading,
-        "lpp": lpp, "beam": float(nm.beam), "fn": float(nm.fn), "bf": float(nm.bf), "c_u": float(nm.c_u),
-        "k_aw": float(nm.k_aw_short), "r_awr_short": float(half * amplitude**2 * nm.k_aw_short),
-        "amplitude": amplitude, "lambda_over_l": ratios, "omega": omega,
-        "alpha_t": np.asarray(nm.alpha_t), "k_aw_per_wave": np.asarray(r.total) / half,
-        "r_awr": amplitude**2 * np.asarray(r.reflection), "r_awm": amplitude**2 * np.asarray(r.motion),
-        "r_aw": amplitude**2 * np.asarray(r.total),
-    }
-    if hs is not None:
-        mean = eqx.filter_jit(mean_added_resistance)(
-            method, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
-            smooth=smooth, aft=aft)
-        out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading, mean_raw=float(mean.total),
-                   mean_raw_motion=float(mean.motion), mean_raw_reflection=float(mean.reflection))
-    if params is not None:
-        prog = select_lower_k_aw(s, blunt_bow_modification, params, t, u, alpha)
-        out["program"] = {
-            "params": [None, *params.tolist()], "bf": np.asarray(prog.bf), "c_u": np.asarray(prog.c_u),
-            "k_aw": np.asarray(prog.k_aw), "best": prog.best,
-            "chosen": "original" if prog.best == 0 else f"blunt-bow p={params[prog.best - 1]:g}",
+    with busy(f"added resistance in waves ({method})", quiet=json):
+        h = load_hull(hull)
+        if draft is None:
+            if h.design_draft is None:
+                raise HullError("give --draft (this hull has no design draft)")
+            draft = h.design_draft
+        t = check_draft(h, draft)
+        s = h.sections
+        lpp = float(s.lpp)
+        alpha = np.radians(heading)
+        omega = np.asarray(omega_from_wavelength(ratios * lpp))
+        nm, r = _regular(method, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft)
+        half = 0.5 * RHO_SEA * G * float(nm.beam)
+        out = {
+            "hull": h.name, "method": method, "draft": t, "speed": u, "speed_kn": speed, "heading_deg": heading,
+            "lpp": lpp, "beam": float(nm.beam), "fn": float(nm.fn), "bf": float(nm.bf), "c_u": float(nm.c_u),
+            "k_aw": float(nm.k_aw_short), "r_awr_short": float(half * amplitude**2 * nm.k_aw_short),
+            "amplitude": amplitude, "lambda_over_l": ratios, "omega": omega,
+            "alpha_t": np.asarray(nm.alpha_t), "k_aw_per_wave": np.asarray(r.total) / half,
+            "r_awr": amplitude**2 * np.asarray(r.reflection), "r_awm": amplitude**2 * np.asarray(r.motion),
+            "r_aw": amplitude**2 * np.asarray(r.total),
         }
-    if plot is not None:
-        _plot(plot, out)
+        if hs is not None:
+            mean = eqx.filter_jit(mean_added_resistance)(
+                method, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
+                smooth=smooth, aft=aft)
+            out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading, mean_raw=float(mean.total),
+                       mean_raw_motion=float(mean.motion), mean_raw_reflection=float(mean.reflection))
+        if params is not None:
+            prog = select_lower_k_aw(s, blunt_bow_modification, params, t, u, alpha)
+            out["program"] = {
+                "params": [None, *params.tolist()], "bf": np.asarray(prog.bf), "c_u": np.asarray(prog.c_u),
+                "k_aw": np.asarray(prog.k_aw), "best": prog.best,
+                "chosen": "original" if prog.best == 0 else f"blunt-bow p={params[prog.best - 1]:g}",
+            }
+        if plot is not None:
+            _plot(plot, out)
     if json:
         print_json(out)
         return
