@@ -72,18 +72,18 @@ class LongitudinalIntegrals(eqx.Module):
     ``lwl`` (from the first to the last wet station, each extended to its dry neighbour) [m].
     """
 
-    area: Array
-    moment_z: Array
-    half_breadth: Array
-    volume: Array
-    lcb: Array
-    kb: Array
-    awp: Array
-    lcf: Array
-    i_t: Array
-    i_l: Array
-    bwl: Array
-    lwl: Array
+    area: Float[Array, " n"]
+    moment_z: Float[Array, " n"]
+    half_breadth: Float[Array, " n"]
+    volume: Float[Array, ""]
+    lcb: Float[Array, ""]
+    kb: Float[Array, ""]
+    awp: Float[Array, ""]
+    lcf: Float[Array, ""]
+    i_t: Float[Array, ""]
+    i_l: Float[Array, ""]
+    bwl: Float[Array, ""]
+    lwl: Float[Array, ""]
 
 
 def longitudinal_integrals(sections: Sections, draft) -> LongitudinalIntegrals:

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from ._safe import safe_div, safe_sqrt
 from ._sections import Sections
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 EXPORT_FORMATS = ("stl", "obj", "ply", "glb", "x3d")
 
 
-def surface_grid(sections: Sections, xp=jnp) -> Float[Array, "n m 3"]:
+def surface_grid(sections: Sections, xp=jnp) -> Float[ArrayLike, "n m 3"]:
     """Port-side hull surface points ``(x, y, z)`` [m] on the structured station × point grid; ``xp = numpy``
     for a numpy grid (exports, which run no JAX op)."""
     yz = xp.asarray(sections.yz)

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from ._safe import safe_div
 
@@ -36,9 +36,9 @@ class Sections(eqx.Module):
         Length between perpendiculars [m]; the FP is at ``x = lpp``.
     """
 
-    x: Float[Array, " n"]
-    yz: Float[Array, "n m 2"]
-    lpp: Float[Array, ""]
+    x: Float[ArrayLike, " n"]  # numpy where a model is built without running JAX, JAX under transforms
+    yz: Float[ArrayLike, "n m 2"]
+    lpp: Float[ArrayLike, ""]
 
     @property
     def n(self) -> int:
@@ -81,10 +81,10 @@ class EdgeIntegrals(eqx.Module):
     y = 0, and the width of the region at the level.
     """
 
-    area: Array
-    moment_z: Array
-    moment_y: Array
-    width: Array
+    area: Float[Array, "*edges"]
+    moment_z: Float[Array, "*edges"]
+    moment_y: Float[Array, "*edges"]
+    width: Float[Array, "*edges"]
 
 
 def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:

@@ -16,10 +16,10 @@ class CubicSpline(eqx.Module):
     """
 
     knots: Float[Array, " k"]
-    a: Array
-    b: Array
-    c: Array
-    d: Array
+    a: Float[Array, "k-1 *curves"]
+    b: Float[Array, "k-1 *curves"]
+    c: Float[Array, "k-1 *curves"]
+    d: Float[Array, "k-1 *curves"]
 
     def __call__(self, t, nu: int = 0):
         """Value (``nu = 0``) or ``nu``-th derivative at ``t`` (any shape); linear extrapolation is not

@@ -23,7 +23,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array
+from jaxtyping import Array, Float
 
 from ..geometry import safe_div
 
@@ -47,12 +47,12 @@ class Criteria(eqx.Module):
     passes a criterion the exact check fails). Also ``gz_max`` [m], ``angle_gz_max`` and ``vanishing_angle`` [rad] (the first zero of
     GZ past its maximum on the grid, NaN if GZ stays positive)."""
 
-    value: Array
-    required: Array
-    margin: Array
-    gz_max: Array
-    angle_gz_max: Array
-    vanishing_angle: Array
+    value: Float[Array, " 6"]
+    required: Float[Array, " 6"]
+    margin: Float[Array, " 6"]
+    gz_max: Float[Array, ""]
+    angle_gz_max: Float[Array, ""]
+    vanishing_angle: Float[Array, ""]
 
     @property
     def passed(self) -> Array:

@@ -24,27 +24,27 @@ class Hydrostatics(eqx.Module):
     definitions; ``displacement`` in kg. Coefficients use Lpp and the waterline breadth ``bwl``.
     """
 
-    draft: Array
-    volume: Array
-    displacement: Array
-    wetted_surface: Array
-    cb: Array
-    cp: Array
-    cm: Array
-    cwp: Array
-    lcb: Array
-    lcb_pct: Array
-    kb: Array
-    awp: Array
-    lcf: Array
-    lcf_pct: Array
-    bmt: Array
-    bml: Array
-    kmt: Array
-    tpc: Array
-    mct: Array
-    lwl: Array
-    bwl: Array
+    draft: Float[Array, ""]
+    volume: Float[Array, ""]
+    displacement: Float[Array, ""]
+    wetted_surface: Float[Array, ""]
+    cb: Float[Array, ""]
+    cp: Float[Array, ""]
+    cm: Float[Array, ""]
+    cwp: Float[Array, ""]
+    lcb: Float[Array, ""]
+    lcb_pct: Float[Array, ""]
+    kb: Float[Array, ""]
+    awp: Float[Array, ""]
+    lcf: Float[Array, ""]
+    lcf_pct: Float[Array, ""]
+    bmt: Float[Array, ""]
+    bml: Float[Array, ""]
+    kmt: Float[Array, ""]
+    tpc: Float[Array, ""]
+    mct: Float[Array, ""]
+    lwl: Float[Array, ""]
+    bwl: Float[Array, ""]
 
     def to_dict(self) -> dict[str, float | list[float]]:
         """Plain floats (or lists for a table), keyed as in ``hullopt hydro --json``."""

@@ -28,7 +28,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import optimistix as optx
-from jaxtyping import Array, Float
+from jaxtyping import Array, Bool, Float
 
 from ..geometry import Sections, polygon_integrals, safe_div, simpson_weights
 from ._criteria import Criteria, criteria_from_gz, criteria_heels
@@ -54,7 +54,7 @@ def with_sheer(sections: Sections, sheer) -> Sections:
     return Sections(x=sections.x, yz=jnp.concatenate([sections.yz, top[:, None, :]], axis=1), lpp=sections.lpp)
 
 
-def full_sections(yz: Float[Array, "n m 2"]) -> Float[Array, "n 2m 2"]:
+def full_sections(yz: Float[Array, "n m 2"]) -> Float[Array, "n 2*m 2"]:
     """Closed full sections, counter-clockwise in (y, z): the port polyline keel → deck edge, then the
     mirrored starboard one deck edge → keel (the closing edge is the flat deck). Centreline joints of the
     two sides are traversed in opposite directions and cancel."""
@@ -73,12 +73,12 @@ class HeeledIntegrals(eqx.Module):
     waterplane's area ``awp`` [m²] and second moment about its own centreline ``it`` [m⁴] (exact for a
     waterplane that is one strip per station)."""
 
-    volume: Array
-    xb: Array
-    yb: Array
-    zb: Array
-    awp: Array
-    it: Array
+    volume: Float[Array, ""]
+    xb: Float[Array, ""]
+    yb: Float[Array, ""]
+    zb: Float[Array, ""]
+    awp: Float[Array, ""]
+    it: Float[Array, ""]
 
 
 def heeled_integrals(sections: Sections, heel, level, trim=0.0) -> HeeledIntegrals:
@@ -131,10 +131,10 @@ class Equilibrium(eqx.Module):
     """Floating position at one heel: ``level`` [m], ``trim`` (tan θ, bow down positive), the buoyancy
     integrals there, and whether the solve converged."""
 
-    level: Array
-    trim: Array
+    level: Float[Array, ""]
+    trim: Float[Array, ""]
     integrals: HeeledIntegrals
-    converged: Array
+    converged: Bool[Array, ""]
 
 
 def heeled_equilibrium(sections: Sections, heel, volume, lcg, kg, free_trim: bool = True) -> Equilibrium:
@@ -169,10 +169,10 @@ class Upright(eqx.Module):
     """Upright, even-keel floating position at a volume: ``level`` (the draft) [m], ``lcb`` [m from the
     AP], ``kb`` and ``bmt`` [m]."""
 
-    level: Array
-    lcb: Array
-    kb: Array
-    bmt: Array
+    level: Float[Array, ""]
+    lcb: Float[Array, ""]
+    kb: Float[Array, ""]
+    bmt: Float[Array, ""]
 
 
 def upright(sections: Sections, volume) -> Upright:
@@ -190,17 +190,17 @@ class StabilityCurve(eqx.Module):
     [m] waterplane height at midship (heeled frame); ``trim (k,)`` tan θ, bow down positive; ``converged
     (k,)``. Scalars: ``volume`` [m³], ``kg``, ``lcg``, ``fsc`` [m], ``gm0`` [m] (corrected)."""
 
-    heel: Array
-    gz: Array
-    kn: Array
-    level: Array
-    trim: Array
-    converged: Array
-    volume: Array
-    kg: Array
-    lcg: Array
-    fsc: Array
-    gm0: Array
+    heel: Float[Array, " k"]
+    gz: Float[Array, " k"]
+    kn: Float[Array, " k"]
+    level: Float[Array, " k"]
+    trim: Float[Array, " k"]
+    converged: Bool[Array, " k"]
+    volume: Float[Array, ""]
+    kg: Float[Array, ""]
+    lcg: Float[Array, ""]
+    fsc: Float[Array, ""]
+    gm0: Float[Array, ""]
 
 
 def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim: bool = True) -> StabilityCurve:

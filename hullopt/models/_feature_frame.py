@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 
 def _half_spline(u: Array, v: Array, f: Array) -> tuple[Array, Array]:
@@ -72,10 +72,10 @@ def _half_spline(u: Array, v: Array, f: Array) -> tuple[Array, Array]:
 
 
 def segment_points(
-    a: Float[Array, "... 2"],
-    b: Float[Array, "... 2"],
-    apex: Float[Array, "... 2"],
-    aux: Float[Array, "... 2 J 2"],
+    a: Float[ArrayLike, "... 2"],
+    b: Float[ArrayLike, "... 2"],
+    apex: Float[ArrayLike, "... 2"],
+    aux: Float[ArrayLike, "... 2 J 2"],
     q: int,
 ) -> Float[Array, "... P 2"]:
     """Points of the rebuilt segments from ``a`` to ``b`` (``a`` excluded, ``b`` included),
@@ -106,11 +106,11 @@ def segment_points(
 
 
 def rebuild_frames(
-    keel: Float[Array, "n 2"],
-    ends: Float[Array, "n S+1 2"],
-    apex: Float[Array, "n S 2"],
-    aux: Float[Array, "n S 2 J 2"],
-    deck: Float[Array, "n 2"],
+    keel: Float[ArrayLike, "n 2"],
+    ends: Float[ArrayLike, "n S1 2"],
+    apex: Float[ArrayLike, "n S 2"],
+    aux: Float[ArrayLike, "n S 2 J 2"],
+    deck: Float[ArrayLike, "n 2"],
     q: int,
 ) -> Float[Array, "n m 2"]:
     """Half-section polylines ``keel → flat of bottom → S segments → flat of side → deck edge``.
@@ -125,7 +125,7 @@ def rebuild_frames(
     return jnp.concatenate([keel[:, None], ends[:, :1], body, deck[:, None]], axis=1)
 
 
-def apex_points(ends: Array, apex: Array) -> Array:
+def apex_points(ends: ArrayLike, apex: ArrayLike) -> ArrayLike:
     """Absolute (y, z) of the apexes ``(n, S, 2)`` from the chord-frame ``(β, η)``."""
     a, b = ends[..., :-1, :], ends[..., 1:, :]
     c = b - a
@@ -133,7 +133,7 @@ def apex_points(ends: Array, apex: Array) -> Array:
     return a + apex[..., :1] * c + apex[..., 1:] * rc
 
 
-def aux_points(ends: Array, apex: Array, aux: Array) -> Array:
+def aux_points(ends: ArrayLike, apex: ArrayLike, aux: ArrayLike) -> ArrayLike:
     """Absolute (y, z) of the auxiliary apexes ``(n, S, 2, J, 2)``."""
     a, b = ends[..., :-1, :], ends[..., 1:, :]
     c = b - a

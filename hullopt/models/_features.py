@@ -43,7 +43,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..errors import HullError
 from ..geometry import Sections, atomic_write_bytes, safe_div
@@ -67,14 +67,14 @@ class FeatureHull(eqx.Module):
     real : (n, S) whether the segment exists in the parent (False: zero-length padding).
     """
 
-    x: Float[Array, " n"]
-    lpp: Float[Array, ""]
-    keel: Float[Array, "n 2"]
-    deck: Float[Array, "n 2"]
-    ends: Float[Array, "n S1 2"]
-    apex: Float[Array, "n S 2"]
-    aux: Float[Array, "n S 2 J 2"]
-    real: Array
+    x: Float[ArrayLike, " n"]  # numpy as read (building a design runs no JAX op), JAX under transforms
+    lpp: Float[ArrayLike, ""]
+    keel: Float[ArrayLike, "n 2"]
+    deck: Float[ArrayLike, "n 2"]
+    ends: Float[ArrayLike, "n S1 2"]
+    apex: Float[ArrayLike, "n S 2"]
+    aux: Float[ArrayLike, "n S 2 J 2"]
+    real: Bool[ArrayLike, "n S"]
     q: int = eqx.field(static=True, default=2)
     name: str = eqx.field(static=True, default="hull")
     design_draft: float | None = eqx.field(static=True, default=None)
@@ -88,11 +88,11 @@ class FeatureHull(eqx.Module):
         yz = rebuild_frames(self.keel, self.ends, self.apex, self.aux, self.deck, q or self.q)
         return Sections(x=self.x, yz=yz, lpp=self.lpp)
 
-    def apex_points(self) -> Array:
+    def apex_points(self) -> ArrayLike:
         """(n, S, 2) absolute apex positions (y, z)."""
         return apex_points(self.ends, self.apex)
 
-    def aux_points(self) -> Array:
+    def aux_points(self) -> ArrayLike:
         """(n, S, 2, J, 2) absolute auxiliary-apex positions (y, z)."""
         return aux_points(self.ends, self.apex, self.aux)
 
@@ -215,9 +215,9 @@ class FeatureParams(eqx.Module):
     moves; ``distribution (G, modes)`` warp coefficients (|Σ c| < 1 keeps the warp monotone); ``contour (E,)``
     contour-edit amplitudes [m]."""
 
-    apex: Float[Array, "K 2"]
-    distribution: Float[Array, "G J"]
-    contour: Float[Array, " E"]
+    apex: Float[ArrayLike, "K 2"]  # numpy for a config's start and bounds, JAX when solved
+    distribution: Float[ArrayLike, "G J"]
+    contour: Float[ArrayLike, " E"]
 
 
 def _smoothstep(r):
@@ -234,14 +234,14 @@ class FeatureModel(eqx.Module):
     :func:`feature_model`."""
 
     hull: FeatureHull
-    base: Float[Array, "n C"]  # the parent's feature channels, flattened
-    slopes: Float[Array, "n C"]  # PCHIP slopes along x
-    move_w: Float[Array, "K n"]
+    base: Float[ArrayLike, "n C"]  # the parent's feature channels, flattened (numpy: built once)
+    slopes: Float[ArrayLike, "n C"]  # PCHIP slopes along x
+    move_w: Float[ArrayLike, "K n"]
     move_seg: tuple[int, ...] = eqx.field(static=True)
-    dist_mask: Float[Array, "G C"]
-    dist_range: Float[Array, "G 2"]
-    edit_w: Float[Array, "E n C"]
-    design: tuple = eqx.field(static=True)
+    dist_mask: Float[ArrayLike, "G C"]
+    dist_range: Float[ArrayLike, "G 2"]
+    edit_w: Float[ArrayLike, "E n C"]
+    design: tuple[tuple[ApexMove, ...], tuple[Distribution, ...], tuple[ContourEdit, ...]] = eqx.field(static=True)
 
     def zeros(self) -> FeatureParams:
         """The parameters that give back the parent exactly."""
@@ -306,7 +306,7 @@ def _columns(h: FeatureHull) -> dict[str, np.ndarray]:
     return out
 
 
-def _unflatten(h: FeatureHull, f: Array) -> FeatureHull:
+def _unflatten(h: FeatureHull, f: ArrayLike) -> FeatureHull:
     cols = _columns(h)
     n = f.shape[0]
     vals = {k: f[:, c.reshape(-1)].reshape((n,) + c.shape) for k, c in cols.items()}

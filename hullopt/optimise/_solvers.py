@@ -19,7 +19,7 @@ import jax
 import jax.numpy as jnp
 import optimistix as optx
 from jax.flatten_util import ravel_pytree
-from jaxtyping import Array
+from jaxtyping import Array, Bool, Float, Int, PyTree
 
 from ._bounds import from_unbounded, to_unbounded
 
@@ -31,14 +31,14 @@ class SolveResult(eqx.Module):
     ``solver_ok`` the solver's own success flag, ``steps`` the number of (inner) steps, ``history`` the cost
     after each step or round where the solver records it (NaN-padded to a fixed length)."""
 
-    params: object
-    residuals: Array
-    objective: Array
-    max_violation: Array
-    met: Array
-    solver_ok: Array
-    steps: Array
-    history: Array | None = None
+    params: PyTree[Float[Array, "..."]]
+    residuals: Float[Array, " r"]
+    objective: Float[Array, ""]
+    max_violation: Float[Array, ""]
+    met: Bool[Array, ""]
+    solver_ok: Bool[Array, ""]
+    steps: Int[Array, ""]
+    history: Float[Array, " h"] | None = None
 
 
 def fit(

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, ArrayLike, Float
 
 from ..constants import G, NU_SEA, RHO_SEA  # NU_SEA: sea water at 15 °C (ITTC), as the paper's example
 from ..geometry import Sections, longitudinal_integrals, safe_div, wetted_surface
@@ -22,44 +22,44 @@ from ..geometry import Sections, longitudinal_integrals, safe_div, wetted_surfac
 class HoltropHull(eqx.Module):
     """Inputs of the method: lengths [m], areas [m²], volume [m³], ``lcb`` [% L fwd of 0.5 L], ``ie`` [deg]."""
 
-    L: Array
-    B: Array
-    T: Array
-    T_F: Array
-    volume: Array
-    cm: Array
-    cwp: Array
-    lcb: Array
-    ie: Array
-    S: Array
-    A_BT: Array
-    h_B: Array
-    A_T: Array
-    c_stern: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
-    S_app: Array = eqx.field(default_factory=lambda: jnp.asarray(0.0))
-    k2_app: Array = eqx.field(default_factory=lambda: jnp.asarray(1.5))
+    L: Float[ArrayLike, ""]
+    B: Float[ArrayLike, ""]
+    T: Float[ArrayLike, ""]
+    T_F: Float[ArrayLike, ""]
+    volume: Float[ArrayLike, ""]
+    cm: Float[ArrayLike, ""]
+    cwp: Float[ArrayLike, ""]
+    lcb: Float[ArrayLike, ""]
+    ie: Float[ArrayLike, ""]
+    S: Float[ArrayLike, ""]
+    A_BT: Float[ArrayLike, ""]
+    h_B: Float[ArrayLike, ""]
+    A_T: Float[ArrayLike, ""]
+    c_stern: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    S_app: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: jnp.asarray(0.0))
+    k2_app: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: jnp.asarray(1.5))
 
 
 class HoltropResult(eqx.Module):
     """Resistance components [N] and the coefficients the paper prints, for checking."""
 
-    total: Array
-    friction: Array  # R_F, without the form factor
-    form_factor: Array  # 1 + k1
-    appendages: Array
-    wave: Array
-    bulb: Array
-    transom: Array
-    correlation: Array
-    cf: Array
-    ca: Array
-    fn: Array
-    c1: Array
-    c2: Array
-    c5: Array
-    m1: Array
-    m2: Array
-    lam: Array
+    total: Float[Array, "*speed"]
+    friction: Float[Array, "*speed"]  # R_F, without the form factor
+    form_factor: Float[Array, ""]  # 1 + k1
+    appendages: Float[Array, "*speed"]
+    wave: Float[Array, "*speed"]
+    bulb: Float[Array, "*speed"]
+    transom: Float[Array, "*speed"]
+    correlation: Float[Array, "*speed"]
+    cf: Float[Array, "*speed"]
+    ca: Float[Array, ""]
+    fn: Float[Array, "*speed"]
+    c1: Float[Array, ""]
+    c2: Float[Array, ""]
+    c5: Float[Array, ""]
+    m1: Float[Array, ""]
+    m2: Float[Array, "*speed"]
+    lam: Float[Array, ""]
 
 
 def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:

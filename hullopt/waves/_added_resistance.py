@@ -19,7 +19,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, Float
 
 from ..constants import G, RHO_SEA
 from ..geometry import Sections
@@ -117,14 +117,14 @@ class NMRIResult(eqx.Module):
     r_awr (W+H): R_AWR [N] for the given amplitude; beam (): B_wl [m].
     """
 
-    bf: Array
-    fn: Array
-    c_u: Array
-    k_aw_short: Array
-    alpha_t: Array
-    k_aw: Array
-    r_awr: Array
-    beam: Array
+    bf: Float[Array, "*H"]
+    fn: Float[Array, ""]
+    c_u: Float[Array, "*H"]
+    k_aw_short: Float[Array, "*H"]
+    alpha_t: Float[Array, "*WH"]
+    k_aw: Float[Array, "*WH"]
+    r_awr: Float[Array, "*WH"]
+    beam: Float[Array, ""]
 
 
 def _outer(omega, heading):

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, Float
 
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, longitudinal_integrals
@@ -26,13 +26,13 @@ class Particulars(eqx.Module):
     """Main particulars at a draft [m]: ``lpp``, ``beam`` (B_wl), ``draft``, ``cb`` (on Lpp·B_wl·T), ``l_bwl``
     (stem to 95 % of the maximum breadth, STAWAVE-1), ``l_entrance``, ``l_run`` (ends to 99 %, SNNM)."""
 
-    lpp: Array
-    beam: Array
-    draft: Array
-    cb: Array
-    l_bwl: Array
-    l_entrance: Array
-    l_run: Array
+    lpp: Float[Array, ""]
+    beam: Float[Array, ""]
+    draft: Float[Array, ""]
+    cb: Float[Array, ""]
+    l_bwl: Float[Array, ""]
+    l_entrance: Float[Array, ""]
+    l_run: Float[Array, ""]
 
 
 def particulars(sections: Sections, draft) -> Particulars:
@@ -51,8 +51,8 @@ def particulars(sections: Sections, draft) -> Particulars:
 class WaveResistance(eqx.Module):
     """Added resistance in regular waves [N], shape W + H: ``motion`` + ``reflection`` = ``total``."""
 
-    motion: Array
-    reflection: Array
+    motion: Float[Array, "*shape"]
+    reflection: Float[Array, "*shape"]
 
     @property
     def total(self) -> Array:

@@ -4,12 +4,12 @@ passed in, e.g. :func:`hullopt.models.blunt_bow` (models own the hull modificati
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, Float
 
 from ..constants import G
 from ..geometry import Sections
@@ -24,11 +24,11 @@ class ProgramResult(eqx.Module):
     K_AW = Bf(1 + C_U·Fn) of each; ``fn``: Froude number; ``best``: index of the lowest K_AW;
     ``sections``: the chosen hull."""
 
-    params: Array
-    bf: Array
-    c_u: Array
-    k_aw: Array
-    fn: Array
+    params: Float[Array, "k *p"]
+    bf: Float[Array, "k+1 *H"]
+    c_u: Float[Array, "k+1 *H"]
+    k_aw: Float[Array, "k+1 *H"]
+    fn: Float[Array, ""]
     best: int = eqx.field(static=True)
     sections: Sections
 

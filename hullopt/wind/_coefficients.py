@@ -33,7 +33,7 @@ from importlib import resources
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array
+from jaxtyping import Array, Float
 
 from ..errors import HullError
 from ._variables import WindVariables
@@ -46,11 +46,11 @@ _ALIASES = {"A_YV": "A_L", "A_XV": "A_T", "A_F": "A_T", "L_OA": "L", "C_MC": "C"
 class Coefficients(eqx.Module):
     """C_X, C_Y, C_N, C_K at the angles ``psi`` [rad] (same shape); see the module docstring for signs."""
 
-    psi: Array
-    cx: Array
-    cy: Array
-    cn: Array
-    ck: Array
+    psi: Float[Array, "*angles"]
+    cx: Float[Array, "*angles"]
+    cy: Float[Array, "*angles"]
+    cn: Float[Array, "*angles"]
+    ck: Float[Array, "*angles"]
 
 
 def read_table(name: str) -> tuple[list[str], list[dict[str, str]]]:

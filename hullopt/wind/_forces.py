@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, Float
 
 from ..constants import RHO_AIR
 from ..geometry import safe_sqrt
@@ -20,10 +20,10 @@ from ._variables import WindVariables
 class WindLoads(eqx.Module):
     """X, Y [N] and N, K [N·m] (signs in the module docstring)."""
 
-    X: Array
-    Y: Array
-    N: Array
-    K: Array
+    X: Float[Array, "*angles"]
+    Y: Float[Array, "*angles"]
+    N: Float[Array, "*angles"]
+    K: Float[Array, "*angles"]
 
 
 def relative_wind(ship_speed, wind_speed, wind_angle) -> tuple[Array, Array]:

@@ -12,7 +12,8 @@ from __future__ import annotations
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+import numpy.typing as npt
+from jaxtyping import Array, Bool, Float
 
 from ..errors import HullError
 from ..geometry import Sections, closed_half_polygon, level_widths
@@ -83,7 +84,7 @@ def box_parts(names, kinds, x_aft, x_fore, z_low, z_top, breadth, y_centre=0.0, 
     return Parts(rect(x0, x1), rect(yc - b / 2, yc + b / 2), names, kinds, groups)
 
 
-def _ccw_convex(poly: np.ndarray, what: str) -> np.ndarray:
+def _ccw_convex(poly: npt.ArrayLike, what: str) -> np.ndarray:
     poly = np.asarray(poly, dtype=float)
     if poly.ndim != 2 or poly.shape[1] != 2 or len(poly) < 3 or not np.all(np.isfinite(poly)):
         raise HullError(f"{what}: expected at least 3 finite [u, z] points")
@@ -146,8 +147,8 @@ class Projections(eqx.Module):
     hull_front: Float[Array, "w 2"]
     part_side: Float[Array, "p k 2"]
     part_front: Float[Array, "p k 2"]
-    present: Array
-    draft: Array
+    present: Bool[Array, " n"]
+    draft: Float[Array, ""]
     parts: Parts
 
 

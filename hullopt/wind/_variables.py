@@ -23,7 +23,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, Bool, Float
 
 from ..geometry import Sections, safe_div, safe_norm
 from ._parts import Parts, Projections, projections
@@ -128,14 +128,14 @@ def _union(lo: Array, hi: Array) -> tuple[Array, Array]:
 
 
 class _Strips(eqx.Module):
-    u: Array  # (G,) Gauss abscissae, two per strip
-    w: Array  # (G,) weights
-    lo: Array  # (G, S)
-    hi: Array
-    empty: Array
+    u: Float[Array, " G"]  # Gauss abscissae, two per strip
+    w: Float[Array, " G"]  # weights
+    lo: Float[Array, "G S"]
+    hi: Float[Array, "G S"]
+    empty: Bool[Array, "G S"]
 
 
-def _strips(polys: list[Array], axis: int, profile: tuple[Array, Array, Array] | None = None) -> _Strips:
+def _strips(polys: list[Array | None], axis: int, profile: tuple[Array, Array, Array] | None = None) -> _Strips:
     """Strips between all vertex abscissae of ``polys`` and the cuts there. With ``profile = (x, bot, top)``
     the first polygon is the hull profile of :func:`~hullopt.wind.projections` (``polys[0]`` may then be
     None), cut in closed form (:func:`_profile_cuts`)."""
@@ -191,28 +191,28 @@ class WindVariables(eqx.Module):
     ``part_perimeter`` (P,) and ``part_front_area`` (P,), all from the side view except the last.
     """
 
-    L: Array
-    B: Array
-    A_T: Array
-    A_L: Array
-    A_OD: Array
-    A_SS: Array
-    C: Array
-    C_BR: Array
-    H_BR: Array
-    H_C: Array
-    S: Array
-    M: Array
-    H_T: Array
-    H_L: Array
-    C_bow: Array
-    x_mid: Array
-    part_area: Array
-    part_x: Array
-    part_h: Array
-    part_moments: Array
-    part_perimeter: Array
-    part_front_area: Array
+    L: Float[Array, ""]
+    B: Float[Array, ""]
+    A_T: Float[Array, ""]
+    A_L: Float[Array, ""]
+    A_OD: Float[Array, ""]
+    A_SS: Float[Array, ""]
+    C: Float[Array, ""]
+    C_BR: Float[Array, ""]
+    H_BR: Float[Array, ""]
+    H_C: Float[Array, ""]
+    S: Float[Array, ""]
+    M: Float[Array, ""]
+    H_T: Float[Array, ""]
+    H_L: Float[Array, ""]
+    C_bow: Float[Array, ""]
+    x_mid: Float[Array, ""]
+    part_area: Float[Array, " P"]
+    part_x: Float[Array, " P"]
+    part_h: Float[Array, " P"]
+    part_moments: Float[Array, "P 4 4"]
+    part_perimeter: Float[Array, " P"]
+    part_front_area: Float[Array, " P"]
     part_names: tuple[str, ...] = eqx.field(static=True)
     part_kinds: tuple[str, ...] = eqx.field(static=True)
 
