@@ -159,7 +159,7 @@ def test_truncated_iges_names_the_file(tmp_path, hulls):
 
 
 def test_bad_tolerances_are_refused(hulls):
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
 
     with pytest.raises(HullError, match="tolerance"):
         read_cad(hulls / KCS_IGES, tolerance=-1.0)
@@ -171,7 +171,7 @@ def test_bad_tolerances_are_refused(hulls):
 def test_kcs_iges_hull_spec_end_to_end_matches_the_closed_mesh(hulls):
     """The IGES as a hull spec (half hull, no deck: read_mesh closes it) against the closed KCS mesh: ∇ at
     the design draft, full scale (each sliced into sections as every mesh is)."""
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
     from hullopt.hydro import volume_at
 
     iges = load_hull(f"{hulls / KCS_IGES}?scale={SCALE}&lpp=230")

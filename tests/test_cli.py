@@ -34,7 +34,7 @@ def test_hydro_drafts_table_and_displacement(cli):
 
 
 def test_export_formats(cli, tmp_path):
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
     from hullopt.geometry._mesh import hull_mesh  # what export writes: refined, then welded to float32
 
     ours = hull_mesh(load_hull(WIGLEY).sections)

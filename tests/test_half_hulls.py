@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from hullopt.app.hulls import load_hull
+from hullopt.models import load_hull
 from hullopt.errors import HullError
 from hullopt.hydro import hydrostatics
 from hullopt.models import MeshTransform, read_mesh, slice_mesh

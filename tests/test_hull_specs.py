@@ -1,15 +1,16 @@
 """Hull specs every command takes (library parents by name, run folders) and drafts up to the deck."""
 
 import json
+import re
 
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.app.hulls import load_hull
+from hullopt.errors import HullError
 from hullopt.geometry import Sections, level_widths, section_integrals
 from hullopt.hydro import hydrostatics
-from hullopt.models import load_parent
+from hullopt.models import load_hull, load_parent
 
 
 @pytest.mark.parametrize("name", ["dtc", "tanker", "wigley", "seed003"])
@@ -36,6 +37,18 @@ def test_parent_specs_from_the_console(cli, tmp_path):
                           ("parent:wigley?n=3", "unknown parameter 'n'"), (str(tmp_path), "not a run folder")):
         code, _, err = cli("hydro", spec)
         assert code == 2 and message in err and err.count("\n") == 1, err
+
+
+def test_the_library_reads_every_spec_but_run_folders(tmp_path):
+    """hullopt.models.load_hull needs no app: the same errors as the CLI's; a folder is the CLI's to read."""
+    with pytest.raises(HullError, match="run folders are read by hullopt.app.hulls.load_hull"):
+        load_hull(str(tmp_path))
+    for spec, message in (("builtin:wigley?L=100&B=10&T=6.25", "missing parameter D"),
+                          ("builtin:box?L=100&B=20&D=x", "parameter D='x' is not a valid float"),
+                          ("builtin:box?L=1&L=2&B=2&D=1", "parameter L given twice"),
+                          (str(tmp_path / "none.stl"), "no such file or run folder")):
+        with pytest.raises(HullError, match=re.escape(f"hull {spec!r}: {message}")):
+            load_hull(spec)
 
 
 def test_widths_at_a_vertex_are_the_limit_from_below():
@@ -70,7 +83,7 @@ def test_drafts_above_the_deck_are_refused_and_curves_stop_below_it(cli, tmp_pat
     import hullopt.drawing
 
     seen = []
-    monkeypatch.setattr(hullopt.drawing, "plot_hydrostatic_curves", lambda t, path, name="": seen.append(t.draft))
+    monkeypatch.setattr(hullopt.drawing, "plot_hydrostatic_curves", lambda t, path, name="", **kw: seen.append(t.draft))
     code, _, err = cli("lines", "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=21", "--out", tmp_path / "l.png",
                        "--curves", tmp_path / "c.png")
     assert code == 0, err

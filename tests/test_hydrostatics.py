@@ -146,7 +146,7 @@ def test_dtc_against_published_particulars(hulls):
     trimesh), Cb 0.66045, LCB 174.0564 m (−2.6 mm), S +0.45 % (our grid is ruled between stations and the
     published value is for the bare hull of the real ship), B_WL 51.0 to 3e-6. Tolerances about twice those.
     """
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
 
     hull = load_hull(f"{hulls}/DTC-scaled.stl.gz?scale=59.407&lpp=355&n=151&m=80").sections
     h = hydro(hull, 14.5)

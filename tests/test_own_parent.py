@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 from hullopt.app import parents
-from hullopt.app.hulls import load_hull
 from hullopt.hydro import hydrostatics
-from hullopt.models import load_parent
+from hullopt.models import load_hull, load_parent
 from hullopt.models._feature_library import extract_faithful, recipe_sections
 
 KCS = "kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230"

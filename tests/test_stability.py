@@ -211,7 +211,7 @@ def test_dtc_gz_against_navaltoolbox(hulls, tmp_path):
     NavalToolbox's GZ on the same mesh (free trim both) up to 60°. (Past 70° NavalToolbox's draft
     collapses to 0 and its GZ departs; see benchmarks/bench_stability.py, where a trimesh cut confirms ours.)"""
     ntb = pytest.importorskip("navaltoolbox")
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
     from hullopt.models import MeshTransform, read_mesh
 
     path = hulls / "DTC-scaled.stl.gz"

@@ -171,7 +171,7 @@ def test_print_pieces_are_valid_files(cli, tmp_path):
     files = sorted(out.glob("*.stl")) + sorted(out.glob("*.glb"))
     assert len(files) == 6
     pieces = [assert_valid_file(f) for f in files]
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
 
     whole = to_trimesh(load_hull(str(SEED003)).sections)
     assert sum(p.volume for p in pieces[:3]) == pytest.approx(whole.volume * 10.0**3, rel=1e-5)  # 1:100 in mm
@@ -180,7 +180,7 @@ def test_print_pieces_are_valid_files(cli, tmp_path):
 def test_offsets_of_a_knuckled_hull_carry_the_knuckles_and_read_back(tmp_path):
     """A run's offsets.csv writer (dense) on a hard-chine hull: the chine is a waterline and a ``# knuckles``
     entry at each station, and the table read back gives ∇ and LCB back."""
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
     from hullopt.drawing import write_offsets_wide
     from hullopt.hydro import hydrostatics
 
@@ -197,7 +197,7 @@ def test_offsets_of_a_knuckled_hull_carry_the_knuckles_and_read_back(tmp_path):
 def test_offsets_of_the_dtc_read_back(tmp_path):
     """A run's offsets.csv writer on the DTC (a flat bottom with a slight rise of floor, a bulb, a transom):
     the reader keeps the table's clustered waterlines, so the bottom is not cut off."""
-    from hullopt.app.hulls import load_hull
+    from hullopt.models import load_hull
     from hullopt.drawing import write_offsets_wide
     from hullopt.hydro import hydrostatics
 

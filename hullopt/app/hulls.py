@@ -1,159 +1,31 @@
-"""Hull specs on the command line and in configs: one string names a hull and how to read it.
+"""Hull specs on the command line and in configs: the library's specs (:func:`hullopt.models.load_hull`:
+``builtin:``, ``parent:``, offsets ``.csv``, meshes and CAD with ``?scale=&lpp=&…``) and run folders:
 
-* ``builtin:wigley?L=100&B=10&T=6.25&D=10`` or ``builtin:box?L=100&B=20&D=10`` (``n``, ``m``: resolution);
-* ``parent:dtc`` — a feature-curve parent: the library's (``dtc``, ``tanker``, ``wigley``, ``seed003``) or a
-  parent ``.json`` written by ``hullopt features`` (``?q=``: points per segment);
 * ``runs/NAME`` — a run folder: its design hull, rebuilt exactly from ``config.json`` and ``report.json``
-  (``?design=K`` picks design K of a sweep);
-* ``path/to/offsets.csv`` (``?n=121&m=81``: stations and points of the spline surface);
-* ``path/to/hull.stl[.gz]`` or any mesh trimesh reads, with
-  ``?scale=59.407&lpp=355&axes=x,y,z&shift=0,0,0&n=201&m=96&half=auto``: closed, open along its top (no deck),
-  or a half hull open at the centre plane (``half=auto|yes|no``);
-* ``path/to/hull.igs`` (``.iges``, ``.stp``, ``.step``: CAD surfaces, needs ``pip install 'hullopt[cad]'``), with
-  the mesh parameters and ``tol``: the largest triangle edge of the tessellation [m, at the file's scale, in
-  metres whatever the file's unit; default 1/200 of the model's largest extent].
+  (``?design=K`` picks design K of a sweep).
+
+A run folder needs the run code (configs, problems), so it is read here, on the app floor; every other spec is
+delegated to :mod:`hullopt.models`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
-from urllib.parse import parse_qsl
-
-import numpy as np
 
 from ..errors import HullError
-from ..geometry import Sections, read_stl_header
-from ..models import BUILTINS, MeshTransform, is_cad, offsets_to_sections, read_mesh, read_offsets, slice_mesh
+from ..models import LoadedHull, check_params_used, split_spec, take_param
+from ..models import load_hull as load_spec
 
-
-@dataclass(frozen=True)
-class LoadedHull:
-    """A hull read from a spec: its sections, a display name and its design draft when known [m]."""
-
-    sections: Sections
-    name: str
-    design_draft: float | None = None
-
-
-def _split(spec: str) -> tuple[str, dict[str, str]]:
-    base, _, query = spec.partition("?")
-    pairs = parse_qsl(query, keep_blank_values=True, strict_parsing=False)
-    params = {}
-    for k, v in pairs:
-        if k in params:
-            raise HullError(f"hull {spec!r}: parameter {k} given twice")
-        params[k] = v
-    return base, params
-
-
-def _take(params: dict[str, str], key: str, spec: str, kind=float, default=None):
-    if key not in params:
-        if default is None:
-            raise HullError(f"hull {spec!r}: missing parameter {key}")
-        return default
-    text = params.pop(key)
-    try:
-        return kind(text)
-    except ValueError:
-        raise HullError(f"hull {spec!r}: parameter {key}={text!r} is not a valid {kind.__name__}") from None
-
-
-def _done(params: dict[str, str], spec: str, allowed: list[str]) -> None:
-    if params:
-        raise HullError(
-            f"hull {spec!r}: unknown parameter {sorted(params)[0]!r}; expected {', '.join(allowed)}"
-        )
+__all__ = ["LoadedHull", "load_hull"]
 
 
 def load_hull(spec: str) -> LoadedHull:
-    """Read the hull named by ``spec`` (see the module docstring); :class:`HullError` on any problem."""
-    base, params = _split(spec)
-    if base.startswith("parent:"):
-        return _parent(base.removeprefix("parent:"), params, spec)
-    if base.startswith("builtin:"):
-        return _builtin(base.removeprefix("builtin:"), params, spec)
-    path = Path(base)
-    if path.is_dir():
-        return _run_folder(path, params, spec)
-    if not path.is_file():
-        from ..models import parent_names
-
-        hint = f"; the library parent is parent:{base}" if base in parent_names() else ""
-        raise HullError(f"hull {spec!r}: no such file or run folder {base!r} (nor builtin:NAME, parent:NAME){hint}")
-    if path.suffix.lower() == ".csv":
-        return _offset_table(path, params, spec)
-    return _mesh(path, params, spec)
-
-
-def _builtin(name: str, params: dict[str, str], spec: str) -> LoadedHull:
-    """An analytic hull (:data:`~hullopt.models.BUILTINS`) from its dimensions [m]."""
-    if name not in BUILTINS:
-        raise HullError(f"hull {spec!r}: unknown builtin {name!r}; expected one of {', '.join(BUILTINS)}")
-    fn, required = BUILTINS[name]
-    args = {k: _take(params, k, spec) for k in required}
-    res = {k: _take(params, k, spec, int) for k in ("n", "m") if k in params}
-    _done(params, spec, [*required, "n", "m"])
-    return LoadedHull(fn(**args, **res), f"{name} " + " ".join(f"{k}={v:g}" for k, v in args.items()), args.get("T"))
-
-
-def _offset_table(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
-    """The spline surface through an offset table (``n`` stations × ``m`` points)."""
-    table = read_offsets(path)
-    res = {k: _take(params, key, spec, int, d) for k, key, d in (("n_stations", "n", 121), ("n_points", "m", 81))}
-    _done(params, spec, ["n", "m"])
-    return LoadedHull(offsets_to_sections(table, **res), path.name)
-
-
-def _mesh(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
-    """A mesh or CAD surface, brought into our axes and sliced (closed, open-topped or a half hull)."""
-    shift = _take(params, "shift", spec, str, "0,0,0")
-    try:
-        shift_xyz = tuple(float(v) for v in shift.split(","))
-        assert len(shift_xyz) == 3
-    except (ValueError, AssertionError):
-        raise HullError(f"hull {spec!r}: shift={shift!r} must be three numbers x,y,z") from None
-    transform = MeshTransform(
-        scale=_take(params, "scale", spec, float, 1.0), axes=_take(params, "axes", spec, str, "x,y,z"),
-        shift=shift_xyz,
-    )
-    lpp = _take(params, "lpp", spec, float, 0.0) or None
-    n = _take(params, "n", spec, int, 201)
-    m = _take(params, "m", spec, int, 96)
-    tol = _take(params, "tol", spec, float, 0.0) or None  # IGES/STEP tessellation size [m, file's scale]
-    if tol is not None and not is_cad(path):
-        raise HullError(f"hull {spec!r}: tol applies to IGES/STEP surfaces, not to a {path.suffix} mesh")
-    if tol is not None and not (np.isfinite(tol) and tol > 0):
-        raise HullError(f"hull {spec!r}: tol must be a positive length in m (largest triangle edge of a CAD surface)")
-    half = _take(params, "half", spec, str, "auto")  # auto|yes|no: a half hull open at the centre plane
-    _done(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol", "half"])
-    mesh = read_mesh(path, transform, half=half, tolerance=tol)
-    # Lpp and draft of a hull hullopt wrote (in its own axes: used when the file is read as it was written)
-    as_written = transform.axes.replace(" ", "") == "x,y,z" and transform.shift == (0.0, 0.0, 0.0)
-    written = read_stl_header(str(mesh.metadata.get("header", ""))) if as_written else {}
-    draft = written["draft"] * transform.scale if "draft" in written else None
-    if lpp is None:  # no Lpp given: the one hullopt wrote in the file, else the FP at the forward end
-        lpp = written["lpp"] * transform.scale if "lpp" in written else float(mesh.bounds[1, 0])
-    if not (np.isfinite(lpp) and lpp > 0):
-        raise HullError(f"hull {spec!r}: lpp must be positive")
-    try:
-        sections = slice_mesh(mesh, lpp, n, m)
-    except HullError as e:
-        raise HullError(f"{path}: {e}") from None
-    return LoadedHull(sections, path.name, draft)
-
-
-def _parent(name: str, params: dict[str, str], spec: str) -> LoadedHull:
-    """A feature-curve parent (library name or parent .json) as a hull."""
-    from ..models import load_parent
-
-    q = _take(params, "q", spec, int, 0) or None
-    _done(params, spec, ["q"])
-    try:
-        fh = load_parent(name)
-    except HullError as e:
-        raise HullError(f"hull {spec!r}: {e}") from None
-    return LoadedHull(fh.sections(q), f"parent {fh.name}", fh.design_draft)
+    """Read the hull named by ``spec``: a run folder here, any other spec by :func:`hullopt.models.load_hull`;
+    :class:`HullError` on any problem."""
+    base, params = split_spec(spec)
+    if not base.startswith(("parent:", "builtin:")) and Path(base).is_dir():
+        return _run_folder(Path(base), params, spec)
+    return load_spec(spec)
 
 
 def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
@@ -166,8 +38,8 @@ def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
     from .config import RunConfig
     from .run import build_problem, params_from_dict
 
-    design = _take(params, "design", spec, int, -1)
-    _done(params, spec, ["design"])
+    design = take_param(params, "design", spec, int, -1)
+    check_params_used(params, spec, ["design"])
     try:
         raw = json.loads((folder / "config.json").read_text())
         report = json.loads((folder / "report.json").read_text())

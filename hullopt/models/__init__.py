@@ -5,6 +5,11 @@ from ._builtins import box as box
 from ._builtins import wigley as wigley
 from ._coons import coons_sections as coons_sections
 from ._lackenby import lackenby as lackenby
+from ._specs import LoadedHull as LoadedHull
+from ._specs import check_params_used as check_params_used
+from ._specs import load_hull as load_hull
+from ._specs import split_spec as split_spec
+from ._specs import take_param as take_param
 from ._modifications import blunt_bow as blunt_bow
 from ._offsets import OffsetSurface as OffsetSurface
 from ._offsets import OffsetTable as OffsetTable
