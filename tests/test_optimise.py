@@ -19,6 +19,7 @@ from hullopt.optimise import (
     Design,
     KAw,
     MeanAddedResistance,
+    MichellCalmResistance,
     Objective,
     WindAddedResistance,
     fit,
@@ -178,9 +179,11 @@ def test_objectives_registry_is_built_from_the_classes():
     from hullopt.app.config import ObjectiveConfig
 
     assert OBJECTIVES == {"k_aw": KAw, "mean_added_resistance": MeanAddedResistance,
-                          "calm_resistance": CalmResistance, "wind_added_resistance": WindAddedResistance}
+                          "calm_resistance": CalmResistance, "calm_resistance_michell": MichellCalmResistance,
+                          "wind_added_resistance": WindAddedResistance}
     assert {k: c.unit for k, c in OBJECTIVES.items()} == {"k_aw": "-", "mean_added_resistance": "N",
-                                                          "calm_resistance": "N", "wind_added_resistance": "N"}
+                                                          "calm_resistance": "N", "calm_resistance_michell": "N",
+                                                          "wind_added_resistance": "N"}
     assert all(c.name == k and c.description and issubclass(c, Objective) for k, c in OBJECTIVES.items())
     assert set(ObjectiveConfig.model_fields["kind"].annotation.__args__) == set(OBJECTIVES)
     with pytest.raises(TypeError):

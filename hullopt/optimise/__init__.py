@@ -11,6 +11,7 @@ from ._objectives import OBJECTIVES as OBJECTIVES
 from ._objectives import CalmResistance as CalmResistance
 from ._objectives import KAw as KAw
 from ._objectives import MeanAddedResistance as MeanAddedResistance
+from ._objectives import MichellCalmResistance as MichellCalmResistance
 from ._objectives import Objective as Objective
 from ._objectives import WindAddedResistance as WindAddedResistance
 from ._problems import TARGETS as TARGETS

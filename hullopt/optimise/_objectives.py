@@ -12,6 +12,7 @@ name                         unit  value
 ``k_aw``                     -     K_AW in short head waves (patent; smooth C_U)
 ``mean_added_resistance``    N     sea-state mean R_AW (NMRI, long-crested; motion + reflection)
 ``calm_resistance``          N     Holtrop–Mennen 1982 total resistance in calm water
+``calm_resistance_michell``  N     Michell wave resistance + (1 + k1)·ITTC-1957 friction in calm water
 ``wind_added_resistance``    N     ISO 15016 wind added resistance ΔR_AA
 ===========================  ====  ==============================================================
 """
@@ -28,7 +29,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from ..constants import KNOT
 from ..geometry import Sections
-from ..resistance import holtrop_hull, holtrop_mennen
+from ..resistance import holtrop_hull, holtrop_mennen, michell_wave_resistance
 from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
 from ..wind import Parts, no_parts, wind_added_resistance, wind_variables
 
@@ -138,6 +139,32 @@ class CalmResistance(Objective):
 
     @classmethod
     def from_config(cls, options: Mapping[str, Any]) -> CalmResistance:
+        return cls(_scalar(options["speed_kn"] * KNOT))
+
+
+class MichellCalmResistance(Objective):
+    """Calm-water resistance [N] at ``speed`` [m/s] with the hull's own wave making: Michell's thin-ship wave
+    resistance from the sections (:func:`~hullopt.resistance.michell_wave_resistance`) plus ITTC-1957
+    friction times Holtrop–Mennen's form factor, (1 + k1)·R_F (:func:`~hullopt.resistance.holtrop_mennen` on
+    :func:`~hullopt.resistance.holtrop_hull`). Unlike ``calm_resistance`` (Holtrop–Mennen's R_W sees Cp, LCB
+    and the entrance angle only) it responds to the shape of every section, so a Pareto sweep against added
+    resistance in waves has something to trade. ``n_levels`` heights and ``panels`` λ panels as Michell's."""
+
+    name: ClassVar[str] = "calm_resistance_michell"
+    unit: ClassVar[str] = "N"
+    description: ClassVar[str] = "Michell wave resistance + (1 + k1)·ITTC-1957 friction in calm water"
+
+    speed: Scalar
+    n_levels: int = eqx.field(static=True, default=33)
+    panels: int = eqx.field(static=True, default=128)
+
+    def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
+        hm = holtrop_mennen(holtrop_hull(sections, draft), self.speed)
+        rw = michell_wave_resistance(sections, draft, self.speed, n_levels=self.n_levels, panels=self.panels)
+        return hm.form_factor * hm.friction + rw
+
+    @classmethod
+    def from_config(cls, options: Mapping[str, Any]) -> MichellCalmResistance:
         return cls(_scalar(options["speed_kn"] * KNOT))
 
 
