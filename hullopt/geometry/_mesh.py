@@ -21,11 +21,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
-from ._safe import safe_div, safe_sqrt
+from ._safe import safe_div, safe_norm, safe_sqrt
 from ._sections import Sections
 
 if TYPE_CHECKING:
@@ -53,60 +54,95 @@ def grid_triangles(n: int, m: int) -> np.ndarray:
     return np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
 
 
-def _sort3(a: Array, b: Array, c: Array) -> tuple[Array, Array, Array]:
-    """Ascending order of three arrays elementwise: a stable bubble-sort network of compare–swaps (the same
-    values and the same tangents as ``jnp.sort`` along a length-3 axis, but elementwise selects instead of a
-    sort op, which under ``vmap`` is an order of magnitude slower)."""
-
-    def swap(p, q):
-        s = q < p  # swap only when strictly out of order: stable, like jnp.sort
-        return jnp.where(s, q, p), jnp.where(s, p, q)
-
-    a, b = swap(a, b)
-    b, c = swap(b, c)
-    a, b = swap(a, b)
-    return a, b, c
+def _segment_distance2(p: Array, q0: Array, q1: Array) -> Array:
+    """Squared distance from points ``p`` to segments ``q0 → q1`` (all ``(..., 2)``); a point segment is fine."""
+    e, w = q1 - q0, p - q0
+    ee = jnp.sum(e * e, axis=-1)
+    s = jnp.clip(safe_div(jnp.sum(w * e, axis=-1), ee, ee > 0.0), 0.0, 1.0)
+    r = w - s[..., None] * e
+    return jnp.sum(r * r, axis=-1)
 
 
-def _fraction_below(za: Array, zb: Array, zc: Array, level: Array) -> Array:
-    """Fraction of a planar triangle's area where the linear field with vertex values ``za, zb, zc`` is
-    ≤ ``level`` (any order; elementwise). Exact; finite gradients everywhere."""
-    za, zb, zc = _sort3(za, zb, zc)
-    lo = (level > za) & (level <= zb)
-    hi = (level > zb) & (level < zc)
-    den_lo = (zb - za) * (zc - za)
-    den_hi = (zc - za) * (zc - zb)
-    f_lo = safe_div((level - za) ** 2, den_lo, lo)
-    f_hi = jnp.where(hi, 1.0 - safe_div((zc - level) ** 2, den_hi, hi), 0.0)
-    return jnp.where(level >= zc, 1.0, f_lo + f_hi)
+def _offset_weighted_girth(a: Array, b: Array, dx: Array, level: Array) -> Array:
+    """``∫ √(1 + (d/dx)²) ds`` over the wet girth (``z ≤ level``) of half-sections ``a (k, m, 2)``, where
+    ``d`` is the distance from each point of ``a`` to the neighbouring half-section ``b (k, m, 2)`` ``dx (k,)``
+    away along x, or to the centre plane if that is nearer; ``(k,)``.
 
+    ``d/dx`` is the surface's normal slope over the slab, whatever the point numbering of ``b``: the distance
+    is to the nearest point of ``b``'s polyline (its centre-plane joints excluded), so a tangential shift of the
+    points, a part that appears or a different point count per part changes nothing. The nearest edge is one
+    of the two at ``b``'s nearest vertex (chosen without a gradient; the distance to it has one), which keeps
+    the gradient's cost linear in the points. The centre plane bounds ``d`` where a part of ``a`` has no
+    counterpart in ``b`` (a bulb or a bossing that ends between the two stations): its end face is at most as
+    far as the centre plane. A section wholly in the centre plane (a stem, as the Wigley's ends) is surface:
+    its edges count, unbounded. The factor is linear along each edge and the edges are clipped at ``level``
+    exactly. Other centre-plane edges of ``a`` (joints, a section not yet started) add nothing.
+    """
+    m = b.shape[-2]
+    b0, b1 = b[..., :-1, :], b[..., 1:, :]
+    real = ~((b0[..., 0] == 0.0) & (b1[..., 0] == 0.0))  # (k, m-1) edges of b that are surface
+    at_vertex = jnp.concatenate([real[..., :1], real[..., 1:] | real[..., :-1], real[..., -1:]], axis=-1)
+    # the search in float32 (it only picks an index), vertices with no surface edge moved far away
+    far = jnp.where(at_vertex, 0.0, 1e18)[..., None]
+    bs, as_ = (jax.lax.stop_gradient(q).astype(jnp.float32) for q in (b + far, a))
+    near = jnp.argmin(jnp.sum((as_[..., :, None, :] - bs[..., None, :, :]) ** 2, axis=-1), axis=-1)  # (k, m)
 
-def _area(a: Array, b: Array, c: Array) -> Array:
-    """Areas of triangles with vertices ``a, b, c (..., 3)``."""
-    cross = jnp.cross(b - a, c - a)
-    sq = jnp.sum(cross**2, axis=-1)
-    return 0.5 * safe_sqrt(sq)  # no NaN gradient at a degenerate triangle
+    def edge(i):  # the edge i (k, m) of b: ends and whether it is surface
+        i = jnp.clip(i, 0, m - 2)
+        take = lambda q: jnp.take_along_axis(q, i[..., None], axis=-2)  # noqa: E731
+        return take(b0), take(b1), jnp.take_along_axis(real, i, axis=-1)
+
+    d2 = jnp.full(a.shape[:-1], jnp.inf, dtype=a.dtype)
+    for i in (near - 1, near):
+        q0, q1, ok = edge(i)
+        d2 = jnp.minimum(d2, jnp.where(ok, _segment_distance2(a, q0, q1), jnp.inf))
+    knife = jnp.all(a[..., 0] == 0.0, axis=-1, keepdims=True)  # a section wholly in the centre plane: a stem
+    d2 = jnp.where(knife, d2, jnp.minimum(d2, a[..., 0] ** 2))  # (k, m)
+    d2 = jnp.where(jnp.isfinite(d2), d2, 0.0)  # a stem beside a station with no surface
+    f = safe_sqrt(dx[..., None] ** 2 + d2) / dx[..., None]  # √(1 + (d/dx)²) at each point of a
+    a0, a1, f0, f1 = a[..., :-1, :], a[..., 1:, :], f[..., :-1], f[..., 1:]
+    length = safe_norm(a1 - a0)
+    up = a0[..., 1] <= a1[..., 1]
+    z_lo, z_hi = jnp.where(up, a0[..., 1], a1[..., 1]), jnp.where(up, a1[..., 1], a0[..., 1])
+    f_lo, f_hi = jnp.where(up, f0, f1), jnp.where(up, f1, f0)
+    rises = z_hi > z_lo
+    # the wet fraction of each edge, from its lower end, and the factor where it leaves the water
+    wet = jnp.clip(safe_div(level - z_lo, z_hi - z_lo, rises), 0.0, 1.0)
+    wet = jnp.where(rises, wet, jnp.where(z_lo <= level, 1.0, 0.0))
+    f_top = f_lo + wet * (f_hi - f_lo)
+    on_centreplane = (a0[..., 0] == 0.0) & (a1[..., 0] == 0.0) & ~knife
+    return jnp.sum(jnp.where(on_centreplane, 0.0, length * wet * 0.5 * (f_lo + f_top)), axis=-1)
 
 
 def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
-    """Wetted surface [m²] of both sides below ``z = draft``: the grid's triangles, each clipped exactly.
+    """Wetted surface [m²] of both sides below ``z = draft``, from the sections' wet girths and the normal
+    slope of the surface between neighbouring stations.
 
-    End caps (an immersed transom, a flat end) are not part of it (their area is that of the end station's
-    immersed section: :func:`hullopt.hydro.sectional_areas`).
-    Triangles lying in the centre plane (joints between disjoint parts of a section) are excluded.
+    The area of a surface swept by a section curve moving along x is ``∫∫ √(1 + v²) ds dx``, where ``v`` is
+    the rate at which the curve moves along its own normal (a tangential motion adds no area). Over each slab
+    between two stations, ``v`` is taken as the distance from each point of one section to the other
+    section's polyline over the station spacing, and the slab's area is the mean of its two ends (the
+    trapezoidal rule; each end's girth exact for the polyline and clipped at the waterline exactly). Unlike
+    a surface of triangles joining point ``j`` of one station to point ``j`` of the next, this does not
+    depend on how the points are numbered: sections read from a mesh, whose points shift along the girth
+    from one station to the next and whose parts (bulb, bossing, skeg) come and go, would give twisted
+    panels whose area grows as the stations get closer. Converges as the slicing gets finer; exact for a
+    prism (a box, a V) and for any hull whose sections translate along their normals linearly between
+    stations.
+
+    End caps (an immersed transom, a flat end face) are not part of it (the transom's immersed area is
+    :func:`hullopt.geometry.longitudinal_integrals`' ``a_transom``). Edges lying in the centre plane (joints
+    between disjoint parts of a section, a section that has not started) are not surface.
+
+    Cost: ``O(n m²)`` for the search of the nearest vertex (every point against every point of the next
+    section, no gradient), ``O(n m)`` for the rest and its gradient; vectorised; differentiable in the
+    offsets, the station positions and the draft.
     """
-    level = jnp.asarray(draft)
-    g = surface_grid(sections)
-    # The triangles of grid_triangles, from shifted views of the grid (no gather, no (…, 3, 3) array: this
-    # stays elementwise and fuses, which matters under vmap): (i, j), (i+1, j), (i+1, j+1), (i, j+1).
-    p00, p10, p11, p01 = g[:-1, :-1], g[1:, :-1], g[1:, 1:], g[:-1, 1:]
-
-    def part(a, b, c):
-        in_centreplane = (a[..., 1] == 0.0) & (b[..., 1] == 0.0) & (c[..., 1] == 0.0)
-        frac = _fraction_below(a[..., 2], b[..., 2], c[..., 2], level)
-        return jnp.sum(jnp.where(in_centreplane, 0.0, frac * _area(a, b, c)))
-
-    return 2.0 * (part(p00, p11, p10) + part(p00, p01, p11))
+    level = jnp.asarray(draft, dtype=sections.yz.dtype)
+    yz, dx = sections.yz, jnp.diff(sections.x)
+    aft = _offset_weighted_girth(yz[:-1], yz[1:], dx, level)
+    fwd = _offset_weighted_girth(yz[1:], yz[:-1], dx, level)
+    return jnp.sum(dx * (aft + fwd))  # 2 sides × ½ (aft + fwd) dx
 
 
 def _cap_faces(loop_yz: np.ndarray, offset: int, outward_x: float) -> np.ndarray:
