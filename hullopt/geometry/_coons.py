@@ -34,8 +34,20 @@ from ._splines import natural_cubic_spline
 
 
 def hermite_basis(t, nu: int = 0) -> Array:
-    """The cubic Hermite blending functions ``(H00, H01, H10, H11)`` of ``t`` (any shape) or their
-    ``nu``-th derivative (0…3), stacked on a new last axis of length 4."""
+    """The cubic Hermite blending functions ``(H00, H01, H10, H11)`` or a derivative of them.
+
+    Parameters
+    ----------
+    t : array_like, any shape
+        Local parameter, [0, 1] on a segment (dimensionless).
+    nu : int, optional
+        Derivative order with respect to ``t``, 0…3 (static).
+
+    Returns
+    -------
+    Array, shape ``t.shape + (4,)``
+        The four functions (or their ``nu``-th derivatives) on a new last axis.
+    """
     t = jnp.asarray(t)
     one = jnp.ones_like(t)
     if nu == 0:
@@ -94,7 +106,7 @@ class CoonsSurface(eqx.Module):
 
 
 def spline_slopes(knots: Float[Array, " k"], values: Float[Array, "k ..."], end: str = "not-a-knot") -> Array:
-    """Slopes at the knots of the cubic spline through ``(knots, values)`` (values ``(k, ...)``).
+    """Slopes at the knots of the cubic spline through ``(knots, values)``.
 
     ``end="natural"``: zero curvature at both ends (:func:`natural_cubic_spline`, the
     offset-table model of seed 003). ``end="not-a-knot"`` (``k ≥ 4``; fewer knots fall back to natural):
@@ -102,6 +114,20 @@ def spline_slopes(knots: Float[Array, " k"], values: Float[Array, "k ..."], end:
     any cubic — a parabolic waterline keeps its end curvature instead of gaining an artificial
     straightening at the ends that fairing would then "correct". Solves the slope equations
     (dense: k is a handful of stations or waterlines); differentiable in the values.
+
+    Parameters
+    ----------
+    knots : Array, shape (k,)
+        Strictly increasing abscissae (e.g. stations or waterlines) [m].
+    values : Array, shape (k, ...)
+        Values at the knots (several curves on trailing axes) [m].
+    end : str, optional
+        ``"not-a-knot"`` or ``"natural"``.
+
+    Returns
+    -------
+    Array, shape (k, ...)
+        ``d values / d knots`` at the knots (dimensionless for lengths over lengths).
     """
     knots, y = jnp.asarray(knots), jnp.asarray(values)
     k = knots.shape[0]
@@ -126,11 +152,27 @@ def spline_slopes(knots: Float[Array, " k"], values: Float[Array, "k ..."], end:
 
 def coons_surface(x: Float[Array, " s"], z: Float[Array, " w"], y: Float[Array, "s w"],
                   end: str = "not-a-knot") -> CoonsSurface:
-    """The Coons-patch surface through the offsets ``y (s, w)`` [m] at stations ``x`` and waterlines ``z``.
+    """The Coons-patch surface through an offset grid.
 
     Pure and differentiable in ``y`` (and in the grid); corner tangents from the cubic splines of the
     waterlines (``∂y/∂x``) and of the frame lines (``∂y/∂z``) with end condition ``end`` (see
     :func:`spline_slopes`); zero twist.
+
+    Parameters
+    ----------
+    x : Array, shape (s,)
+        Stations [m from the AP], strictly increasing.
+    z : Array, shape (w,)
+        Waterlines [m above the baseline], strictly increasing.
+    y : Array, shape (s, w)
+        Half-breadths [m] (y to port ≥ 0).
+    end : str, optional
+        Spline end condition, ``"not-a-knot"`` or ``"natural"`` (static).
+
+    Returns
+    -------
+    CoonsSurface
+        ``y = f(x, z)``: call it at points, or :meth:`CoonsSurface.cells` on every patch.
     """
     x, z, y = jnp.asarray(x), jnp.asarray(z), jnp.asarray(y)
     fx = spline_slopes(x, y, end)  # (s, w): slopes of the waterlines at the stations

@@ -42,7 +42,23 @@ class LoadedHull:
 
 
 def split_spec(spec: str) -> tuple[str, dict[str, str]]:
-    """A hull spec ``BASE?k=v&…`` → ``(BASE, {k: v})``; :class:`HullError` for a parameter given twice."""
+    """Split a hull spec ``BASE?k=v&…`` into its base and its parameters.
+
+    Parameters
+    ----------
+    spec : str
+        The hull spec.
+
+    Returns
+    -------
+    tuple of (str, dict of str to str)
+        ``BASE`` and ``{k: v}`` (values as written).
+
+    Raises
+    ------
+    HullError
+        A parameter given twice.
+    """
     base, _, query = spec.partition("?")
     pairs = parse_qsl(query, keep_blank_values=True, strict_parsing=False)
     params = {}
@@ -54,8 +70,31 @@ def split_spec(spec: str) -> tuple[str, dict[str, str]]:
 
 
 def take_param(params: dict[str, str], key: str, spec: str, kind=float, default=None):
-    """Pop ``key`` from a spec's ``params`` as ``kind`` (``default`` when absent; absent and no default: a
-    :class:`HullError` naming the missing parameter, as for a value ``kind`` does not parse)."""
+    """Take one parameter of a hull spec (removing it from ``params``).
+
+    Parameters
+    ----------
+    params : dict of str to str
+        The spec's remaining parameters (:func:`split_spec`); ``key`` is popped.
+    key : str
+        The parameter's name.
+    spec : str
+        The whole spec, for messages.
+    kind : callable, optional
+        Parses the value (``float``, ``int``, ``str``).
+    default : optional
+        The value when ``key`` is absent; None: the parameter is required.
+
+    Returns
+    -------
+    object
+        ``kind(value)``, or ``default``.
+
+    Raises
+    ------
+    HullError
+        ``key`` missing without a default, or a value ``kind`` does not parse.
+    """
     if key not in params:
         if default is None:
             raise HullError(f"hull {spec!r}: missing parameter {key}")
@@ -68,7 +107,22 @@ def take_param(params: dict[str, str], key: str, spec: str, kind=float, default=
 
 
 def check_params_used(params: dict[str, str], spec: str, allowed: list[str]) -> None:
-    """:class:`HullError` naming the first of ``params`` left over (not one of ``allowed``)."""
+    """Refuse the parameters of a hull spec that no reader took.
+
+    Parameters
+    ----------
+    params : dict of str to str
+        The parameters left after the reader took its own.
+    spec : str
+        The whole spec, for the message.
+    allowed : list of str
+        The reader's parameters, listed in the message.
+
+    Raises
+    ------
+    HullError
+        Naming the first parameter left over, when any is.
+    """
     if params:
         raise HullError(
             f"hull {spec!r}: unknown parameter {sorted(params)[0]!r}; expected {', '.join(allowed)}"
