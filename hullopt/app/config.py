@@ -10,11 +10,14 @@ targets, an objective, a solver and, for Pareto runs, a sweep.
     [targets]    cb = 0.64, lcb_pct = -2.0, volume = …      [tolerances] (optional, same names)
     [objective]  kind, speed_kn, hs, tp, heading_deg
     [sweep]      start, stop, count, chunk, measure (an objective table: the second Pareto axis)
-    [solver]     max_steps, smoothness, outer
+    [constraints]  calm_resistance = "<= parent", cwp = ">= 0.98 * parent", wetted_surface = "<= 9000",
+                 max_half_breadth = "parent" | M | "none", bulge = "forbid" | "allow", tolerance = 1e-3
+    [solver]     max_steps, smoothness, fairness, outer
 """
 
 from __future__ import annotations
 
+import re
 import tomllib
 from pathlib import Path
 from typing import Literal
@@ -23,6 +26,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from ..errors import HullError
 from ..optimise import OBJECTIVES, TARGETS, Objective, make_targets
+
+
+FAIRNESS = 0.05
+"""The default weight of the fairness penalty (``[solver] fairness``): see the README's "Fairness"."""
 
 
 class _Strict(BaseModel):
@@ -118,10 +125,69 @@ class SweepConfig(_Strict):
     measure: ObjectiveConfig
 
 
+_BOUND = re.compile(r"^\s*(<=|>=)\s*(?:(parent)|([-+0-9.eE]+)\s*(\*\s*parent)?)\s*$")
+
+
+def parse_bound(name: str, text) -> tuple[int, float, bool]:
+    """A constraint's bound ``"<= parent"``, ``">= 0.98 * parent"``, ``"<= 1.2e5"`` (SI) → ``(sense, value,
+    relative)``: sense +1 for at most, −1 for at least; ``relative`` when ``value`` multiplies the parent's.
+    ``ValueError`` naming the constraint otherwise."""
+    m = _BOUND.match(text) if isinstance(text, str) else None
+    try:
+        value = 1.0 if m and m[2] else float(m[3]) if m else None
+    except ValueError:
+        value = None
+    if value is None:
+        raise ValueError(f"constraints.{name} = {text!r}: expected '<= parent', '>= 0.98 * parent' or "
+                         "'<= NUMBER' (SI units)")
+    return (1 if m[1] == "<=" else -1), value, bool(m[2] or m[4])
+
+
+def measure_names() -> tuple[str, ...]:
+    """What a ``[constraints]`` key may name: the objectives (:data:`~hullopt.optimise.OBJECTIVES`), the
+    upright hydrostatics' fields (``hullopt hydro --json``) and ``bf``."""
+    from ..hydro import Hydrostatics
+
+    return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf")
+
+
+class ConstraintsConfig(_Strict):
+    """``[constraints]``: inequalities beside the targets, held by minimise and Pareto runs (a fit has
+    none). Any objective or particular (:func:`measure_names`) as ``name = "<= parent"`` (an objective's
+    options, such as the speed, are the ``[objective]`` table's, or the sweep's measure's for its kind);
+    ``max_half_breadth``: no offset wider than this [m] (``"parent"``: the parent's largest half-breadth;
+    ``"none"``: no limit); ``bulge = "forbid"``: no section wider below the waterline than its waterline
+    half-breadth, beyond what the parent's is at the same offset; ``tolerance``: how far (relative to the
+    bound, or to the parent's half-breadth) a constraint may be exceeded and still be met."""
+
+    model_config = ConfigDict(extra="allow")
+
+    max_half_breadth: float | Literal["parent", "none"] = "parent"
+    bulge: Literal["forbid", "allow"] = "forbid"
+    tolerance: float = Field(default=1e-3, gt=0, lt=0.1)
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        names = measure_names()
+        for name, text in (self.model_extra or {}).items():
+            if name not in names:
+                raise ValueError(f"constraints.{name}: unknown measure; expected one of {', '.join(names)}, "
+                                 "max_half_breadth, bulge or tolerance")
+            parse_bound(name, text)
+        if isinstance(self.max_half_breadth, float) and self.max_half_breadth <= 0:
+            raise ValueError(f"constraints.max_half_breadth = {self.max_half_breadth}: expected a positive "
+                             "half-breadth [m], 'parent' or 'none'")
+        return self
+
+    def bounds(self) -> dict[str, tuple[int, float, bool]]:
+        """``{measure: (sense, value, relative)}`` (:func:`parse_bound`)."""
+        return {k: parse_bound(k, v) for k, v in (self.model_extra or {}).items()}
+
+
 class SolverConfig(_Strict):
     max_steps: int = Field(default=200, ge=1)
     smoothness: float = Field(default=1e-6, ge=0)
-    fairness: float = Field(default=0.0, ge=0, description="weight of the unfairness penalty U/U_parent")
+    fairness: float = Field(default=FAIRNESS, ge=0, description="weight of the unfairness penalty U/U_parent")
     outer: int = Field(default=8, ge=1, le=50)
 
 
@@ -135,6 +201,20 @@ class RunConfig(_Strict):
     objective: ObjectiveConfig | None = None
     sweep: SweepConfig | None = None
     solver: SolverConfig = SolverConfig()
+    constraints: ConstraintsConfig = ConstraintsConfig()
+
+    def constraint_options(self, name: str) -> ObjectiveConfig:
+        """The options of the objective ``name`` as a constraint: the sweep's measure's if it is that kind,
+        else the ``[objective]`` table's with this kind (``ValueError`` naming the constraint)."""
+        if self.sweep is not None and self.sweep.measure.kind == name:
+            return self.sweep.measure
+        if self.objective is None:
+            raise ValueError(f"constraints.{name}: an objective as a constraint takes its options (speed_kn, …) "
+                             "from [objective]; give one")
+        try:
+            return ObjectiveConfig.model_validate(self.objective.model_dump() | {"kind": name})
+        except ValidationError as e:
+            raise ValueError(f"constraints.{name}: {e.errors()[0]['msg'].removeprefix('Value error, ')}") from None
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -148,6 +228,11 @@ class RunConfig(_Strict):
             raise ValueError(f"kind = {self.kind!r} needs an [objective]")
         if self.kind == "pareto" and self.sweep is None:
             raise ValueError("kind = 'pareto' needs a [sweep]")
+        if self.kind == "fit" and "constraints" in self.model_fields_set:
+            raise ValueError("constraints: a fit holds targets only; [constraints] apply to minimise and pareto runs")
+        for name in self.constraints.bounds():
+            if name in OBJECTIVES:
+                self.constraint_options(name)
         return self
 
 

@@ -16,6 +16,8 @@ from ._objectives import Objective as Objective
 from ._objectives import WindAddedResistance as WindAddedResistance
 from ._problems import TARGETS as TARGETS
 from ._problems import Design as Design
+from ._problems import Limits as Limits
+from ._problems import Particular as Particular
 from ._problems import Targets as Targets
 from ._problems import achieved as achieved
 from ._problems import make_targets as make_targets

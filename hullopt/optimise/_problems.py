@@ -16,6 +16,12 @@ bwl, lwl           relative                             1e-4 (fixed main dimensi
 gm                 GM_T − GM* [m] (needs ``kg``)        0.01 m
 bf                 Bf(head seas) − Bf*                  1e-4
 =================  ===================================  ==========================
+
+Constraints (:class:`Limits`) are inequalities ``g ≤ 0`` beside the targets, each normalised to order one and
+met when ``g ≤ tol`` (default 1e-3): a measure (an objective or a particular) against a number or the parent's
+value, ``q ≤ b`` as ``(q − b)/|b|``; every offset's half-breadth within a maximum, ``(y − y_max)/y_max``; and
+no section below the waterline wider than its waterline half-breadth by more than the parent's section is
+there, ``(y − w − a)/y_max``.
 """
 
 from __future__ import annotations
@@ -29,7 +35,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array, ArrayLike, Float, PyTree
 
-from ..geometry import Sections, safe_div
+from ..geometry import Sections, safe_div, section_integrals
 from ..hydro import Hydrostatics, hydrostatics
 from ..waves import bluntness
 from ._objectives import Objective
@@ -108,12 +114,93 @@ def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
 # ----------------------------------------------------------------------------------------------- the problem
 
 
+class Particular(eqx.Module):
+    """A particular of the upright hull as a measure, called like an objective: ``particular(sections, draft)``
+    → the :class:`~hullopt.hydro.Hydrostatics` field ``name`` (SI: m, m², m³, kg, % Lpp; coefficients
+    dimensionless), or the bluntness Bf (head seas) for ``"bf"``."""
+
+    name: str = eqx.field(static=True)
+
+    def __call__(self, sections: Sections, draft) -> Array:
+        if self.name == "bf":
+            return bluntness(sections, draft)
+        return getattr(hydrostatics(sections, draft), self.name)
+
+
+class Limits(eqx.Module):
+    """Inequality constraints of a design (``g ≤ 0``, each normalised to order one; ``g ≤ tol`` is met).
+
+    * ``measures[j](sections, draft)`` (an :class:`~hullopt.optimise.Objective` or a :class:`Particular`) at
+      most (``sense[j] = +1``) or at least (``−1``) a bound: ``values[j]`` itself, or ``values[j]`` times the
+      parent's value where ``relative[j]``; ``g = sense·(q − b)/|b|``.
+    * ``max_half_breadth`` [m] (``NaN``: the parent's largest half-breadth; ``None``: no limit): every
+      offset's ``y`` at most it, ``g = (y − y_max)/y_max``, one per offset (n·m).
+    * ``bulge`` (forbid): below the waterline no offset wider than its section's waterline half-breadth ``w``
+      by more than the parent's is at the same offset (``a = max(0, y − w)`` of the parent: its bulb is
+      allowed, a new bulge is not), ``g = (y − w − a)/y_ref`` with ``y_ref`` the parent's largest half-breadth;
+      one per offset (n·m, ``−1`` above the waterline).
+
+    ``at_parent`` fixes the parent's values (bounds, ``y_max``, the allowance ``a``); the design problems call
+    it with the objective's scale (:func:`with_objective_scale`).
+    """
+
+    names: tuple[str, ...] = eqx.field(static=True, default=())
+    measures: tuple[Callable, ...] = ()
+    sense: Float[ArrayLike, " k"] = eqx.field(default_factory=lambda: np.zeros(0))
+    values: Float[ArrayLike, " k"] = eqx.field(default_factory=lambda: np.zeros(0))
+    relative: tuple[bool, ...] = eqx.field(static=True, default=())
+    max_half_breadth: Float[ArrayLike, ""] | None = None
+    bulge: bool = eqx.field(static=True, default=True)
+    tol: float = eqx.field(static=True, default=1e-3)
+    bounds: Float[ArrayLike, " k"] | None = None  # resolved by at_parent
+    y_ref: Float[ArrayLike, ""] | None = None
+    allowance: Float[ArrayLike, "n m"] | None = None
+
+    def at_parent(self, sections: Sections, draft) -> Limits:
+        """These limits with the parent's values resolved (``sections`` the parent at ``draft``)."""
+        q = [m(sections, draft) for m in self.measures]
+        values = jnp.asarray(self.values, float)
+        bounds = jnp.stack([jnp.where(r, v * qi, v) for r, v, qi in zip(self.relative, values, q)]) if q \
+            else jnp.zeros(0)
+        y = sections.yz[..., 0]
+        y_ref = jnp.max(y)
+        y_max = None if self.max_half_breadth is None else \
+            jnp.where(jnp.isnan(self.max_half_breadth), y_ref, self.max_half_breadth)
+        allowance = jnp.maximum(self._excess(sections, draft), 0.0) if self.bulge else None
+        return eqx.tree_at(lambda lim: (lim.bounds, lim.y_ref, lim.allowance, lim.max_half_breadth), self,
+                           (bounds, y_ref, allowance, y_max), is_leaf=lambda v: v is None)
+
+    @staticmethod
+    def _excess(sections: Sections, draft) -> Array:
+        """``y − w`` of every offset below the waterline [m], ``−∞``-like (−1e3 m) above it."""
+        w = section_integrals(sections, draft).width
+        below = jax.lax.stop_gradient(sections.yz[..., 1] < draft)
+        return jnp.where(below, sections.yz[..., 0] - w[:, None], -1e3)
+
+    def groups(self, sections: Sections, draft) -> dict[str, Array]:
+        """The normalised constraints by name: each measure's (a scalar), ``"max_half_breadth"`` and
+        ``"bulge"`` (each ``(n·m,)``), those there are."""
+        out = {}
+        for name, m, s, b in zip(self.names, self.measures, jnp.asarray(self.sense, float), self.bounds):
+            out[name] = s * safe_div(m(sections, draft) - b, jnp.abs(b))
+        if self.max_half_breadth is not None:
+            out["max_half_breadth"] = (sections.yz[..., 0].ravel() - self.max_half_breadth) / self.y_ref
+        if self.bulge:
+            out["bulge"] = jnp.maximum((self._excess(sections, draft) - self.allowance) / self.y_ref, -1.0).ravel()
+        return out
+
+    def __call__(self, sections: Sections, draft) -> Array:
+        g = [jnp.atleast_1d(v) for v in self.groups(sections, draft).values()]
+        return jnp.concatenate(g) if g else jnp.zeros(0)
+
+
 class Design(eqx.Module):
     """A design problem: ``model(params) → Sections`` at ``draft`` [m] with ``targets`` to hold, an optional
     ``objective`` to minimise (an :class:`~hullopt.optimise.Objective`, scaled by ``objective_scale``, its value
     at the parent), a small penalty ``smoothness`` · |params / param_scale|² that keeps the deformation the least
     needed, and a fairness penalty ``fairness`` · U/U₀ (:func:`hullopt.fairing.unfairness`, U₀ =
-    ``fairness_scale``, the parent's)."""
+    ``fairness_scale``, the parent's), and ``limits`` (:class:`Limits`, inequality constraints; the solvers
+    resolve their parent values with :func:`with_objective_scale`)."""
 
     model: Callable[..., Sections]
     draft: Float[ArrayLike, ""]
@@ -124,6 +211,7 @@ class Design(eqx.Module):
     param_scale: PyTree[Float[ArrayLike, "..."]] | None = None  # like the parameters
     fairness: float = eqx.field(static=True, default=0.0)
     fairness_scale: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: np.asarray(1.0))
+    limits: Limits | None = None
 
     def sections(self, params) -> Sections:
         return self.model(params)
@@ -143,6 +231,10 @@ class Design(eqx.Module):
 
     def constraints(self, params, args=None) -> Array:
         return target_residuals(self.model(params), self.draft, self.targets)
+
+    def inequalities(self, params, args=None) -> Array:
+        """The limits' normalised inequalities ``g ≤ 0`` (empty without limits)."""
+        return jnp.zeros(0) if self.limits is None else self.limits(self.model(params), self.draft)
 
     def objective_value(self, params, args=None) -> Array:
         """The scaled objective plus the smoothness penalty (order one at the parent)."""
@@ -167,9 +259,11 @@ def with_objective_scale(design: Design, params) -> Design:
     (the parent), so that both terms start at one."""
     from ..fairing import unfairness
 
-    if design.objective is None and not design.fairness:
+    if design.objective is None and not design.fairness and design.limits is None:
         return design
     s = design.model(params)
+    if design.limits is not None:
+        design = eqx.tree_at(lambda d: d.limits, design, design.limits.at_parent(s, design.draft))
     if design.objective is not None:
         design = eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(design.objective(s, design.draft)) + 1e-30)
     if design.fairness:
@@ -280,5 +374,7 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
     """
     from ._solvers import minimise_constrained
 
+    ineq = None if design.limits is None else design.inequalities
+    tol_g = 1.0 if design.limits is None else design.limits.tol
     return minimise_constrained(design.objective_value, design.constraints, p0, lower, upper,
-                                tol=design.targets.tol, **kw)
+                                tol=design.targets.tol, inequalities=ineq, inequality_tol=tol_g, **kw)

@@ -2,8 +2,8 @@
 
 * :func:`fit` — nonlinear least squares by Levenberg–Marquardt (targets to meet); :func:`fit_traced`, the same
   as an explicit loop that records the cost of each step;
-* :func:`minimise_constrained` — an objective with equality constraints by an augmented Lagrangian whose
-  inner problems are solved by BFGS.
+* :func:`minimise_constrained` — an objective with equality and inequality constraints by an augmented
+  Lagrangian whose inner problems are solved by BFGS.
 
 Both work in bounded parameters through a tanh change of variables, take ``throw=False`` solves so they
 ``vmap`` (each member reports its own status), and are differentiable in ``args`` by the implicit function
@@ -29,7 +29,9 @@ class SolveResult(eqx.Module):
     (or target) residuals, ``max_violation`` the largest ``|residual| / tol`` — so ``met`` (≤ 1) means every
     one is within its tolerance —, ``objective`` the objective value (the sum of squares for a fit),
     ``solver_ok`` the solver's own success flag, ``steps`` the number of (inner) steps, ``history`` the cost
-    after each step or round where the solver records it (NaN-padded to a fixed length)."""
+    after each step or round where the solver records it (NaN-padded to a fixed length);
+    ``objective_history`` and ``violation_history`` the objective and the largest ``|residual| / tol`` after
+    each round (:func:`minimise_constrained`; None for the other solvers)."""
 
     params: PyTree[Float[Array, "..."]]
     residuals: Float[Array, " r"]
@@ -39,6 +41,8 @@ class SolveResult(eqx.Module):
     solver_ok: Bool[Array, ""]
     steps: Int[Array, ""]
     history: Float[Array, " h"] | None = None
+    objective_history: Float[Array, " h"] | None = None
+    violation_history: Float[Array, " h"] | None = None
 
 
 def fit(
@@ -82,6 +86,8 @@ def minimise_constrained(
     args=None,
     *,
     tol=1.0,
+    inequalities: Callable | None = None,
+    inequality_tol=1.0,
     outer: int = 10,
     mu0: float = 10.0,
     growth: float = 10.0,
@@ -90,38 +96,54 @@ def minimise_constrained(
     max_steps: int = 300,
 ) -> SolveResult:
     """Minimise ``objective(p, args)`` (a scalar, scaled to order one) subject to
-    ``constraints(p, args) = 0`` (a vector normalised to order one; ``|c| ≤ tol`` counts as met) within
-    the bounds.
+    ``constraints(p, args) = 0`` (a vector normalised to order one; ``|c| ≤ tol`` counts as met) and, if
+    given, ``inequalities(p, args) ≤ 0`` (a vector normalised to order one; ``g ≤ inequality_tol`` counts as
+    met) within the bounds.
 
-    Augmented Lagrangian: ``f + λ·c + μ/2 |c|²``, ``outer`` rounds of BFGS with ``λ ← λ + μ c`` and
-    ``μ ← growth · μ`` between them (a fixed number of rounds, so the whole solve is one ``vmap``-able
-    computation). ``history``: the augmented Lagrangian at the end of each round.
-    """
+    Augmented Lagrangian, Powell–Hestenes–Rockafellar for the inequalities (Nocedal & Wright 2006, eq.
+    17.65): ``f + λ·c + μ/2 |c|² + Σ (max(0, ν + μ g)² − ν²)/(2μ)``, ``outer`` rounds of BFGS with
+    ``λ ← λ + μ c``, ``ν ← max(0, ν + μ g)`` and ``μ ← growth · μ`` between them (a fixed number of rounds,
+    so the whole solve is one ``vmap``-able computation). ``residuals`` are the equality residuals ``c``;
+    ``max_violation`` and ``met`` count both kinds (an inequality's violation is ``max(g, 0) /
+    inequality_tol``). ``history``: the augmented Lagrangian at the end of each round; ``objective_history`` and
+    ``violation_history``: the objective and the largest ``|c| / tol`` there (what a convergence plot shows: the
+    Lagrangian itself rises as μ grows)."""
     u0 = to_unbounded(p0, lower, upper)
     n_c = jnp.shape(constraints(p0, args))[0]
+    ineq = inequalities if inequalities is not None else (lambda p, args: jnp.zeros(0))
+    n_g = jnp.shape(ineq(p0, args))[0]
+
+    def violation(p, c):
+        v = jnp.max(jnp.abs(c) / tol) if n_c else jnp.zeros((), c.dtype)
+        return jnp.maximum(v, jnp.max(jnp.maximum(ineq(p, args), 0.0) / inequality_tol)) if n_g else v
 
     def lagrangian(u, inner_args):
-        lam, mu, args = inner_args
+        lam, nu, mu, args = inner_args
         p = from_unbounded(u, lower, upper)
         c = constraints(p, args)
-        return objective(p, args) + lam @ c + 0.5 * mu * c @ c
+        phr = jnp.sum(jnp.maximum(nu + mu * ineq(p, args), 0.0) ** 2 - nu**2) / (2.0 * mu) if n_g else 0.0
+        return objective(p, args) + lam @ c + 0.5 * mu * c @ c + phr
 
     solver = optx.BFGS(rtol=rtol, atol=atol)
 
     def round_(carry, _):
-        u, lam, mu, steps, ok = carry
-        sol = optx.minimise(lagrangian, solver, u, (lam, mu, args), max_steps=max_steps, throw=False)
-        c = constraints(from_unbounded(sol.value, lower, upper), args)
-        return (sol.value, lam + mu * c, mu * growth, steps + sol.stats["num_steps"],
-                sol.result == optx.RESULTS.successful), lagrangian(sol.value, (lam, mu, args))
+        u, lam, nu, mu, steps, ok = carry
+        sol = optx.minimise(lagrangian, solver, u, (lam, nu, mu, args), max_steps=max_steps, throw=False)
+        p = from_unbounded(sol.value, lower, upper)
+        c = constraints(p, args)
+        viol = violation(p, c)
+        return (sol.value, lam + mu * c, jnp.maximum(nu + mu * ineq(p, args), 0.0), mu * growth,
+                steps + sol.stats["num_steps"], sol.result == optx.RESULTS.successful), \
+            (lagrangian(sol.value, (lam, nu, mu, args)), objective(p, args), viol)
 
     dtype = ravel_pytree(u0)[0].dtype
-    init = (u0, jnp.zeros(n_c, dtype), jnp.asarray(mu0, dtype), jnp.asarray(0), jnp.asarray(True))
-    (u, _, _, steps, ok), history = jax.lax.scan(round_, init, None, length=outer)
+    init = (u0, jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype), jnp.asarray(mu0, dtype), jnp.asarray(0),
+            jnp.asarray(True))
+    (u, _, _, _, steps, ok), (history, f_history, v_history) = jax.lax.scan(round_, init, None, length=outer)
     p = from_unbounded(u, lower, upper)
     c = constraints(p, args)
-    viol = jnp.max(jnp.abs(c) / tol) if n_c else jnp.asarray(0.0, dtype)
-    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps, history)
+    viol = violation(p, c)
+    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps, history, f_history, v_history)
 
 
 def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rtol: float = 1e-6,
