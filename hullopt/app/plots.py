@@ -23,24 +23,46 @@ def _save(plt, fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=130, bbox_inches="tight")
 
 
-def plot_body_plans(before, after, path: Path, every: int | None = None) -> Path:
-    """Body plan (aft body left, fore body right, as drawn by naval architects), parent dashed."""
-    plt, fig, ax = _figure(figsize=(8, 5))
-    x = np.asarray(after.x)
-    mid = 0.5 * float(after.lpp)
-    every = every or max(1, len(x) // 20)
-    for s, style in ((before, dict(color="0.6", lw=0.8, ls="--")), (after, dict(color="C0", lw=1.0))):
-        yz = np.asarray(s.yz)
-        for i in range(0, len(x), every):
+def _station_indices(x: np.ndarray, lpp: float, per_station: int = 2) -> list[int]:
+    """Indices of the sections nearest to the stations 0, 1/per_station, …, 10 (stations number Lpp in ten
+    from the AP), each once."""
+    targets = np.arange(10 * per_station + 1) * lpp / (10.0 * per_station)
+    return sorted({int(np.argmin(np.abs(x - t))) for t in targets})
+
+
+def plot_body_plans(before, after, path: Path, every: int | None = None, title: str = "",
+                    draft: float | None = None) -> Path:
+    """Body plan of the parent (dashed grey) and the design (blue): aft body left, fore body right, as drawn
+    by naval architects, at the sections nearest the half stations (``every``: every ``every``-th section
+    instead), integer station numbers written above the design's sections, the DWL at ``draft`` [m]."""
+    plt, fig, ax = _figure(figsize=(9, 6))
+    lpp = float(after.lpp)
+    mid = 0.5 * lpp
+    top = max(float(np.max(np.asarray(s.yz)[..., 1])) for s in (before, after))
+    for s, style in ((before, dict(color="0.55", lw=0.8, ls="--")), (after, dict(color="C0", lw=1.0))):
+        x, yz = np.asarray(s.x), np.asarray(s.yz)
+        idx = range(0, len(x), every) if every else _station_indices(x, lpp)
+        for i in idx:
             sign = 1.0 if x[i] >= mid else -1.0
             ax.plot(sign * yz[i, :, 0], yz[i, :, 1], **style)
-    ax.plot([], [], color="0.6", ls="--", label="parent")
+            st = x[i] / lpp * 10.0
+            if s is after and not every and abs(st - round(st)) < 0.26:
+                # the label above the section's deck edge, fore body right, aft body left
+                ax.annotate(f"{round(st):d}", (sign * yz[i, -1, 0], yz[i, -1, 1]), xytext=(2 * sign, 3),
+                            textcoords="offset points", ha="left" if sign > 0 else "right", va="bottom",
+                            fontsize=7, color="C0")
+    ax.plot([], [], color="0.55", ls="--", label="parent")
     ax.plot([], [], color="C0", label="design")
+    if draft is not None:
+        ax.axhline(float(draft), color="tab:green", lw=0.8, ls="-.", label=f"DWL T = {float(draft):.3g} m")
     ax.axvline(0, color="k", lw=0.5)
     ax.set_aspect("equal")
-    ax.set_xlabel("half-breadth y [m] (aft body left, fore body right)")
-    ax.set_ylabel("z [m]")
-    ax.legend(loc="lower right")
+    ax.set_ylim(top=top * 1.08)
+    ax.set_xlabel("half-breadth y [m]  (aft body ← | → fore body)")
+    ax.set_ylabel("height above baseline z [m]")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    ax.set_title(title or "Body plan: parent and design (station numbers 0 = AP … 10 = FP)", loc="left",
+                 fontsize=10)
     return _save(plt, fig, path)
 
 
@@ -58,39 +80,86 @@ def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
     return _save(plt, fig, path)
 
 
-def plot_convergence(history, path: Path, xlabel: str = "step") -> Path:
-    """The solver's cost after each step (or round), log scale."""
-    plt, fig, ax = _figure(figsize=(6, 4))
-    if len(history):
-        ax.semilogy(np.arange(len(history)), np.maximum(history, 1e-300), marker=".")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("cost (sum of squared scaled residuals)" if xlabel == "step" else "augmented Lagrangian")
-    ax.grid(alpha=0.3)
+def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "") -> Path:
+    """Solver convergence on log scales.
+
+    A fit (``violation`` None): the cost (sum of squared scaled residuals) after each step. A constrained
+    minimum: ``history`` the objective after each round (scaled to 1 at the parent, penalty terms included)
+    above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
+    Non-finite entries (rounds or steps not taken) are left out.
+    """
+    h = np.asarray(history, dtype=float)
+    if violation is None:
+        plt, fig, ax = _figure(figsize=(6.5, 4))
+        ok = np.isfinite(h)
+        ax.semilogy(np.arange(len(h))[ok], np.maximum(h[ok], 1e-300), marker=".")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("cost Σ (residual / tolerance)² [-]")
+        ax.grid(alpha=0.3, which="both")
+        ax.set_title(title or "Convergence of the fit", loc="left", fontsize=10)
+        return _save(plt, fig, path)
+    v = np.asarray(violation, dtype=float)
+    plt, fig, (ax1, ax2) = _figure(2, 1, figsize=(6.5, 5.5), sharex=True)
+    it = np.arange(1, len(h) + 1)
+    ok = np.isfinite(h)
+    ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), "o-", ms=4, color="C0")
+    ax1.set_ylabel("objective / parent's [-]")
+    ax1.grid(alpha=0.3, which="both")
+    ok = np.isfinite(v)
+    ax2.semilogy(it[ok], np.maximum(v[ok], 1e-16), "s-", ms=4, color="C3", label="max |residual| / tolerance")
+    ax2.axhline(1.0, color="k", lw=0.8, ls="--", label="tolerance (≤ 1: targets met)")
+    ax2.set_ylabel("max constraint violation [-]")
+    ax2.set_xlabel(xlabel)
+    ax2.grid(alpha=0.3, which="both")
+    ax2.legend(fontsize=8, loc="upper right")
+    ax1.set_title(title or "Convergence: objective and constraint violation", loc="left", fontsize=10)
     return _save(plt, fig, path)
 
 
-def _label(name: str) -> str:
-    """An objective's axis label with its unit from its class (none for a coefficient)."""
+def _axis(name: str) -> tuple[str, float]:
+    """An objective's axis label with its unit from its class (N shown as kN; none for a coefficient) and the
+    factor from SI to the shown unit."""
     from ..optimise import OBJECTIVES
 
     unit = OBJECTIVES[name].unit if name in OBJECTIVES else "-"
-    return name.replace("_", " ") + (f" [{unit}]" if unit != "-" else "")
+    scale = 1e-3 if unit == "N" else 1.0
+    unit = "kN" if unit == "N" else unit
+    return name.replace("_", " ") + (f" [{unit}]" if unit != "-" else " [-]"), scale
+
+
+def _label(name: str) -> str:
+    return _axis(name)[0]
 
 
 def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path:
-    plt, fig, ax = _figure(figsize=(6, 4.5))
-    pts = np.array([[d["measure"], d["objective"]] for d in designs])
-    front = np.array([d["pareto"] for d in designs])
-    met = np.array([d["met"] for d in designs])
-    ax.scatter(pts[met & ~front, 0], pts[met & ~front, 1], color="0.6", label="dominated")
-    ax.scatter(pts[~met, 0], pts[~met, 1], marker="x", color="C3", label="targets not met")
+    """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in
+    kN, each design labelled with its Bf target to 3 decimals (a label once per position); designs that miss
+    their targets as crosses, dominated ones grey."""
+    plt, fig, ax = _figure(figsize=(7.5, 5))
+    (xlabel, sx), (ylabel, sy) = _axis(xname), _axis(yname)
+    pts = np.array([[d["measure"] * sx, d["objective"] * sy] for d in designs]).reshape(-1, 2)
+    front = np.array([d.get("pareto", False) for d in designs], dtype=bool)
+    met = np.array([d["met"] for d in designs], dtype=bool)
+    ax.scatter(pts[met & ~front, 0], pts[met & ~front, 1], color="0.6", label="dominated", zorder=2)
+    if (~met).any():
+        ax.scatter(pts[~met, 0], pts[~met, 1], marker="x", color="C3", label="targets not met", zorder=2)
     order = np.argsort(pts[front, 0])
-    ax.plot(pts[front, 0][order], pts[front, 1][order], "o-", color="C0", label="Pareto front")
-    for d in designs:
-        ax.annotate(f"{d['bf_target']:.2f}", (d["measure"], d["objective"]), fontsize=7, alpha=0.7)
-    ax.set_xlabel(_label(xname))
-    ax.set_ylabel(_label(yname))
-    ax.legend(fontsize=8)
+    ax.plot(pts[front, 0][order], pts[front, 1][order], "o-", color="C0", label="Pareto front", zorder=3)
+    seen = set()
+    for d, (px, py) in zip(designs, pts):
+        key = (f"{d['bf_target']:.3f}", f"{px:.4g}", f"{py:.4g}")
+        if key in seen or not np.isfinite([px, py]).all():
+            continue
+        seen.add(key)
+        ax.annotate(f"Bf {d['bf_target']:.3f}", (px, py), xytext=(4, 3), textcoords="offset points",
+                    fontsize=7, color="0.25")
+    ax.margins(0.08)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(alpha=0.3)
-    ax.set_title("labels: Bf")
+    bf = [d["bf_target"] for d in designs]
+    span = f", Bf {min(bf):.3f} … {max(bf):.3f}" if bf else ""
+    ax.set_title(f"Pareto front: {yname.replace('_', ' ')} vs {xname.replace('_', ' ')}{span}\n"
+                 f"(each design labelled with its bluntness target Bf)", loc="left", fontsize=10)
     return _save(plt, fig, path)

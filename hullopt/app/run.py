@@ -237,9 +237,12 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
             report["message"] = (f"the targets cannot be met within the bounds: {worst[0]} is off by "
                                  f"{worst[1]['error']:.3g} (tolerance {worst[1]['tolerance']:.3g}); "
                                  "the closest design found is saved")
-        history = np.asarray(res.history)
-        plot_convergence(history[np.isfinite(history)], out / "convergence.png",
-                         "step" if cfg.kind == "fit" else "augmented-Lagrangian round")
+        if cfg.kind == "fit":
+            history = np.asarray(res.history)
+            plot_convergence(history[np.isfinite(history)], out / "convergence.png", "step")
+        else:  # the objective and the worst constraint per round (the Lagrangian itself rises with μ)
+            plot_convergence(np.asarray(res.objective_history), out / "convergence.png", "augmented-Lagrangian round",
+                             violation=np.asarray(res.violation_history))
     report["achieved"] = _particulars(m.final)
     report["parent"] = _particulars(m.parent)
     _write_hull(m, d.draft, out)
@@ -256,7 +259,8 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
 
     write_hull_file(m.after, out / "hull.stl", float(draft))
     write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)
-    plot_body_plans(m.before, m.after, out / "body_plan.png")
+    plot_body_plans(m.before, m.after, out / "body_plan.png", draft=float(draft),
+                    title=f"Body plan: parent (dashed) and design {out.name} (stations 0 AP … 10 FP)")
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
 
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..constants import RHO_SEA
 from ._save import save_figure
 
 
@@ -23,29 +24,56 @@ def _save(plt, fig, path) -> Path:
     return save_figure(fig, path, dpi=150, bbox_inches="tight")
 
 
-# (field of Hydrostatics, label, scale for display)
-_HYDRO_CURVES = [
-    ("displacement", "Δ [1000 t]", 1e-6), ("volume", "∇ [1000 m³]", 1e-3), ("lcb", "LCB [m from AP]", 1.0),
-    ("lcf", "LCF [m from AP]", 1.0), ("kb", "KB [m]", 1.0), ("kmt", "KM_T [m]", 1.0), ("bml", "BM_L [10 m]", 0.1),
-    ("tpc", "TPC [t/cm]", 1.0), ("mct", "MCT 1 cm [100 t·m/cm]", 0.01), ("awp", "Awp [100 m²]", 0.01),
-    ("wetted_surface", "S [100 m²]", 0.01), ("cb", "Cb [0.01]", 100.0),
+# Panels of the hydrostatic curves: (title, x-axis label with unit, [(field of Hydrostatics, legend, scale)]).
+# Each quantity is shown in its own unit; quantities share a panel only where they share the unit.
+_HYDRO_PANELS = [
+    ("Displacement", "Δ [t]", [("displacement", "Δ", 1e-3)]),
+    ("Areas", "area [m²]", [("awp", "A_WP waterplane", 1.0), ("wetted_surface", "S wetted", 1.0)]),
+    ("Tonnes per cm", "TPC [t/cm]", [("tpc", "TPC", 1.0)]),
+    ("Moment to trim 1 cm", "MCT 1 cm [t·m/cm]", [("mct", "MCT", 1.0)]),
+    ("Longitudinal centres", "x from AP [m]", [("lcb", "LCB", 1.0), ("lcf", "LCF", 1.0)]),
+    ("Vertical centres", "height above base [m]", [("kb", "KB", 1.0), ("kmt", "KM_T", 1.0)]),
+    ("Longitudinal metacentre", "BM_L [m]", [("bml", "BM_L", 1.0)]),
+    ("Form coefficients", "coefficient [-]", [("cb", "C_B", 1.0), ("cp", "C_P", 1.0), ("cm", "C_M", 1.0),
+                                              ("cwp", "C_WP", 1.0)]),
 ]
 
 
-def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "") -> Path:
-    """Curves of form: each quantity of a :class:`~hullopt.hydro.Hydrostatics` table (fields ``(k,)``)
-    against the draft (vertical axis, as drawn by hand), scaled to share one horizontal axis."""
-    plt, fig, ax = _figure(figsize=(9, 6))
-    t = np.asarray(table.draft)
-    for key, label, s in _HYDRO_CURVES:
-        v = np.asarray(getattr(table, key)) * s
-        (line,) = ax.plot(v, t, lw=1.2)
-        ax.annotate(label, (v[-1], t[-1]), fontsize=7, color=line.get_color(), xytext=(2, 2),
-                    textcoords="offset points")
-    ax.set_ylabel("draft T [m]")
-    ax.set_xlabel("value (units in each label)")
-    ax.grid(alpha=0.3)
-    ax.set_title(f"Hydrostatic curves — {name}" if name else "Hydrostatic curves", loc="left")
+def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "", depth: float | None = None,
+                            design_draft: float | None = None, rho: float = RHO_SEA) -> Path:
+    """Curves of form: the quantities of a :class:`~hullopt.hydro.Hydrostatics` table (fields ``(k,)``, SI)
+    against the draft T [m] (the vertical axis of every panel, as drawn by hand), grouped in eight panels
+    by unit (Δ [t] with ∇ [m³] on the top axis at density ``rho`` [kg/m³]; areas [m²]; TPC [t/cm];
+    MCT 1 cm [t·m/cm]; LCB, LCF [m from AP]; KB, KM_T [m]; BM_L [m]; C_B, C_P, C_M, C_WP). Drafts at or
+    above ``depth`` [m] (the deck) are left out; ``design_draft`` [m] is marked as the DWL."""
+    plt, fig, axes = _figure(2, 4, figsize=(15, 8), sharey=True)
+    t = np.asarray(table.draft, dtype=float)
+    keep = t < depth - 1e-9 if depth is not None else np.ones(t.shape, bool)
+    t = t[keep]
+    for ax, (title, xlabel, curves) in zip(axes.flat, _HYDRO_PANELS):
+        for j, (key, label, s) in enumerate(curves):
+            v = np.asarray(getattr(table, key), dtype=float)[keep] * s
+            ax.plot(v, t, lw=1.4, color=f"C{j}", label=label)
+        ax.set_title(title, fontsize=9, loc="left", pad=16 if curves[0][0] == "displacement" else 6)
+        ax.set_xlabel(xlabel, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        if len(curves) > 1:
+            ax.legend(fontsize=7, loc="best", frameon=True)
+        if design_draft is not None:
+            ax.axhline(float(design_draft), color="tab:green", lw=0.8, ls="-.")
+        if key == "displacement":  # ∇ [m³] on the top axis: ∇ = Δ/ρ
+            top = ax.secondary_xaxis("top", functions=(lambda d: d * 1e3 / rho, lambda v: v * rho / 1e3))
+            top.set_xlabel("∇ [m³]", fontsize=8)
+            top.tick_params(labelsize=7)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("draft T [m]")
+    if design_draft is not None:
+        axes[0, 0].annotate(f"DWL {float(design_draft):.3g} m", (0.02, float(design_draft)),
+                            xycoords=("axes fraction", "data"), xytext=(0, 2), textcoords="offset points",
+                            fontsize=7, color="tab:green")
+    fig.suptitle(f"Hydrostatic curves — {name}" if name else "Hydrostatic curves", x=0.01, ha="left")
+    fig.tight_layout()
     return _save(plt, fig, path)
 
 
@@ -78,15 +106,24 @@ def plot_gz(curve, path: str | os.PathLike, criteria=None, name: str = "") -> Pa
 
 
 def plot_cross_curves(displacements, heels, kn, path: str | os.PathLike, name: str = "") -> Path:
-    """Cross curves of stability: KN [m] against displacement [t], one line per heel [rad]."""
-    plt, fig, ax = _figure(figsize=(8, 5))
+    """Cross curves of stability: KN [m] against displacement [t] (``displacements (k,)``), one line per heel
+    [rad] (``heels (h,)``, ``kn (k, h)``), each in its own colour and labelled at its end, the legend outside
+    the axes."""
+    plt, fig, ax = _figure(figsize=(9, 5.5))
     d = np.asarray(displacements)
     kn = np.asarray(kn)
-    for j, h in enumerate(np.rad2deg(np.asarray(heels))):
-        ax.plot(d, kn[:, j], lw=1.2, label=f"{h:g}°")
+    deg = np.rad2deg(np.asarray(heels))
+    # one colour per heel from a perceptually ordered map (as many as there are heels, none repeated) and
+    # the heel written at the line's end, so each curve reads without the legend
+    colors = plt.get_cmap("turbo")(np.linspace(0.03, 0.97, max(len(deg), 2)))
+    for j, h in enumerate(deg):
+        ax.plot(d, kn[:, j], lw=1.3, color=colors[j], label=f"{h:g}°")
+        ax.annotate(f"{h:g}°", (d[-1], kn[-1, j]), xytext=(3, 0), textcoords="offset points", fontsize=6,
+                    va="center", color=colors[j])
     ax.set_xlabel("displacement Δ [t]")
     ax.set_ylabel("KN [m]")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2, title="heel")
+    ax.legend(fontsize=7, ncol=1 if len(deg) <= 20 else 2, title="heel φ", loc="upper left",
+              bbox_to_anchor=(1.06, 1.0), borderaxespad=0)
     ax.set_title(f"Cross curves — {name}" if name else "Cross curves", loc="left")
     return _save(plt, fig, path)

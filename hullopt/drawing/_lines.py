@@ -29,14 +29,18 @@ LINES_FORMATS = ("png", "svg", "pdf", "dxf")
 @dataclass
 class LinesPlan:
     """Polylines of the three views, each ``(kind, label, points (k, 2))``; ``kind`` is one of
-    ``station``, ``waterline``, ``buttock``, ``outline`` or ``grid``. ``extent`` the hull's
-    ``(x_min, x_max, half_breadth, z_min, z_max)`` [m]."""
+    ``station``, ``waterline``, ``buttock``, ``outline``, ``dwl`` (the design waterline) or ``grid``.
+    ``extent`` the hull's ``(x_min, x_max, half_breadth, z_min, z_max)`` [m]; ``lpp``, ``beam`` (moulded,
+    2 × the largest half-breadth) and ``draft`` (the DWL, None when not given) [m] for the title block."""
 
     name: str
     sheer: list = field(default_factory=list)
     half_breadth: list = field(default_factory=list)
     body: list = field(default_factory=list)
     extent: tuple = ()
+    lpp: float = float("nan")
+    beam: float = float("nan")
+    draft: float | None = None
 
 
 def _crossings(p0: np.ndarray, p1: np.ndarray, axis: int, level: float) -> tuple[np.ndarray, np.ndarray]:
@@ -64,10 +68,11 @@ def _nan_runs(x: np.ndarray, v: np.ndarray) -> list[np.ndarray]:
 
 
 def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_buttocks: int = 4,
-               waterlines=None, buttocks=None) -> LinesPlan:
+               waterlines=None, buttocks=None, draft: float | None = None) -> LinesPlan:
     """Cut the lines plan from ``sections``: stations 0…10, waterlines (default ``n_waterlines`` equally
     spaced from the keel to the lowest deck edge) and buttocks (default ``n_buttocks`` equally spaced
-    inside the largest half-breadth)."""
+    inside the largest half-breadth); with ``draft`` [m above the baseline] the design waterline (DWL) in
+    all three views."""
     x = np.asarray(sections.x, dtype=float)
     yz = np.asarray(sections.yz, dtype=float)
     lpp = float(sections.lpp)
@@ -79,14 +84,17 @@ def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_butt
     if buttocks is None:
         buttocks = np.linspace(0.0, half, n_buttocks + 2)[1:-1]
     waterlines, buttocks = np.asarray(waterlines, float), np.asarray(buttocks, float)
-    plan = LinesPlan(name=name, extent=(float(x.min()), float(x.max()), half, zmin, zmax))
+    plan = LinesPlan(name=name, extent=(float(x.min()), float(x.max()), half, zmin, zmax), lpp=lpp,
+                     beam=2.0 * half, draft=None if draft is None else float(draft))
     p0, p1 = yz[:, :-1], yz[:, 1:]
 
     # stations: the sections nearest to the ten divisions of Lpp (and the ends of the hull)
     targets = np.arange(11) * lpp / 10.0
-    idx = sorted({int(np.argmin(np.abs(x - t))) for t in targets})
-    for i in idx:
-        label = f"{x[i] / lpp * 10:.3g}"
+    nearest = {}
+    for k, t in enumerate(targets):  # each section once, named by the (first) station it stands for
+        nearest.setdefault(int(np.argmin(np.abs(x - t))), k)
+    for i, k in sorted(nearest.items()):
+        label = f"{k}"
         sign = 1.0 if x[i] >= 0.5 * lpp else -1.0
         plan.body.append(("station", label, yz[i] * np.array([sign, 1.0])))
         for view, pts in (("sheer", [[x[i], zmin], [x[i], zmax]]), ("half_breadth", [[x[i], 0.0], [x[i], half]])):
@@ -99,6 +107,13 @@ def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_butt
             plan.half_breadth.append(("waterline", f"{z:.3g}", run))
         plan.sheer.append(("grid", f"WL {z:.3g}", np.array([[x.min(), z], [x.max(), z]])))
         plan.body.append(("grid", f"WL {z:.3g}", np.array([[-half, z], [half, z]])))
+    if draft is not None:
+        hit, y = _crossings(p0, p1, 1, float(draft))
+        yw = np.where(hit.any(axis=1), np.max(np.where(hit, y, -np.inf), axis=1), np.nan)
+        for run in _nan_runs(x, yw):
+            plan.half_breadth.append(("dwl", "DWL", run))
+        plan.sheer.append(("dwl", "DWL", np.array([[x.min(), draft], [x.max(), draft]])))
+        plan.body.append(("dwl", "DWL", np.array([[-half, draft], [half, draft]])))
     for yb in buttocks:
         hit, z = _crossings(p0, p1, 0, yb)
         zb = np.where(hit.any(axis=1), np.min(np.where(hit, z, np.inf), axis=1), np.nan)
@@ -124,25 +139,90 @@ _STYLE = {
     "waterline": dict(color="tab:green", lw=0.9),
     "buttock": dict(color="tab:red", lw=0.9),
     "outline": dict(color="black", lw=1.3),
+    "dwl": dict(color="tab:purple", lw=1.4, ls="-."),
     "grid": dict(color="0.75", lw=0.5),
 }
 
+# standard drawing scales 1:N (N of one significant figure 1, 2, 2.5 or 5 times a power of ten)
+_SCALES = np.array([m * 10.0**k for k in range(0, 6) for m in (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.5)])
 
-def _draw(ax, curves, title):
+
+def _draw(ax, curves, title, xlabel, ylabel):
     for kind, _, pts in curves:
         ax.plot(pts[:, 0], pts[:, 1], **_STYLE[kind])
-    ax.set_aspect("equal")
+    ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title, fontsize=9, loc="left")
+    ax.set_xlabel(xlabel, fontsize=8)
+    ax.set_ylabel(ylabel, fontsize=8)
     ax.tick_params(labelsize=7)
+
+
+def _label_grid(ax, curves, prefix, where, **kw):
+    """Write the labels of the grid lines whose label starts with ``prefix`` (``"WL "``: waterlines, ``""``:
+    stations) at their ``where`` end (``"end"``: the last point, ``"start"``: the first)."""
+    for kind, label, pts in curves:
+        if kind == "grid" and label.startswith(prefix) and (prefix or " " not in label):
+            q = pts[-1] if where == "end" else pts[0]
+            ax.annotate(label.removeprefix("WL ") if prefix else label, q, fontsize=6, color="0.35",
+                        annotation_clip=False, **kw)
+
+
+def _paper_scale(fig, ax) -> float:
+    """N of the scale 1:N at which ``ax`` is drawn on the sheet (metres of hull per metre of paper along x)."""
+    fig.canvas.draw()
+    paper = ax.get_window_extent().width / fig.dpi * 0.0254
+    lo, hi = ax.get_xlim()
+    return (hi - lo) / paper
+
+
+def _set_scale(fig, axes, spans) -> float:
+    """Set the limits of ``axes`` (drawn at one scale, equal aspect) to the smallest standard scale 1:N at
+    which each axes holds its ``spans`` ``(x_lo, x_hi, y_lo, y_hi)`` [m], centred on them; returns N."""
+    fig.canvas.draw()
+    boxes = [ax.get_window_extent() for ax in axes]
+    inch = 0.0254 / fig.dpi  # metres of paper per pixel
+    n = max(max((b[1] - b[0]) / (box.width * inch), (b[3] - b[2]) / (box.height * inch))
+            for b, box in zip(spans, boxes))
+    std = float(_SCALES[np.searchsorted(_SCALES, n * (1 - 1e-9))])
+    for ax, box, b in zip(axes, boxes, spans):
+        xc, yc = 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3])
+        w = box.width / fig.dpi * 0.0254 * std  # metres of hull across the axes at 1:std
+        h = box.height / fig.dpi * 0.0254 * std
+        ax.set_xlim(xc - 0.5 * w, xc + 0.5 * w)
+        ax.set_ylim(yc - 0.5 * h, yc + 0.5 * h)
+    return std
+
+
+def _label_stations(ax, curves):
+    """Station numbers above the body plan's sections, those ending at one point named once (\"3–7\")."""
+    tops = [(label, pts[np.argmax(pts[:, 1])]) for kind, label, pts in curves if kind == "station"]
+    tol = 0.03 * max(abs(float(p[0])) for _, p in tops) + 1e-12 if tops else 0.0
+    groups = []
+    for label, p in tops:
+        if groups and np.hypot(*(p - groups[-1][1])) <= tol:
+            groups[-1][0].append(label)
+        else:
+            groups.append(([label], p))
+    for labels, p in groups:
+        text = labels[0] if len(labels) == 1 else f"{labels[0]}–{labels[-1]}"
+        ax.annotate(text, p, xytext=(0, 3), textcoords="offset points", ha="center", fontsize=6,
+                    color="tab:blue")
 
 
 def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
     """Draw the three views on one sheet (sheer plan above the half-breadth plan, body plan to the right)
-    and save it as PNG, SVG or PDF (by the extension)."""
+    and save it as PNG, SVG or PDF (by the extension).
+
+    Axes in metres (x from the AP, y to port, z above the baseline); station numbers 0 (AP) … 10 (FP) under
+    the sheer and half-breadth plans and above the body plan's sections; waterline heights [m] at the right of
+    the sheer and body plans; the DWL (when the plan has a draft) dash-dotted; a title block with the name,
+    Lpp, B, T and the scales 1:N at which the plans and the body plan are drawn on this sheet (the sheet's
+    size as saved: no cropping)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
     path = Path(path)
     x0, x1, half, z0, z1 = plan.extent
@@ -152,17 +232,43 @@ def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
     left_w = fig_w * (1.0 - body_frac)
     left_h = left_w * (height + half) / length
     body_h = fig_w * body_frac * height / (2 * half)
-    fig = plt.figure(figsize=(fig_w, max(left_h * 1.25, body_h) + 1.2))
+    fig_h = max(left_h * 1.25, body_h) + 2.2
+    fig = plt.figure(figsize=(fig_w, fig_h))
     gs = fig.add_gridspec(2, 2, width_ratios=[1.0 - body_frac, body_frac], height_ratios=[height, half],
-                          wspace=0.1, hspace=0.3)
-    _draw(fig.add_subplot(gs[0, 0]), plan.sheer, "Sheer plan (buttocks)")
-    _draw(fig.add_subplot(gs[1, 0]), plan.half_breadth, "Half-breadth plan (waterlines)")
-    _draw(fig.add_subplot(gs[:, 1]), plan.body, "Body plan (aft | fore)")
-    fig.suptitle(f"Lines plan — {plan.name}" if plan.name else "Lines plan", fontsize=11)
-    from matplotlib.lines import Line2D
-
-    fig.legend([Line2D([], [], **_STYLE[k]) for k in ("station", "waterline", "buttock")],
-               ["stations", "waterlines", "buttocks"], loc="lower right", fontsize=8, ncol=3)
+                          wspace=0.12, hspace=0.45, left=0.05, right=0.97, top=0.9, bottom=1.5 / fig_h)
+    sheer, plan_ax, body = fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[:, 1])
+    _draw(sheer, plan.sheer, "Sheer plan (buttocks)", "x from AP [m]", "z above base [m]")
+    _draw(plan_ax, plan.half_breadth, "Half-breadth plan (waterlines)", "x from AP [m]", "y [m]")
+    _draw(body, plan.body, "Body plan (aft body ← | → fore body)", "y [m]", "z above base [m]")
+    # station numbers under the sheer and half-breadth plans, above the body plan's sections
+    _label_grid(sheer, plan.sheer, "", "start", xytext=(0, -9), textcoords="offset points", ha="center")
+    _label_grid(plan_ax, plan.half_breadth, "", "start", xytext=(0, -9), textcoords="offset points",
+                ha="center")
+    _label_stations(body, plan.body)
+    # waterline heights at the right of the sheer and body plans
+    _label_grid(sheer, plan.sheer, "WL ", "end", xytext=(3, 0), textcoords="offset points", va="center")
+    _label_grid(body, plan.body, "WL ", "end", xytext=(3, 0), textcoords="offset points", va="center")
+    if plan.draft is not None:
+        for ax, xl in ((sheer, x0), (body, -half)):
+            ax.annotate(f"DWL {plan.draft:.3g} m", (xl, plan.draft), xytext=(2, 2), textcoords="offset points",
+                        fontsize=7, color="tab:purple", ha="left", va="bottom")
+    mx, mz = 0.03 * length, 0.12 * height  # room for the station and waterline labels
+    n_plans = _set_scale(fig, (sheer, plan_ax), ((x0 - mx, x1 + mx, z0 - mz, z1 + 0.05 * height),
+                                                      (x0 - mx, x1 + mx, -0.12 * half, 1.05 * half)))
+    n_body = _set_scale(fig, (body,), ((-1.1 * half, 1.1 * half, z0 - 0.05 * height, z1 + mz),))
+    fig.suptitle(f"Lines plan — {plan.name}" if plan.name else "Lines plan", fontsize=12, x=0.05, ha="left")
+    kinds = ["station", "waterline", "buttock"] + (["dwl"] if plan.draft is not None else [])
+    names = {"station": "stations", "waterline": "waterlines", "buttock": "buttocks", "dwl": "DWL"}
+    fig.legend([Line2D([], [], **_STYLE[k]) for k in kinds], [names[k] for k in kinds], loc="lower left",
+               bbox_to_anchor=(0.05, 0.02), fontsize=8, ncol=len(kinds), frameon=False)
+    # the title block, bottom right
+    t = "—" if plan.draft is None else f"{plan.draft:.3f} m"
+    rows = [("Ship", plan.name or "—"), ("Lpp", f"{plan.lpp:.3f} m"), ("B (moulded)", f"{plan.beam:.3f} m"),
+            ("T (DWL)", t), ("Scale, plans", f"1:{n_plans:g}"), ("Scale, body plan", f"1:{n_body:g}"),
+            ("Sheet", f"{fig_w:g} × {fig_h:.1f} in"), ("Stations", "0 AP … 10 FP"), ("Units", "m")]
+    text = "\n".join(f"{k:<17}{v}" for k, v in rows)
+    fig.text(0.97, 0.02, text, ha="right", va="bottom", fontsize=7.5, family="monospace", multialignment="left",
+             bbox=dict(boxstyle="square,pad=0.6", fc="white", ec="black", lw=1.0))
     return save_figure(fig, path, dpi=150)
 
 
@@ -177,7 +283,7 @@ def write_lines_dxf(plan: LinesPlan, path: str | os.PathLike) -> Path:
     gap = 0.05 * (x1 - x0)
     doc = ezdxf.new("R2010")
     doc.units = ezdxf.units.M
-    colors = {"station": 5, "waterline": 3, "buttock": 1, "outline": 7, "grid": 8}
+    colors = {"station": 5, "waterline": 3, "buttock": 1, "outline": 7, "dwl": 6, "grid": 8}
     for kind, c in colors.items():
         doc.layers.add(kind.upper(), color=c)
     msp = doc.modelspace()

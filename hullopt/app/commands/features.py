@@ -65,10 +65,10 @@ def plot_features(hull, path: Path, title: str = "") -> None:
     ax.set_xlabel("y [m] (aft body left, fore body right)")
     ax.set_ylabel("z [m]")
     ax.set_title(title or f"Feature curves — {hull.name}")
-    ax.legend(fontsize=7, loc="upper center")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)  # off the curves
     from ...drawing import save_figure
 
-    save_figure(fig, path, dpi=120)
+    save_figure(fig, path, dpi=120, bbox_inches="tight")
 
 
 @app.command()

@@ -203,7 +203,8 @@ def lines(
         drafts = np.linspace(lo, float(h.sections.depth), 22)[1:-1]  # 20 drafts, the deck left out
         for t in drafts:
             check_draft(h, float(t), "draft")
-        plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name)
+        plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name,
+                                depth=float(h.sections.depth), design_draft=h.design_draft)
         say(f"wrote {curves}")
     if offsets is not None:
         (write_offsets_wide if layout == "wide" else write_offsets_stations)(h.sections, offsets, name=h.name)

@@ -34,21 +34,29 @@ def _read_image(path: str):
 
 
 def _plot(path: Path, psi_deg, coeffs: dict[str, np.ndarray], title: str) -> None:
+    """C(ψ) curves on Cartesian axes: the force coefficients C_X, C_Y above the moment coefficients C_N, C_K,
+    against the wind angle ψ [deg] from ahead (0°) to astern (180°); missing (non-finite) ones left out."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(subplot_kw={"projection": "polar"}, figsize=(6, 6))
-    th = np.deg2rad(psi_deg)
-    for key, label in (("cx", "C_X"), ("cy", "C_Y"), ("cn", "C_N"), ("ck", "C_K")):
-        if np.all(np.isfinite(coeffs[key])):
-            ax.plot(th, coeffs[key], label=label)
-    ax.set_theta_zero_location("N")
-    ax.set_thetamin(0)
-    ax.set_thetamax(180)
-    ax.set_title(title + "\nψ from ahead (0°) to astern (180°)", fontsize=9)
-    ax.legend(loc="lower left", fontsize=8)
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    for ax, group in ((ax1, (("cx", "C_X longitudinal force"), ("cy", "C_Y lateral force"))),
+                      (ax2, (("cn", "C_N yaw moment"), ("ck", "C_K roll moment")))):
+        for key, label in group:
+            if np.all(np.isfinite(coeffs[key])):
+                ax.plot(psi_deg, coeffs[key], "o-", ms=3, lw=1.3, label=label)
+        ax.axhline(0.0, color="black", lw=0.8)
+        ax.grid(alpha=0.3)
+        if ax.get_lines()[:-1]:
+            ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
+    ax1.set_ylabel("force coefficient [-]")
+    ax2.set_ylabel("moment coefficient [-]")
+    ax2.set_xlabel("wind angle ψ [deg] (0 = head wind, 180 = following)")
+    ax2.set_xlim(0, 180)
+    ax2.set_xticks(np.arange(0, 181, 30))
+    ax1.set_title(f"Wind load coefficients — {title}", loc="left", fontsize=10)
     from ...drawing import save_figure
 
     save_figure(fig, path, dpi=120, bbox_inches="tight")
@@ -62,7 +70,7 @@ def wind(
     draft: Annotated[float | None, typer.Option(help="Draft [m] (overrides the config).")] = None,
     step: Annotated[float, typer.Option(help="Angle step of the table [deg].")] = 10.0,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: variables and coefficients.")] = False,
-    plot: Annotated[Path | None, typer.Option(help="Write a polar plot of the coefficients (PNG).")] = None,
+    plot: Annotated[Path | None, typer.Option(help="Write a plot of the coefficients C(ψ) against the wind angle (PNG).")] = None,
 ) -> None:
     """Wind-load variables (L, B, A_T, A_L, …) and coefficients C_X, C_Y, C_N, C_K over ψ = 0…180°."""
     cfg = read_wind_config(config)

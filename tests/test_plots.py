@@ -1,0 +1,209 @@
+"""Plots a naval architect would print: each renders with its labels (axis labels with units, titles, station and
+waterline labels, the DWL, a title block whose scale is the one drawn, legends outside the curves, distinct
+colours), checked on the matplotlib figures the plot functions save, built from small hulls."""
+
+from pathlib import Path
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from hullopt.geometry import Sections
+from hullopt.models import wigley
+
+L, B, T, D = 100.0, 10.0, 6.25, 10.0
+
+
+@pytest.fixture(scope="module")
+def hull():
+    return wigley(L, B, T, D, n=21, m=21)
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures saved through drawing.save_figure (drawn, then saved as usual): a list."""
+    import hullopt.app.plots
+    import hullopt.drawing
+    from hullopt.drawing import _curves, _lines, _save
+
+    figures, save = [], _save.save_figure
+
+    def keep(fig, path, **kw):
+        fig.canvas.draw()
+        fig.test_renderer = fig.canvas.get_renderer()  # kept: closing the figure takes its canvas
+        figures.append(fig)
+        return save(fig, path, **kw)
+
+    for mod in (hullopt.drawing, _curves, _lines, hullopt.app.plots):
+        monkeypatch.setattr(mod, "save_figure", keep)
+    return figures
+
+
+def texts(fig) -> list[str]:
+    """Every text of a figure: titles, axis labels, annotations, legend entries, figure texts."""
+    return [t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text")) if t.get_text()]
+
+
+def outside(fig, legend, ax) -> bool:
+    """The legend's box lies right of the axes' box (no overlap with the curves)."""
+    r = fig.test_renderer
+    return legend.get_window_extent(r).x0 >= ax.get_window_extent(r).x1 - 1.0
+
+
+def test_hydrostatic_curves_in_panels_by_unit(hull, tmp_path, drawn):
+    """Eight panels sharing the draft axis, each with its unit; the deck draft left out; Δ at the design draft is
+    the Wigley's closed form ρ·(4/9)·LBT (within the 21 × 21 polygon's 0.6 %)."""
+    import jax
+
+    from hullopt.drawing import plot_hydrostatic_curves
+    from hullopt.hydro import hydrostatic_table
+
+    drafts = jnp.asarray([2.0, 4.0, T, 8.0, D])
+    plot_hydrostatic_curves(jax.jit(hydrostatic_table)(hull, drafts), tmp_path / "h.png", "wigley", depth=D,
+                            design_draft=T)
+    (fig,) = drawn
+    axes = [ax for ax in fig.axes if ax.get_ylabel() or ax.get_xlabel()]
+    assert len([ax for ax in axes if ax.get_title(loc="left")]) == 8
+    xlabels = [ax.get_xlabel() for ax in axes]
+    for unit in ("Δ [t]", "area [m²]", "TPC [t/cm]", "MCT 1 cm [t·m/cm]", "x from AP [m]", "BM_L [m]",
+                 "coefficient [-]"):
+        assert unit in xlabels, (unit, xlabels)
+    assert "∇ [m³]" in texts(fig)  # the displacement panel's top axis
+    assert "draft T [m]" in [ax.get_ylabel() for ax in axes]
+    disp = next(ax for ax in axes if ax.get_xlabel() == "Δ [t]")
+    (line,) = [ln for ln in disp.get_lines() if ln.get_label() == "Δ"]
+    t = np.asarray(line.get_ydata())
+    assert t.max() < D and len(t) == 4  # the deck draft is not drawn
+    closed = 1.025 * 4 / 9 * L * B * T
+    assert line.get_xdata()[list(t).index(T)] == pytest.approx(closed, rel=6e-3)
+    assert any(s.startswith("DWL 6.25") for s in texts(fig))
+    assert "Hydrostatic curves — wigley" in texts(fig)
+
+
+def test_cross_curves_distinct_colours_legend_outside(tmp_path, drawn):
+    """19 heels: 19 different colours, each curve labelled at its end, the legend right of the axes."""
+    from hullopt.drawing import plot_cross_curves
+
+    heels = np.deg2rad(np.arange(0.0, 95.0, 5.0))
+    disp = np.array([1000.0, 2000.0, 3000.0])
+    kn = np.sin(heels)[None, :] * np.array([3.0, 2.5, 2.2])[:, None]
+    plot_cross_curves(disp, heels, kn, tmp_path / "kn.png", "box")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    lines = ax.get_lines()
+    assert len(lines) == 19
+    colours = {tuple(np.round(np.asarray(ln.get_color(), float), 6)) for ln in lines}
+    assert len(colours) == 19
+    assert outside(fig, ax.get_legend(), ax)
+    assert ax.get_xlabel() == "displacement Δ [t]" and ax.get_ylabel() == "KN [m]"
+    assert {f"{h:g}°" for h in np.rad2deg(heels)} <= set(texts(fig))
+
+
+def test_lines_plan_labels_dwl_and_a_true_scale(hull, tmp_path, drawn):
+    """Axes in m, stations 0–10 and waterline heights written, the DWL drawn and named, and a title block whose
+    scales are the ones on the sheet: 1:N = metres of hull per metre of paper, measured on the saved figure."""
+    from hullopt.drawing import lines_plan, save_lines
+
+    plan = lines_plan(hull, "wigley", n_waterlines=4, draft=T)
+    assert [c[0] for c in plan.sheer].count("dwl") == 1 and plan.draft == T
+    save_lines(plan, tmp_path / "lines.png")
+    (fig,) = drawn
+    sheer, half, body = fig.axes[:3]
+    assert sheer.get_xlabel() == half.get_xlabel() == "x from AP [m]"
+    assert "[m]" in sheer.get_ylabel() and "[m]" in body.get_ylabel() and body.get_xlabel() == "y [m]"
+    all_text = texts(fig)
+    sheer_text = [t.get_text() for t in sheer.texts]
+    assert [str(k) for k in range(11)] == sheer_text[:11]  # the station numbers, written first
+    assert {"2.5", "5", "7.5", "10"} <= set(sheer_text)  # the waterlines' heights [m]
+    assert any(t.startswith("DWL 6.25 m") for t in sheer_text)
+    assert any(ln.get_linestyle() == "-." for ln in sheer.get_lines())  # the DWL
+    (block,) = [t for t in all_text if t.startswith("Ship")]
+    scales = {line[:17].strip(): line[17:] for line in block.splitlines()}
+    assert (scales["Ship"], scales["Lpp"], scales["B (moulded)"], scales["T (DWL)"]) == (
+        "wigley", "100.000 m", "10.000 m", "6.250 m")
+    for ax, key in ((sheer, "Scale, plans"), (half, "Scale, plans"), (body, "Scale, body plan")):
+        n = float(scales[key].removeprefix("1:"))
+        box = ax.get_window_extent(fig.test_renderer)
+        paper = box.width / fig.dpi * 0.0254
+        lo, hi = ax.get_xlim()
+        assert (hi - lo) / paper == pytest.approx(n, rel=1e-3), key
+        y0, y1 = ax.get_ylim()
+        assert (y1 - y0) / (box.height / fig.dpi * 0.0254) == pytest.approx(n, rel=1e-3)
+    assert fig.get_suptitle() == "Lines plan — wigley"
+
+
+def test_body_plans_title_stations_and_dwl(hull, tmp_path, drawn):
+    from hullopt.app.plots import plot_body_plans
+
+    after = Sections(hull.x, hull.yz * jnp.array([1.1, 1.0]), hull.lpp)
+    plot_body_plans(hull, after, Path(tmp_path / "b.png"), draft=T, title="Body plan: run x")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert ax.get_title(loc="left") == "Body plan: run x"
+    assert sorted(int(t.get_text()) for t in ax.texts) == list(range(11))
+    assert "[m]" in ax.get_xlabel() and "[m]" in ax.get_ylabel()
+    assert "DWL T = 6.25 m" in [t.get_text() for t in ax.get_legend().get_texts()]
+    assert outside(fig, ax.get_legend(), ax)
+
+
+def test_convergence_shows_objective_and_violation_on_log_scales(tmp_path, drawn):
+    from hullopt.app.plots import plot_convergence
+
+    f, v = np.array([1.0, 0.8, 0.7, 0.69]), np.array([3.0, 0.5, 1e-3, 1e-6])
+    plot_convergence(f, tmp_path / "c.png", "augmented-Lagrangian round", violation=v)
+    (fig,) = drawn
+    top, bottom = fig.axes
+    assert top.get_yscale() == bottom.get_yscale() == "log"
+    assert "objective" in top.get_ylabel() and "violation" in bottom.get_ylabel()
+    np.testing.assert_array_equal(top.get_lines()[0].get_ydata(), f)
+    np.testing.assert_array_equal(bottom.get_lines()[0].get_ydata(), v)
+    assert bottom.get_xlabel() == "augmented-Lagrangian round"
+    assert any(np.all(np.asarray(ln.get_ydata()) == 1.0) for ln in bottom.get_lines())  # the tolerance line
+    plot_convergence(np.array([4.0, 1.0, 0.1, np.nan]), tmp_path / "fit.png")  # a fit: the cost per step
+    assert drawn[1].axes[0].get_yscale() == "log" and len(drawn[1].axes[0].get_lines()[0].get_ydata()) == 3
+
+
+def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):
+    """Forces in kN (N / 1000), each design's Bf to 3 decimals once, a title that says what is plotted."""
+    from hullopt.app.plots import plot_pareto
+
+    bf = [0.3, 0.3125, 0.325, 0.3375]  # two decimals would make 0.31/0.31 and 0.33/0.34
+    designs = [dict(bf_target=b, measure=5e5 - 1e5 * i, objective=3e4 + 1e4 * i, met=True, pareto=True)
+               for i, b in enumerate(bf)]
+    plot_pareto(designs, "calm_resistance", "mean_added_resistance", tmp_path / "p.png")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "calm resistance [kN]" and ax.get_ylabel() == "mean added resistance [kN]"
+    (front,) = [ln for ln in ax.get_lines() if ln.get_label() == "Pareto front"]
+    np.testing.assert_allclose(sorted(front.get_xdata()), [200.0, 300.0, 400.0, 500.0])
+    labels = [t.get_text() for t in ax.texts]
+    assert sorted(labels) == ["Bf 0.300", "Bf 0.312", "Bf 0.325", "Bf 0.338"]
+    assert ax.get_title(loc="left").startswith("Pareto front: mean added resistance vs calm resistance")
+    assert outside(fig, ax.get_legend(), ax)
+
+
+def test_wind_coefficients_on_cartesian_axes(tmp_path, drawn):
+    from hullopt.app.commands.wind import _plot
+
+    psi = np.arange(0.0, 181.0, 30.0)
+    c = {"cx": -np.cos(np.deg2rad(psi)), "cy": np.sin(np.deg2rad(psi)), "cn": 0.1 * np.sin(np.deg2rad(2 * psi)),
+         "ck": np.full(psi.shape, np.nan)}
+    _plot(tmp_path / "w.png", psi, c, "model — hull")
+    (fig,) = drawn
+    forces, moments = fig.axes[:2]
+    assert forces.name == moments.name == "rectilinear"
+    assert moments.get_xlabel().startswith("wind angle ψ [deg]") and moments.get_xlim() == (0.0, 180.0)
+    np.testing.assert_allclose(forces.get_lines()[0].get_ydata(), c["cx"])  # negative values as drawn
+    assert [t.get_text() for t in moments.get_legend().get_texts()] == ["C_N yaw moment"]  # C_K missing
+    assert outside(fig, forces.get_legend(), forces)
+
+
+def test_features_legend_off_the_curves(tmp_path, drawn):
+    from hullopt.app.commands.features import plot_features
+    from hullopt.models import load_parent
+
+    plot_features(load_parent("wigley"), tmp_path / "features.png")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert outside(fig, ax.get_legend(), ax)
+    assert ax.get_xlabel().startswith("y [m]") and ax.get_ylabel() == "z [m]"
