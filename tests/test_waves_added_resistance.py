@@ -156,7 +156,8 @@ def test_beaufort_out_of_range(force):
 @pytest.mark.parametrize("spectrum", ["pm", "jonswap"])
 def test_spectral_mean_against_adaptive_quadrature(hull, spectrum):
     hs, tp, u = 4.0, 8.0, 7.0
-    mean = float(jax.jit(lambda: mean_added_resistance("nmri", hull, 6.0, u, hs, tp, 0.0, spectrum=spectrum))().total)
+    mean = float(jax.jit(lambda: mean_added_resistance("nmri", hull, 6.0, u, hs, tp, 0.0, spectrum=spectrum,
+                                                       motion=False))().total)  # the reflection part alone
 
     raw = jax.jit(lambda w: nmri_added_resistance(hull, 6.0, u, w).r_awr)
 
@@ -232,8 +233,8 @@ def test_methods_are_finite_with_gradients(hull):
     om = jnp.array([0.0, 0.6, 1.5])
 
     def f(v):
-        return jnp.stack([method_resistance(m, hull, v[0], v[1], om, v[2]).total.sum()
-                          for m in ("nmri", "stawave1", "stawave2", "snnm")])
+        return jnp.stack([method_resistance(m, hull, v[0], v[1], om, v[2], motion=False).total.sum()
+                          for m in ("nmri", "stawave1", "stawave2", "snnm")])  # NMRI's motion part: test_motions.py
 
     val_jac = jax.jit(lambda v: (f(v), jax.jacfwd(f)(v)))
     for v in ([6.0, 0.0, 0.0], [5.0, 7.0, np.pi], [5.0, 7.0, np.pi / 2]):  # at rest, following and beam seas
@@ -257,7 +258,7 @@ def test_gradients_of_k_aw_and_sea_state_mean(hull):
     fk = jax.jit(lambda v: nmri_added_resistance(blunt_bow(hull, v[2]), v[0], v[1], om, 0.1).k_aw.sum())
     check_grad(fk, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
     fm = jax.jit(lambda v: mean_added_resistance("nmri", blunt_bow(hull, v[2]), v[0], v[1], 3.0, 8.0, 0.2,
-                                                 spreading_s=1.0, n_dir=4).total)
+                                                 spreading_s=1.0, n_dir=4, motion=False).total)
     check_grad(fm, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
 
 

@@ -25,7 +25,7 @@ def run(capsys, *args):
 
 def test_json_matches_api(capsys):
     code, out, _ = run(capsys, "--speed", "15", "--heading", "20", "--hs", "3", "--tp", "8",
-                       "--lambda-over-l", "0.5:1.5:3", "--json", "--blunt-bow", "0.5,2")
+                       "--lambda-over-l", "0.5:1.5:3", "--json", "--blunt-bow", "0.5,2", "--no-motion")
     assert code == 0
     d = json.loads(out)
     for key in ("bf", "fn", "c_u", "k_aw", "r_awr", "mean_raw", "program"):
@@ -36,7 +36,7 @@ def test_json_matches_api(capsys):
     np.testing.assert_allclose(d["fn"], u / np.sqrt(9.80665 * 120), rtol=1e-12)
     np.testing.assert_allclose(d["k_aw"], d["bf"] * (1 + max(68 - 310 * d["bf"], 10) * d["fn"]), rtol=1e-12)
     assert len(d["r_awr"]) == 3 and np.all(np.diff(d["r_awr"]) < 0)  # longer waves reflect less
-    ref = mean_added_resistance("nmri", s, 6.0, u, 3.0, 8.0, np.radians(20.0))
+    ref = mean_added_resistance("nmri", s, 6.0, u, 3.0, 8.0, np.radians(20.0), motion=False)
     np.testing.assert_allclose(d["mean_raw"], ref.total, rtol=1e-12)
     p = d["program"]
     assert p["params"] == [None, 0.5, 2.0] and p["best"] == int(np.argmin(p["k_aw"]))
@@ -62,7 +62,7 @@ def test_other_methods_and_plot(capsys, tmp_path):
     (["--speed", "10", "--method", "faltinsen"], "--method"),
     (["--speed", "10", "--lambda-over-l", "0:1:3"], "--lambda-over-l"),
     (["--speed", "10", "--blunt-bow", "-2"], "--blunt-bow"),
-    (["--speed", "10", "--plot", "/no/such/dir/x.png"], "--plot"),
+    (["--speed", "10", "--no-motion", "--plot", "/no/such/dir/x.png"], "--plot"),
 ])
 def test_bad_input_is_one_clear_line(capsys, args, needle):
     code, out, err = run(capsys, *args)

@@ -99,7 +99,8 @@ class KAw(Objective):
 class MeanAddedResistance(Objective):
     """The sea-state mean added resistance R_AW [N] (NMRI method, motion + reflection) at ``speed`` [m/s] in
     long-crested waves of significant height ``hs`` [m], peak period ``tp`` [s] (Pierson–Moskowitz) from
-    ``heading`` [rad, 0 = head seas]; ``smooth`` the width of the smooth max in C_U."""
+    ``heading`` [rad, 0 = head seas]; ``smooth`` the width of the smooth max in C_U; ``motion``: include the
+    motion part R_AWM (strip theory, :func:`hullopt.waves.motion_added_resistance`; False: reflection only)."""
 
     name: ClassVar[str] = "mean_added_resistance"
     unit: ClassVar[str] = "N"
@@ -110,10 +111,11 @@ class MeanAddedResistance(Objective):
     tp: Scalar
     heading: Scalar = 0.0
     smooth: float = eqx.field(static=True, default=1.0)
+    motion: bool = eqx.field(static=True, default=True)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         r = mean_added_resistance("nmri", sections, draft, self.speed, self.hs, self.tp, self.heading,
-                                  smooth=self.smooth)
+                                  smooth=self.smooth, motion=self.motion)
         return r.motion + r.reflection
 
     @classmethod

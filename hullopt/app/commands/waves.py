@@ -42,9 +42,10 @@ def _parse_params(text: str) -> np.ndarray:
 
 
 @eqx.filter_jit
-def _regular(method, sections, draft, speed, omega, heading, kyy, smooth, aft):
+def _regular(method, sections, draft, speed, omega, heading, kyy, smooth, aft, motion=True):
     nm = nmri_added_resistance(sections, draft, speed, omega, heading, 1.0, smooth=smooth, aft=aft)
-    r = method_resistance(method, sections, draft, speed, omega, heading, 1.0, kyy=kyy, smooth=smooth, aft=aft)
+    r = method_resistance(method, sections, draft, speed, omega, heading, 1.0, kyy=kyy, smooth=smooth, aft=aft,
+                          motion=motion)
     return nm, r
 
 
@@ -66,6 +67,7 @@ def waves(
     smooth: Annotated[float | None, typer.Option(help="Soft-max width τ for C_U (default: exact max).")] = None,
     aft: Annotated[str, typer.Option(help="Lit range of the waterline for Bf: exclude (the lit entrance only, the default) or include (also the lit run and transom, Bf < 0 in following seas; R_AWR is never negative).")] = "exclude",
     blunt_bow: Annotated[str | None, typer.Option("--blunt-bow", help="Claim-6 program: bow-bluntness values p to try, e.g. 0.5,1,2.")] = None,
+    motion: Annotated[bool, typer.Option("--motion/--no-motion", help="NMRI: include the motion part R_AWM (strip theory; see `hullopt motions`).")] = True,
     json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; forces in N).")] = False,
     plot: Annotated[Path | None, typer.Option(help="Write a plot of K_AW against λ/L (.png, .pdf, .svg).")] = None,
 ) -> None:
@@ -107,7 +109,7 @@ def waves(
         lpp = float(s.lpp)
         alpha = np.radians(heading)
         omega = np.asarray(omega_from_wavelength(ratios * lpp))
-        nm, r = _regular(method, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft)
+        nm, r = _regular(method, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft, motion)
         half = 0.5 * RHO_SEA * G * float(nm.beam)
         out = {
             "hull": h.name, "method": method, "draft": t, "speed": u, "speed_kn": speed, "heading_deg": heading,
@@ -121,7 +123,7 @@ def waves(
         if hs is not None:
             mean = eqx.filter_jit(mean_added_resistance)(
                 method, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
-                smooth=smooth, aft=aft)
+                smooth=smooth, aft=aft, motion=motion)
             out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading, mean_raw=float(mean.total),
                        mean_raw_motion=float(mean.motion), mean_raw_reflection=float(mean.reflection))
         if params is not None:
