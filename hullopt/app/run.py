@@ -5,6 +5,7 @@ constrained minimum, or a Pareto sweep in resumable chunks) and write the run fo
     parent.json   the parent it deformed        hull.stl      the final hull (closed mesh; Lpp, draft in its header)
     offsets.csv   its offset table (wide layout)
     body_plan.png, sectional_area.png, convergence.png, pareto.png (sweeps), chunks/ (sweeps)
+    report.html   the run as one self-contained page (3D hulls, plots, tables: :mod:`hullopt.app.report`)
 """
 
 from __future__ import annotations
@@ -200,6 +201,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     not complete yet returns a partial report and writes no hull files.
     """
     from .plots import plot_convergence
+    from .report import Hulls, history_record, write_report
 
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "config.json", raw)
@@ -237,6 +239,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
             report["message"] = (f"the targets cannot be met within the bounds: {worst[0]} is off by "
                                  f"{worst[1]['error']:.3g} (tolerance {worst[1]['tolerance']:.3g}); "
                                  "the closest design found is saved")
+        report["history"] = history_record(cfg.kind, res)  # report.html's convergence plot
         if cfg.kind == "fit":
             history = np.asarray(res.history)
             plot_convergence(history[np.isfinite(history)], out / "convergence.png", "step")
@@ -247,6 +250,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     report["parent"] = _particulars(m.parent)
     _write_hull(m, d.draft, out)
     write_json(out / "report.json", report)
+    # report.html: a sweep's designs are rebuilt from the folder, a run's hulls are the ones measured here
+    write_report(out, report, None if cfg.kind == "pareto" else Hulls.of(m.before, m.after, m.areas, d.draft))
     return report
 
 

@@ -1,0 +1,726 @@
+"""``report.html``: a run folder as one page a naval architect can open offline or send.
+
+The page is self-contained: plotly's JavaScript bundle (the ``plotly`` package's own copy) is embedded once in
+its ``<head>`` and every figure is drawn from data embedded beside it, so it opens with no network. It shows
+
+* the run: kind, convergence, steps, the largest constraint violation, and the report's warnings;
+* an interactive 3D view of the parent and the design hull(s) (plotly ``Mesh3d`` of the closed hull mesh of
+  both sides of the hull's surface grid, :func:`hullopt.geometry.surface_grid`), the body plan and the sectional-area curves at the draft;
+* the targets (wanted, achieved, error, tolerance, met), the particulars and objectives parent → design, each
+  with its unit (:mod:`hullopt.app.output`: resistances in kN, displacement in t);
+* convergence: each series the run recorded (``report.json``'s ``history``) against the iteration, log scale;
+* for a sweep, the Pareto front (in kN) with each design's Bf to 3 decimals on hover, and a table of designs
+  linking to their hull files (``designs/<k>/hull.stl``) where the folder has them.
+
+It is written at the end of ``hullopt run`` and ``hullopt merge`` (:func:`write_report` with the hulls the run
+has in memory) and rebuilt by ``hullopt report RUN_DIR``, which rebuilds the hulls from ``config.json``,
+``parent.json`` and ``report.json`` as a run-folder hull spec does (never from the mesh).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import html
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import HullError
+from ..geometry import Sections, atomic_write_bytes, grid_triangles, surface_grid
+from .output import displayed, fmt, label, quantity, to_builtin, unit_scale
+
+REPORT_NAME = "report.html"
+MAX_SWEEP_HULLS = 8  # a sweep's page draws at most this many designs in 3D (evenly picked along the front)
+PARENT_COLOUR, DESIGN_COLOURS = "#7f7f7f", ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
+                                            "#e377c2", "#17becf")
+
+
+@dataclass
+class Hulls:
+    """The hulls a report draws: the parent and its designs at the draft [m] (sections and their
+    sectional-area curves [m²], numpy). ``designs``: ``(name, sections, areas)``; a sweep's names are
+    ``design k``."""
+
+    draft: float
+    parent: Sections
+    parent_areas: np.ndarray
+    designs: list[tuple[str, Sections, np.ndarray]] = field(default_factory=list)
+
+    @classmethod
+    def of(cls, parent: Sections, design: Sections, areas, draft) -> Hulls:
+        """A run's parent and design with their sectional-area curves ``areas (2, n)`` [m²] at ``draft``."""
+        areas = np.asarray(areas, float)
+        return cls(float(draft), _numpy(parent), areas[0], [("design", _numpy(design), areas[1])])
+
+
+def _numpy(s: Sections) -> Sections:
+    return Sections(np.asarray(s.x, float), np.asarray(s.yz, float), np.asarray(s.lpp, float))
+
+
+def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
+    """Rebuild the parent and the design hulls of a run folder from its config, its kept ``parent.json`` and
+    the parameters in its report (a sweep: the designs on the front, at most :data:`MAX_SWEEP_HULLS`), in
+    one jitted program; :class:`HullError` if the folder's files do not fit each other."""
+    import jax
+    from pydantic import ValidationError
+
+    from ..models import read_features
+    from .config import RunConfig
+    from .programs import cached_call
+    from .run import build_problem, params_from_dict
+
+    try:
+        cfg = RunConfig.model_validate(raw)
+    except ValidationError as e:
+        raise HullError(f"{folder / 'config.json'} is not a valid run config ({e.errors()[0]['msg']})") from None
+    kept = folder / "parent.json"  # the parent the run deformed (the config's may have changed since)
+    prob = build_problem(cfg, read_features(kept) if kept.is_file() else None)
+    picked = sweep_picks(report) if "designs" in report else []
+    if "designs" in report:
+        values = [report["designs"][k]["params"] for k in picked]
+        names = [f"design {k}" for k in picked]
+    elif "params" in report:
+        values, names = [report["params"]], ["design"]
+    else:
+        values, names = [], []
+    params = [prob.p0] + [params_from_dict(v, prob.p0) for v in values]
+    stacked = jax.tree.map(lambda *a: np.stack([np.asarray(x, float) for x in a]), *params)
+    draft = float(prob.design.draft)
+
+    digest = hashlib.sha256(kept.read_bytes()).hexdigest() if kept.is_file() else None
+    sections, areas = jax.device_get(cached_call("report", _evaluate, (prob.design.model, stacked), (draft,),
+                                                 key=[raw, digest]))
+    one = [_numpy(jax.tree.map(lambda a, i=i: a[i], sections)) for i in range(len(params))]
+    areas = np.asarray(areas)
+    return Hulls(draft, one[0], areas[0], [(n, s, a) for n, s, a in zip(names, one[1:], areas[1:])])
+
+
+def _evaluate(model, params, draft: float):
+    """The sections and sectional-area curves [m²] at ``draft`` of a model at stacked parameters."""
+    import jax
+
+    from ..hydro import sectional_areas
+
+    s = jax.vmap(model)(params)
+    return s, jax.vmap(lambda one: sectional_areas(one, draft))(s)
+
+
+def sweep_picks(report: dict) -> list[int]:
+    """The designs of a sweep whose hulls the page draws: those on the Pareto front (else those that meet
+    their targets, else all), at most :data:`MAX_SWEEP_HULLS`, evenly spaced in Bf."""
+    designs = report.get("designs", [])
+    for keep in (lambda d: d.get("pareto") and d.get("met"), lambda d: d.get("met"), lambda d: True):
+        ks = [k for k, d in enumerate(designs) if keep(d) and d.get("params")]
+        if ks:
+            break
+    else:
+        return []
+    if len(ks) > MAX_SWEEP_HULLS:
+        ks = [ks[round(i)] for i in np.linspace(0, len(ks) - 1, MAX_SWEEP_HULLS)]
+    return ks
+
+
+# ----------------------------------------------------------------------------------------------- figures
+
+
+def _figure(title: str, **layout):
+    import plotly.graph_objects as go
+
+    fig = go.Figure()
+    fig.update_layout(title=dict(text=title, x=0.02), template="plotly_white", margin=dict(l=60, r=20, t=50, b=50),
+                      legend=dict(orientation="h", yanchor="bottom", y=1.0, xanchor="right", x=1.0), **layout)
+    return fig
+
+
+def _hull_surface(s: Sections) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices ``(2·n·m, 3)`` [m] and triangles of both sides of the hull (the port grid and its mirror
+    image), float32 and int32 for the page; the deck and the end sections left open (a view, not a solid)."""
+    g = np.asarray(surface_grid(s, np), np.float32)
+    n, m, _ = g.shape
+    tri = grid_triangles(n, m)
+    verts = np.concatenate([g.reshape(-1, 3), (g * np.array([1, -1, 1], np.float32)).reshape(-1, 3)])
+    faces = np.concatenate([tri, tri[:, ::-1] + n * m]).astype(np.int32)
+    return verts, faces
+
+
+def _hull_trace(s: Sections, name: str, colour: str, opacity: float, visible: Any = True):
+    import plotly.graph_objects as go
+
+    v, f = _hull_surface(s)
+    return go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2], i=f[:, 0], j=f[:, 1], k=f[:, 2], name=name, color=colour,
+                     opacity=opacity, flatshading=False, showlegend=True, visible=visible, hoverinfo="name",
+                     lighting=dict(ambient=0.45, diffuse=0.8, specular=0.15, roughness=0.8),
+                     lightposition=dict(x=-3e4, y=6e4, z=1e5))
+
+
+def _colour(i: int) -> str:
+    return DESIGN_COLOURS[i % len(DESIGN_COLOURS)]
+
+
+def fig_hulls_3d(h: Hulls):
+    """The parent (grey, translucent) and the design(s) in 3D, to scale (x forward, y to port, z up) [m];
+    a sweep's first design shown, the others a click on the legend away."""
+    fig = _figure("Hulls in 3D: design (shaded) and parent (grey stations and waterlines); drag to turn, "
+                  "scroll to zoom", height=540)
+    for i, (name, s, _) in enumerate(h.designs):
+        fig.add_trace(_hull_trace(s, name, _colour(i), 0.55 if i == 0 else 0.8, True if i == 0 else "legendonly"))
+    fig.add_trace(_wireframe(h.parent, "parent", h.draft))
+    # true scale: the scene box in proportion to the hull's extents, its length 2 units; the eye outside it
+    v = _hull_surface(h.parent)[0]
+    ext = np.maximum(np.ptp(v, axis=0), 1e-9)
+    ratio = 2.0 * ext / ext.max()
+    axis = dict(nticks=4, title=dict(font=dict(size=11)))
+    fig.update_layout(scene=dict(aspectmode="manual", aspectratio=dict(x=ratio[0], y=ratio[1], z=ratio[2]),
+                                 xaxis=dict(axis, title_text="x from AP [m]", nticks=8), yaxis=dict(axis, title_text="y [m]"),
+                                 zaxis=dict(axis, title_text="z [m]"),
+                                 camera=dict(eye=dict(x=-0.95, y=-1.3, z=0.62), center=dict(x=0, y=0, z=-0.12))),
+                      margin=dict(l=0, r=0, t=50, b=0))
+    return fig
+
+
+def _wireframe(s: Sections, name: str, draft: float):
+    """A hull as lines on both sides: its sections at the half stations and its waterline at ``draft``."""
+    import plotly.graph_objects as go
+
+    x, yz = np.asarray(s.x), np.asarray(s.yz)
+    pts = []
+    for i in station_indices(x, float(s.lpp)):
+        for side in (1.0, -1.0):
+            pts += [*((x[i], side * y, z) for y, z in yz[i]), (None, None, None)]
+    wl = [float(np.interp(draft, yz[i, :, 1], yz[i, :, 0])) if yz[i, -1, 1] >= draft > yz[i, 0, 1] else 0.0
+          for i in range(len(x))]
+    for side in (1.0, -1.0):
+        pts += [*((xi, side * w, draft) for xi, w in zip(x, wl)), (None, None, None)]
+    a = np.array(pts, dtype=object)
+    return go.Scatter3d(x=a[:, 0], y=a[:, 1], z=a[:, 2], mode="lines", name=name, hoverinfo="name",
+                        line=dict(color="#444444", width=2))
+
+
+def station_indices(x: np.ndarray, lpp: float, per_station: int = 2) -> list[int]:
+    """Indices of the sections nearest the stations 0, 1/per_station, …, 10 (ten stations from the AP at 0
+    to the FP at 10), each once."""
+    targets = np.arange(10 * per_station + 1) * lpp / (10.0 * per_station)
+    return sorted({int(np.argmin(np.abs(np.asarray(x) - t))) for t in targets})
+
+
+def _body_plan_lines(s: Sections) -> tuple[list, list, list]:
+    """The half-sections nearest the half stations as one polyline with gaps: aft body to the left
+    (negative y), fore body to the right; hover names the station (0 at the AP, 10 at the FP) and x."""
+    x, yz, lpp = np.asarray(s.x), np.asarray(s.yz), float(s.lpp)
+    ys, zs, text = [], [], []
+    for i in station_indices(x, lpp):
+        sign = 1.0 if x[i] >= 0.5 * lpp else -1.0
+        tag = f"station {10 * x[i] / lpp:.2f}, x = {x[i]:.2f} m"
+        ys += [*(sign * yz[i, :, 0]), None]
+        zs += [*yz[i, :, 1], None]
+        text += [tag] * yz.shape[1] + [None]
+    return ys, zs, text
+
+
+def _station_labels(s: Sections) -> tuple[list, list, list]:
+    """Integer station numbers above the deck edge of their sections (fore body right, aft body left)."""
+    x, yz, lpp = np.asarray(s.x), np.asarray(s.yz), float(s.lpp)
+    xs, zs, text = [], [], []
+    for i in station_indices(x, lpp):
+        st = 10 * x[i] / lpp
+        if abs(st - round(st)) < 0.26:
+            xs.append((1.0 if x[i] >= 0.5 * lpp else -1.0) * yz[i, -1, 0])
+            zs.append(yz[i, -1, 1])
+            text.append(str(round(st)))
+    return xs, zs, text
+
+
+def fig_body_plan(h: Hulls):
+    """Body plan: aft body left, fore body right (as drawn by naval architects), at the sections nearest
+    the half stations, parent dashed, integer station numbers above the (first) design's sections, the DWL."""
+    import plotly.graph_objects as go
+
+    fig = _figure("Body plan", height=500)
+    styles = [("parent", h.parent, dict(color=PARENT_COLOUR, width=1, dash="dash"), True)]
+    styles += [(name, s, dict(color=_colour(i), width=1.4), True if i == 0 else "legendonly")
+               for i, (name, s, _) in enumerate(h.designs)]
+    for name, s, line, visible in styles:
+        ys, zs, text = _body_plan_lines(s)
+        fig.add_trace(go.Scatter(x=ys, y=zs, mode="lines", name=name, line=line, text=text, visible=visible,
+                                 hovertemplate="%{text}<br>y = %{x:.3f} m, z = %{y:.3f} m<extra>" + name + "</extra>"))
+    xs, zs, text = _station_labels(h.designs[0][1] if h.designs else h.parent)
+    fig.add_trace(go.Scatter(x=xs, y=zs, mode="text", text=text, textposition="top center", showlegend=False,
+                             textfont=dict(size=10, color=_colour(0)), hoverinfo="skip"))
+    b = max(float(np.max(np.asarray(s.yz)[..., 0])) for _, s, _, _ in styles)
+    fig.add_trace(go.Scatter(x=[-1.1 * b, 1.1 * b], y=[h.draft, h.draft], mode="lines", name=f"DWL T = {h.draft:g} m",
+                             line=dict(color="#2ca02c", width=1, dash="dashdot"), hoverinfo="name"))
+    fig.add_vline(x=0, line=dict(color="black", width=0.6))
+    fig.update_xaxes(title="half-breadth y [m]: aft body ← | → fore body; stations 0 = AP … 10 = FP",
+                     zeroline=False)
+    fig.update_yaxes(title="height above baseline z [m]", scaleanchor="x", scaleratio=1)
+    return fig
+
+
+def fig_sectional_areas(h: Hulls):
+    """Sectional-area curves A(x) at the draft [m²] of the parent (dashed) and the design(s)."""
+    import plotly.graph_objects as go
+
+    fig = _figure(f"Sectional-area curve at T = {h.draft:g} m", height=400)
+    fig.add_trace(go.Scatter(x=np.asarray(h.parent.x), y=np.asarray(h.parent_areas), name="parent", mode="lines",
+                             line=dict(color=PARENT_COLOUR, dash="dash"),
+                             hovertemplate="x = %{x:.2f} m<br>A = %{y:.2f} m²<extra>parent</extra>"))
+    for i, (name, s, a) in enumerate(h.designs):
+        fig.add_trace(go.Scatter(x=np.asarray(s.x), y=np.asarray(a), name=name, mode="lines",
+                                 line=dict(color=_colour(i)), visible=True if i == 0 else "legendonly",
+                                 hovertemplate="x = %{x:.2f} m<br>A = %{y:.2f} m²<extra>" + name + "</extra>"))
+    fig.update_xaxes(title="x from AP [m]")
+    fig.update_yaxes(title="sectional area A [m²]", rangemode="tozero")
+    return fig
+
+
+def history_series(report: dict) -> tuple[str, dict[str, np.ndarray]]:
+    """``(iteration label, {series name: values})`` of a report's ``history`` (see :func:`history_record`):
+    every list of numbers in it, non-finite entries dropped; empty when the run recorded none."""
+    hist = report.get("history")
+    if isinstance(hist, list):
+        hist = {"series": {"cost": hist}}
+    if not isinstance(hist, dict):
+        return "iteration", {}
+    series = hist.get("series", {k: v for k, v in hist.items() if isinstance(v, list)})
+    out = {}
+    for name, values in series.items():
+        v = np.asarray([np.nan if x is None else x for x in values], float).ravel()
+        if np.isfinite(v).any():
+            out[str(name)] = v
+    return str(hist.get("iteration", "iteration")), out
+
+
+def history_record(kind: str, result) -> dict:
+    """The ``history`` a run keeps in ``report.json``: ``{"iteration": label, "series": {name: values}}`` of
+    what its solver recorded (a :class:`~hullopt.optimise.SolveResult`): a fit, the cost after each
+    Levenberg–Marquardt step; a minimum, the objective (scaled to 1 at the parent) and the largest constraint
+    violation ``|residual| / tolerance`` after each augmented-Lagrangian round where the solver keeps them,
+    else the augmented Lagrangian. Steps not taken (NaN) are left out (``None``)."""
+    if kind == "fit":
+        x, series = "Levenberg–Marquardt step", {"cost Σ (residual / tolerance)²": result.history}
+    else:
+        x = "augmented-Lagrangian round"
+        f, v = getattr(result, "objective_history", None), getattr(result, "violation_history", None)
+        series = ({"objective / parent's": f} if f is not None else {"augmented Lagrangian": result.history})
+        if v is not None:
+            series[VIOLATION] = v
+    return {"iteration": x, "series": {k: to_builtin(np.asarray(v, float).ravel()) for k, v in series.items()
+                                       if v is not None}}
+
+
+VIOLATION = "max constraint violation |residual| / tolerance"
+
+
+def fig_convergence(report: dict):
+    """Each recorded series against the iteration, one panel each, log scale (|value|; the value itself on
+    hover); a constraint violation with its tolerance line (≤ 1: met)."""
+    import plotly.graph_objects as go
+    from plotly.subplots import make_subplots
+
+    xlabel, series = history_series(report)
+    if not series:
+        return None
+    n = len(series)
+    fig = make_subplots(rows=n, cols=1, shared_xaxes=True, vertical_spacing=0.08)
+    fig.update_layout(title=dict(text="Convergence (log scale)", x=0.02), template="plotly_white",
+                      height=200 + 180 * n, margin=dict(l=70, r=20, t=50, b=50), showlegend=False)
+    for i, (name, v) in enumerate(series.items()):
+        it = np.flatnonzero(np.isfinite(v))
+        y = np.maximum(np.abs(v[it]), 1e-300)
+        first = 1 if xlabel.endswith("round") else 0
+        fig.add_trace(go.Scatter(x=it + first, y=y, name=name, mode="lines+markers", marker=dict(size=6),
+                                 line=dict(color=_colour(3 * i)), customdata=v[it],
+                                 hovertemplate=f"{xlabel} %{{x}}<br>%{{customdata:.4g}}<extra>{html.escape(name)}</extra>"),
+                      row=i + 1, col=1)
+        if name == VIOLATION:
+            fig.add_hline(y=1.0, line=dict(color="black", width=1, dash="dash"), row=i + 1, col=1,
+                          annotation_text="tolerance (≤ 1: met)", annotation_position="top right")
+        fig.update_yaxes(title=dict(text=name, font=dict(size=11)), type="log", tickformat=".3~g",
+                         row=i + 1, col=1)
+    fig.update_xaxes(title=xlabel, row=n, col=1)
+    longest = max(len(v) for v in series.values())
+    if longest <= 25:
+        fig.update_xaxes(dtick=1)
+    return fig
+
+
+def fig_pareto(report: dict, folder: Path):
+    """A sweep's designs: measure against objective in their displayed units (kN), the front joined, each
+    point's Bf target (3 decimals), values and hull file on hover; a click opens the hull file."""
+    import plotly.graph_objects as go
+
+    o = report.get("objective", {})
+    mname, oname = o.get("measure", "measure"), o.get("name", "objective")
+    designs = report.get("designs", [])
+    fig = _figure(f"Pareto front: {label(oname, unit=False)} against {label(mname, unit=False)} "
+                  "(hover: each design; click: its hull file)", height=460)
+    groups = (("Pareto front", lambda d: d.get("pareto") and d.get("met"), dict(color=_colour(0), size=10), "lines+markers"),
+              ("dominated", lambda d: d.get("met") and not d.get("pareto"), dict(color="#999999", size=8), "markers"),
+              ("targets not met", lambda d: not d.get("met"), dict(color="#d62728", size=9, symbol="x"), "markers"))
+    for name, keep, marker, mode in groups:
+        ks = [k for k, d in enumerate(designs) if keep(d)]
+        if not ks:
+            continue
+        ks.sort(key=lambda k: designs[k]["measure"])
+        xs = [displayed(mname, designs[k]["measure"])[0] for k in ks]
+        ys = [displayed(oname, designs[k]["objective"])[0] for k in ks]
+        hover = [_pareto_hover(k, designs[k], mname, oname, folder) for k in ks]
+        fig.add_trace(go.Scatter(x=xs, y=ys, mode=mode, name=name, marker=marker, text=hover,
+                                 customdata=[_hull_link(folder, k) or "" for k in ks],
+                                 hovertemplate="%{text}<extra></extra>"))
+    fig.update_xaxes(title=label(mname))
+    fig.update_yaxes(title=label(oname))
+    return fig
+
+
+def _pareto_hover(k: int, d: dict, mname: str, oname: str, folder: Path) -> str:
+    m, mu = displayed(mname, d["measure"])
+    v, vu = displayed(oname, d["objective"])
+    link = _hull_link(folder, k)
+    lines = [f"<b>design {k}</b>: Bf target {d['bf_target']:.3f}",
+             f"{label(mname, unit=False)}: {fmt(m, 4)} {mu}".rstrip(),
+             f"{label(oname, unit=False)}: {fmt(v, 4)} {vu}".rstrip(),
+             f"targets met: {'yes' if d.get('met') else 'NO'}",
+             f"hull: {link} (click to open)" if link else "hull: hullopt export RUN_DIR?design=" + str(k)]
+    return "<br>".join(html.escape(s, quote=False).replace("&lt;b&gt;", "<b>").replace("&lt;/b&gt;", "</b>")
+                       for s in lines)
+
+
+def _hull_link(folder: Path, k: int) -> str | None:
+    """The relative path of design ``k``'s hull file in a sweep's folder, if it is there."""
+    for name in ("hull.stl", "hull.obj", "hull.ply", "hull.glb"):
+        if (folder / "designs" / str(k) / name).is_file():
+            return f"designs/{k}/{name}"
+    return None
+
+
+# ----------------------------------------------------------------------------------------------- tables
+
+
+def _table(head: list[str], rows: list[list[str]], cls: str = "") -> str:
+    th = "".join(f"<th>{html.escape(h)}</th>" for h in head)
+    body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>" for r in rows)
+    return f'<table class="{cls}"><thead><tr>{th}</tr></thead><tbody>{body}</tbody></table>'
+
+
+def _e(v: Any) -> str:
+    return html.escape(str(v))
+
+
+def _number(key: str, v: Any, ref: float | None = None) -> str:
+    """``v`` of a report key in its displayed unit (no unit: the column head has it)."""
+    if isinstance(v, bool) or v is None:
+        return _e(fmt(v))
+    if not isinstance(v, int | float):
+        return _e(v)
+    d, u = displayed(key, v)
+    return _e(fmt(d, 5, ref))
+
+
+def _ref(key: str, *values) -> float:
+    ds = [abs(displayed(key, v)[0]) for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
+    return max([*ds, unit_scale(displayed(key, 0.0)[1]), 0.0])
+
+
+def targets_table(report: dict) -> str:
+    """Targets: wanted, achieved, error (as the solver measures it), tolerance and met; a sweep's held
+    targets as they are."""
+    targets = report.get("targets") or {}
+    if not targets:
+        return "<p>No targets.</p>"
+    rows = []
+    full = all(isinstance(t, dict) for t in targets.values())
+    for k, t in targets.items():
+        if not isinstance(t, dict):
+            rows.append([_e(label(k)), _number(k, t, _ref(k, t))])
+            continue
+        ref = _ref(k, t.get("target"), t.get("achieved"))
+        met = t.get("met")
+        scale, eunit = _error_scale(k)
+        err, tol = (v * scale if isinstance(v, int | float) else v for v in (t.get("error"), t.get("tolerance")))
+        tol_ref = abs(tol) if isinstance(tol, int | float) else None
+        rows.append([_e(label(k)), _number(k, t.get("target"), ref), _number(k, t.get("achieved"), ref),
+                     _e(quantity(err, eunit, 2, ref=tol_ref)), _e(quantity(tol, eunit, 2)),
+                     '<span class="ok">yes</span>' if met else '<span class="bad">NO</span>' if met is False else "–"]
+                    + [_e(_plain(v)) for kk, v in t.items()
+                       if kk not in ("target", "achieved", "error", "tolerance", "met")])
+    if full:
+        extra = list(dict.fromkeys(kk for t in targets.values() for kk in t
+                                   if kk not in ("target", "achieved", "error", "tolerance", "met")))
+        return _table(["target", "wanted", "achieved", "error", "tolerance", "met", *extra], rows)
+    return _table(["target (held)", "value"], [r[:2] for r in rows])
+
+
+def _error_scale(key: str) -> tuple[float, str]:
+    """How a target's error and tolerance read: a relative target's in %, the others in the particular's
+    unit (as the solvers measure them; :data:`hullopt.optimise.TARGETS`)."""
+    from ..optimise import TARGETS
+
+    if TARGETS.get(key, (False,))[0]:
+        return 100.0, "%"
+    return 1.0, displayed(key, 0.0)[1]
+
+
+def _plain(v: Any) -> str:
+    if isinstance(v, float):
+        return fmt(v)
+    return json.dumps(to_builtin(v)) if isinstance(v, dict | list) else str(v)
+
+
+def particulars_table(report: dict, picks: list[int] | None = None) -> str:
+    """The hydrostatic particulars parent → design with units, the change and the relative change; a sweep's
+    (``picks``: its designs' ``particulars``) parent and designs side by side."""
+    parent = report.get("parent") or {}
+    if picks is not None:
+        designs = [(report["designs"][k].get("particulars") or {}) for k in picks]
+        keys = [k for k in dict.fromkeys(k for d in designs for k in d) if k in parent]
+        rows = []
+        for k in keys:
+            values = [parent[k], *(d.get(k) for d in designs)]
+            ref = _ref(k, *values)
+            rows.append([_e(label(k)), *(_number(k, v, ref) for v in values)])
+        return _table(["particular", "parent", *(f"design {j}" for j in picks)], rows) if rows else ""
+    design = report.get("achieved") or {}
+    keys = [k for k in design if k in parent]
+    if not keys:
+        return ""
+    rows = []
+    for k in keys:
+        a, b = parent[k], design[k]
+        if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in (a, b)):
+            continue
+        ref = _ref(k, a, b)
+        (da, unit), (db, _) = displayed(k, a), displayed(k, b)
+        rel = "" if unit == "% Lpp" or abs(da) < 1e-12 else f"{100 * (db / da - 1):+.2f}"
+        rows.append([_e(label(k)), _e(fmt(da, 5, ref)), _e(fmt(db, 5, ref)), _e(_signed(db - da, ref)), _e(rel)])
+    return _table(["particular", "parent", "design", "change", "change [%]"], rows)
+
+
+def _signed(v: float, ref: float) -> str:
+    text = fmt(v, 5, ref)
+    return text if text.startswith("-") or float(text) == 0 else f"+{text}"
+
+
+def _shown(key: str, unit: str | None = None) -> tuple[str, str, float]:
+    """``(label with unit, displayed unit, factor from SI)`` of a report key: a known particular or objective
+    by :mod:`hullopt.app.output`'s tables, any other by the SI ``unit`` the report gives (N → kN, kg → t)."""
+    lab, (_, u) = label(key), displayed(key, 0.0)
+    if u or unit in (None, "", "-"):
+        return lab, u, displayed(key, 1.0)[0]
+    u, factor = {"N": ("kN", 1e-3), "kg": ("t", 1e-3), "W": ("kW", 1e-3)}.get(unit, (unit, 1.0))
+    return f"{lab} [{u}]", u, factor
+
+
+def objective_rows(report: dict) -> list[tuple[str, str | None, Any, list]]:
+    """``(key, SI unit, parent, [design values])`` of every objective and measure the report compares: its
+    ``objectives`` (a mapping of name → {parent, design | designs | value, unit} or → a number, or a list of
+    such records with a ``name``) and its ``objective`` ({name, value, parent}) when not among them."""
+    out: list[tuple[str, str | None, Any, list]] = []
+
+    def add(name, rec):
+        if isinstance(rec, dict):
+            if isinstance(rec.get("designs"), list):
+                values = rec["designs"]
+            else:
+                values = [next((rec[k] for k in ("design", "value", "achieved") if k in rec), None)]
+            if rec.get("parent") is None and all(v is None for v in values):
+                return
+            out.append((str(rec.get("name", name)), rec.get("unit"), rec.get("parent"), values))
+        elif isinstance(rec, int | float) and not isinstance(rec, bool):
+            out.append((str(name), None, None, [rec]))
+
+    objs = report.get("objectives")
+    if isinstance(objs, dict):
+        for name, rec in objs.items():
+            add(name, rec)
+    elif isinstance(objs, list):
+        for rec in objs:
+            if isinstance(rec, dict):
+                add(rec.get("name", "objective"), rec)
+    o = report.get("objective")
+    if isinstance(o, dict) and "value" in o and not any(r[0] == o.get("name") for r in out):
+        add(o.get("name", "objective"), o)
+    return out
+
+
+def _num(v: Any) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v)
+
+
+def objectives_table(report: dict, picks: list[int] | None = None) -> str:
+    """Objectives and measures parent → design with units (a run: the change and the relative change; a
+    sweep: the designs ``picks``); the run's own objective first and in bold."""
+    rows = []
+    main = (report.get("objective") or {}).get("name")
+    entries = sorted(objective_rows(report), key=lambda r: r[0] != main)
+    sweep = picks is not None
+    for k, unit, a, values in entries:
+        lab, u, factor = _shown(k, unit)
+        da = a * factor if _num(a) else None
+        ds = [v * factor if _num(v) else None for v in values]
+        if sweep:
+            ds = [ds[j] if j < len(ds) else None for j in picks]
+        ref = max([abs(v) for v in (da, *ds) if v is not None] + [unit_scale(u)])
+        name = f"<b>{_e(lab)}</b>" if k == main else _e(lab)
+        cells = [name, _e(fmt(da, 5, ref))] + [_e(fmt(v, 5, ref)) for v in ds]
+        if not sweep:
+            db = ds[0] if ds else None
+            ch = _signed(db - da, ref) if da is not None and db is not None else ""
+            rel = f"{100 * (db / da - 1):+.2f}" if da and db is not None and u != "% Lpp" else ""
+            cells += [_e(ch), _e(rel)]
+        rows.append(cells)
+    if not rows:
+        return ""
+    head = ["objective or measure", "parent"] + ([f"design {j}" for j in picks] if sweep
+                                                 else ["design", "change", "change [%]"])
+    return _table(head, rows)
+
+
+def report_warnings(report: dict) -> list[str]:
+    """The report's ``warnings``, its ``message`` (targets not met), a solver that stopped short, and for a
+    sweep the designs that miss their targets."""
+    out = []
+    for w in report.get("warnings") or []:
+        out.append(w if isinstance(w, str) else json.dumps(to_builtin(w)))
+    if report.get("message"):
+        out.append(str(report["message"]))
+    if report.get("met") and not report.get("converged", True):
+        out.append("the solver stopped before it converged (the targets are met)")
+    missed = [k for k, d in enumerate(report.get("designs") or []) if not d.get("met")]
+    if missed:
+        out.append(f"{len(missed)} of {len(report['designs'])} designs miss their targets "
+                   f"({', '.join(map(str, missed))}); they are left off the front")
+    if report.get("partial"):
+        out.append(f"a partial sweep: chunks {report.get('chunks_done')} of {report.get('chunks_total')} done")
+    return out
+
+
+def designs_table(report: dict, folder: Path) -> str:
+    """A sweep's designs: Bf target (3 decimals), measure and objective in kN, met, front, link to the hull."""
+    o = report.get("objective", {})
+    mname, oname = o.get("measure", "measure"), o.get("name", "objective")
+    rows = []
+    for k, d in enumerate(report.get("designs") or []):
+        link = _hull_link(folder, k)
+        rows.append([str(k), f"{d.get('bf_target', float('nan')):.3f}",
+                     _e(fmt(displayed(mname, d.get("measure"))[0], 4)),
+                     _e(fmt(displayed(oname, d.get("objective"))[0], 4)),
+                     '<span class="ok">yes</span>' if d.get("met") else '<span class="bad">NO</span>',
+                     "★" if d.get("pareto") else "", f'<a href="{_e(link)}">{_e(link)}</a>' if link else "–"])
+    return _table(["design", "Bf target", _e(label(mname, short=True)), _e(label(oname, short=True)), "targets met",
+                   "front", "hull"], rows)
+
+
+def summary_list(report: dict) -> str:
+    items = [("kind", report.get("kind")), ("converged", report.get("converged")), ("targets met", report.get("met")),
+             ("iterations", report.get("iterations"))]
+    if "max_violation" in report:
+        items.append(("largest constraint violation [tolerances]", report["max_violation"]))
+    if "pareto_count" in report:
+        items.append(("non-dominated designs", report["pareto_count"]))
+    cells = "".join(f"<div><span class=k>{_e(k)}</span> <b>{_e(fmt(v) if not isinstance(v, str) else v)}</b></div>"
+                    for k, v in items if v is not None)
+    return f'<div class="summary">{cells}</div>'
+
+
+# ----------------------------------------------------------------------------------------------- page
+
+_CSS = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:0 auto;max-width:1200px;padding:1em 2em;
+color:#222}
+h1{font-size:1.6em;margin-bottom:.2em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ddd}
+.sub{color:#666;margin-top:0}.summary{display:flex;flex-wrap:wrap;gap:.4em 2em;margin:.8em 0}.k{color:#666}
+table{border-collapse:collapse;margin:.5em 0;font-size:.92em}th,td{padding:.25em .8em;border-bottom:1px solid #eee}
+th{text-align:left;background:#f6f6f6}td{font-variant-numeric:tabular-nums}td:not(:first-child){text-align:right}
+.ok{color:#1a7f37}.bad{color:#c62828;font-weight:bold}.warn{background:#fff6e0;border-left:4px solid #f0a020;
+padding:.5em 1em}.plot{margin:.5em 0}.grid{display:grid;grid-template-columns:1fr 1fr;gap:1em}
+@media (max-width:900px){.grid{grid-template-columns:1fr}}
+"""
+
+_CLICK = """
+document.getElementById('{plot_id}').on('plotly_click', function (e) {
+  var link = e.points && e.points[0] && e.points[0].customdata;
+  if (link) { window.open(link, '_blank'); }
+});
+"""
+
+
+def _div(fig, name: str, click: bool = False) -> str:
+    import plotly.io as pio
+
+    if fig is None:
+        return ""
+    return '<div class="plot">' + pio.to_html(
+        fig, full_html=False, include_plotlyjs=False, include_mathjax=False, div_id=name,
+        config={"displaylogo": False, "responsive": True}, post_script=_CLICK if click else None) + "</div>"
+
+
+def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | None = None) -> str:
+    """The page of a run folder (see the module's docstring) as one HTML string, plotly's JS embedded once."""
+    from plotly.offline import get_plotlyjs
+
+    title = title or f"hullopt run: {folder.resolve().name}"
+    kind = report.get("kind", "run")
+    parts = [f"<h1>{_e(title)}</h1>",
+             f'<p class="sub">{_e(kind)} run in <code>{_e(folder.resolve().name)}/</code>; units as labelled '
+             "(lengths m, areas m², displacement t, resistances kN)</p>", summary_list(report)]
+    warns = report_warnings(report)
+    parts.append("<h2>Warnings</h2>" + ("".join(f'<p class="warn">{_e(w)}</p>' for w in warns) if warns
+                                         else "<p>None.</p>"))
+    if kind == "pareto" and report.get("designs"):
+        parts += ["<h2>Pareto front</h2>", _div(fig_pareto(report, folder), "pareto", click=True),
+                  "<h2>Designs</h2>", designs_table(report, folder)]
+    if hulls is not None:
+        parts += ["<h2>Hulls</h2>", _div(fig_hulls_3d(hulls), "hull3d"),
+                  '<div class="grid">', _div(fig_body_plan(hulls), "bodyplan"),
+                  _div(fig_sectional_areas(hulls), "sac"), "</div>"]
+    parts += ["<h2>Targets and constraints</h2>", targets_table(report)]
+    obj = objectives_table(report, sweep_picks(report) if kind == "pareto" else None)
+    if obj:
+        parts += ["<h2>Objectives and measures: parent → design</h2>", obj]
+    part = particulars_table(report, sweep_picks(report) if kind == "pareto" else None)
+    if part:
+        parts += ["<h2>Particulars: parent → design</h2>", part]
+    conv = fig_convergence(report)
+    if kind != "pareto":
+        parts += ["<h2>Convergence</h2>", _div(conv, "convergence") if conv is not None
+                  else "<p>This run folder holds no convergence history (rerun it to record one).</p>"]
+    body = "\n".join(parts)
+    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+            f'<meta name="viewport" content="width=device-width, initial-scale=1">'
+            f"<title>{_e(title)}</title><style>{_CSS}</style>"
+            f'<script type="text/javascript">{get_plotlyjs()}</script></head>\n<body>\n{body}\n'
+            f'<p class="sub">Written by hullopt; rebuild with <code>hullopt report RUN_DIR</code>.</p></body></html>\n')
+
+
+def read_run(folder: Path) -> tuple[dict, dict]:
+    """``(config, report)`` of a run folder; :class:`HullError` if it is not one."""
+    try:
+        raw = json.loads((folder / "config.json").read_text())
+        report = json.loads((folder / "report.json").read_text())
+    except (OSError, ValueError) as e:
+        raise HullError(f"{folder} is not a run folder with config.json and report.json "
+                        f"({type(e).__name__}: {e})") from None
+    return raw, report
+
+
+def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None = None) -> Path:
+    """Write ``folder/report.html`` atomically and return its path. ``report``: the run's report (default:
+    its ``report.json``); ``hulls``: the parent and design hulls (default: rebuilt from the folder by
+    :func:`run_hulls`; a partial sweep's page has none)."""
+    folder = Path(folder)
+    raw, kept = read_run(folder) if report is None or hulls is None else (None, None)
+    report = report if report is not None else kept
+    report = to_builtin(report)
+    if hulls is None and not report.get("partial"):
+        hulls = run_hulls(folder, raw, report)
+    text = build_html(folder, report, hulls)
+    path = folder / REPORT_NAME
+    atomic_write_bytes(path, text.encode("utf-8"))
+    return path
+
+
+__all__ = ["REPORT_NAME", "Hulls", "build_html", "history_record", "history_series", "run_hulls", "write_report"]
