@@ -41,6 +41,23 @@ def _parse_params(text: str) -> np.ndarray:
     return vals
 
 
+# What each method counts (``hullopt waves --method all`` prints it beside its numbers; the README says which
+# to use when).
+INCLUDES = {
+    "nmri": "motion (strip theory) + reflection (Bf)",
+    "stawave1": "reflection only, empirical",
+    "stawave2": "motion + reflection, empirical",
+    "snnm": "motion + reflection, empirical",
+}
+NMRI_REFLECTION_ONLY = "reflection only (Bf)"
+
+
+def includes(method: str, motion: bool = True) -> str:
+    """What ``method``'s R_AW counts: the motion-induced part, the reflection part, or both; semi-analytical
+    (NMRI: strip theory + the Bf formula) or empirical."""
+    return NMRI_REFLECTION_ONLY if method == "nmri" and not motion else INCLUDES[method]
+
+
 @eqx.filter_jit
 def _regular(method, sections, draft, speed, omega, heading, kyy, smooth, aft, motion=True):
     nm = nmri_added_resistance(sections, draft, speed, omega, heading, 1.0, smooth=smooth, aft=aft)
@@ -58,7 +75,7 @@ def waves(
     hs: Annotated[float | None, typer.Option(help="Significant wave height of a sea state [m].")] = None,
     tp: Annotated[float | None, typer.Option(help="Peak period of the sea state [s].")] = None,
     lambda_over_l: Annotated[str, typer.Option("--lambda-over-l", help="Regular waves λ/L START:STOP:COUNT.")] = "0.2:2.0:19",
-    method: Annotated[str, typer.Option(help=f"One of {', '.join(METHODS)}.")] = "nmri",
+    method: Annotated[str, typer.Option(help=f"One of {', '.join(METHODS)}, or all (side by side: what each includes and its R_AW).")] = "nmri",
     spectrum: Annotated[str, typer.Option(help=f"Sea-state spectrum: {', '.join(SPECTRA)}.")] = "pm",
     gamma: Annotated[float, typer.Option(help="JONSWAP peak enhancement γ.")] = 3.3,
     spreading: Annotated[float | None, typer.Option(help="cos-2s spreading exponent s (short-crested); none: long-crested.")] = None,
@@ -72,8 +89,8 @@ def waves(
     plot: Annotated[Path | None, typer.Option(help="Write a plot of K_AW against λ/L (.png, .pdf, .svg).")] = None,
 ) -> None:
     """Bf, K_AW (patent JP2009-286166 / NMRI) and R_AW in regular waves and in a sea state."""
-    if method not in METHODS:
-        raise HullError(f"--method {method!r}: expected one of {', '.join(METHODS)}")
+    if method not in (*METHODS, "all"):
+        raise HullError(f"--method {method!r}: expected one of {', '.join(METHODS)} or all")
     if spectrum not in SPECTRA:
         raise HullError(f"--spectrum {spectrum!r}: expected one of {', '.join(SPECTRA)}")
     if aft not in AFT_OPTIONS:
@@ -109,23 +126,34 @@ def waves(
         lpp = float(s.lpp)
         alpha = np.radians(heading)
         omega = np.asarray(omega_from_wavelength(ratios * lpp))
-        nm, r = _regular(method, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft, motion)
-        half = 0.5 * RHO_SEA * G * float(nm.beam)
+        per = {}
+        for m in METHODS if method == "all" else (method,):
+            nm, r = _regular(m, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft, motion)
+            half = 0.5 * RHO_SEA * G * float(nm.beam)
+            per[m] = {
+                "includes": includes(m, motion), "k_aw_per_wave": np.asarray(r.total) / half,
+                "r_awr": amplitude**2 * np.asarray(r.reflection), "r_awm": amplitude**2 * np.asarray(r.motion),
+                "r_aw": amplitude**2 * np.asarray(r.total),
+            }
+            if hs is not None:
+                mean = eqx.filter_jit(mean_added_resistance)(
+                    m, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
+                    smooth=smooth, aft=aft, motion=motion)
+                per[m].update(mean_raw=float(mean.total), mean_raw_motion=float(mean.motion),
+                              mean_raw_reflection=float(mean.reflection))
         out = {
             "hull": h.name, "method": method, "draft": t, "speed": u, "speed_kn": speed, "heading_deg": heading,
             "lpp": lpp, "beam": float(nm.beam), "fn": float(nm.fn), "bf": float(nm.bf), "c_u": float(nm.c_u),
             "k_aw": float(nm.k_aw_short), "r_awr_short": float(half * amplitude**2 * nm.k_aw_short),
             "amplitude": amplitude, "lambda_over_l": ratios, "omega": omega,
-            "alpha_t": np.asarray(nm.alpha_t), "k_aw_per_wave": np.asarray(r.total) / half,
-            "r_awr": amplitude**2 * np.asarray(r.reflection), "r_awm": amplitude**2 * np.asarray(r.motion),
-            "r_aw": amplitude**2 * np.asarray(r.total),
+            "alpha_t": np.asarray(nm.alpha_t),
         }
         if hs is not None:
-            mean = eqx.filter_jit(mean_added_resistance)(
-                method, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
-                smooth=smooth, aft=aft, motion=motion)
-            out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading, mean_raw=float(mean.total),
-                       mean_raw_motion=float(mean.motion), mean_raw_reflection=float(mean.reflection))
+            out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading)
+        if method == "all":
+            out["methods"] = per  # one record per method, the keys of a single method's
+        else:
+            out.update(per[method])
         if params is not None:
             prog = select_lower_k_aw(s, blunt_bow_modification, params, t, u, alpha)
             out["program"] = {
@@ -138,7 +166,7 @@ def waves(
     if json:
         print_json(out)
         return
-    _print(out)
+    (_print_all if method == "all" else _print)(out)
 
 
 
@@ -147,6 +175,7 @@ def _print(out: dict) -> None:
           f"{out['speed_kn']:g} kn, heading {out['heading_deg']:g}°)",
           ["quantity", "value"],
           [["Fn", out["fn"]], ["B_wl [m]", out["beam"]], ["Bf", out["bf"]], ["C_U", out["c_u"]],
+           ["includes", out["includes"]],
            ["K_AW (short waves, NMRI)", out["k_aw"]], [f"R_AWR short waves, ζ={out['amplitude']:g} m [kN]", out["r_awr_short"] / 1e3]]
           + ([[f"mean R_AW, Hs {out['hs']:g} m, Tp {out['tp']:g} s [kN]", out["mean_raw"] / 1e3],
               ["  motion part [kN]", out["mean_raw_motion"] / 1e3], ["  reflection part [kN]", out["mean_raw_reflection"] / 1e3]]
@@ -163,7 +192,34 @@ def _print(out: dict) -> None:
         console.print(f"chosen: {p['chosen']}")
 
 
+def _print_all(out: dict) -> None:
+    """Every method side by side: what each includes, its mean R_AW in the sea state (or the largest R_AW in
+    regular waves without one), and R_AW per regular wave."""
+    table(f"Added resistance in waves — {out['hull']} (T {out['draft']:g} m, {out['speed_kn']:g} kn, "
+          f"heading {out['heading_deg']:g}°)", ["quantity", "value"],
+          [["Fn", out["fn"]], ["B_wl [m]", out["beam"]], ["Bf", out["bf"]], ["C_U", out["c_u"]],
+           ["K_AW (short waves, NMRI)", out["k_aw"]]], by="row")
+    per = out["methods"]
+    if "hs" in out:
+        table(f"By method: mean R_AW, Hs {out['hs']:g} m, Tp {out['tp']:g} s ({out['spectrum']})",
+              ["method", "includes", "R_AW [kN]", "motion [kN]", "reflection [kN]"],
+              [[m, r["includes"], r["mean_raw"] / 1e3, r["mean_raw_motion"] / 1e3, r["mean_raw_reflection"] / 1e3]
+               for m, r in per.items()])
+    else:
+        x = out["lambda_over_l"]
+        table(f"By method: largest R_AW in regular waves, ζ = {out['amplitude']:g} m",
+              ["method", "includes", "max R_AW [kN]", "at λ/L"],
+              [[m, r["includes"], float(np.max(r["r_aw"])) / 1e3, f"{x[int(np.argmax(r['r_aw']))]:.3f}"]
+               for m, r in per.items()])
+    table(f"R_AW in regular waves [kN], ζ = {out['amplitude']:g} m", ["λ/L", *per],
+          [[f"{x:.3f}", *(r["r_aw"][i] / 1e3 for r in per.values())] for i, x in enumerate(out["lambda_over_l"])],
+          caption="Which method when: see the README (Added resistance in waves: which method).")
+
+
 def _plot(path: Path, out: dict) -> None:
+    """K_AW = R_AW/(½ρgζ²B) against λ/L: the total of the method (or of every method with ``--method all``), its
+    motion and reflection parts where it has both, and NMRI's short-wave reflection level; each legend entry
+    says what is plotted."""
     if not path.parent.is_dir():
         raise HullError(f"--plot {path}: the folder {str(path.parent)!r} does not exist")
     import matplotlib
@@ -172,22 +228,28 @@ def _plot(path: Path, out: dict) -> None:
     import matplotlib.pyplot as plt
 
     half = 0.5 * RHO_SEA * G * out["beam"] * out["amplitude"] ** 2
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(8.5, 4.8))
     x = out["lambda_over_l"]
-    ax.plot(x, out["r_aw"] / half, "k-o", ms=3, label=f"{out['method']}: total")
-    if np.any(out["r_awm"] != 0):
-        ax.plot(x, out["r_awm"] / half, "--", label="motion part")
-        ax.plot(x, out["r_awr"] / half, ":", label="reflection part")
-    ax.axhline(out["k_aw"], color="grey", lw=0.8, label=f"NMRI short-wave K_AW = {out['k_aw']:.3f}")
-    ax.set_xlabel("λ / L")
-    ax.set_ylabel("K_AW = R_AW / (½ρgζ²B)")
-    ax.set_title(f"{out['hull']}: Fn {out['fn']:.3f}, Bf {out['bf']:.3f}, heading {out['heading_deg']:g}°")
+    per = out["methods"] if "methods" in out else {out["method"]: out}
+    for j, (m, r) in enumerate(per.items()):
+        color = "k" if len(per) == 1 else f"C{j}"
+        ax.plot(x, r["r_aw"] / half, "-o", ms=3, color=color, label=f"{m} R_AW: {r['includes']}")
+        if np.any(r["r_awm"] != 0) and (len(per) == 1 or m == "nmri"):
+            how = "strip theory" if m == "nmri" else "empirical"
+            ax.plot(x, r["r_awm"] / half, "--", color=color, alpha=0.8, label=f"{m} motion part R_AWM ({how})")
+            how = "Bf formula" if m == "nmri" else "empirical"
+            ax.plot(x, r["r_awr"] / half, ":", color=color, alpha=0.8, label=f"{m} reflection part R_AWR ({how})")
+    ax.axhline(out["k_aw"], color="grey", lw=0.8,
+               label=f"NMRI short-wave reflection K_AW(Bf) = {out['k_aw']:.3f}")
+    ax.set_xlabel("λ / L [-]")
+    ax.set_ylabel("K_AW = R_AW / (½ρgζ²B) [-]")
+    ax.set_title(f"Added resistance in regular waves — {out['hull']}: Fn {out['fn']:.3f}, Bf {out['bf']:.3f}, "
+                 f"heading {out['heading_deg']:g}°", loc="left", fontsize=9)
     ax.grid(alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     from ...drawing import save_figure
 
     try:
-        save_figure(fig, path)
+        save_figure(fig, path, bbox_inches="tight")
     except (ValueError, OSError) as e:
         raise HullError(f"--plot {path}: {e}") from None
