@@ -16,8 +16,24 @@ DATA = REPO / "tests" / "data"  # reference tables, with their provenance in SOU
 
 @pytest.fixture(scope="session")
 def hulls() -> Path:
-    """The example hull files (``examples/hulls``: DTC, KCS, KVLCC2, Wigley)."""
+    """The example hull files (``examples/hulls``: DTC, KCS, KVLCC2, DTMB 5415, Wigley)."""
     return HULLS
+
+
+# The closed real hull meshes in examples/hulls: file, hull-spec parameters (scale to full size, Lpp [m]) and the
+# design draft [m] (DTC: el Moctar et al. 2012; KCS: SIMMAN/Tokyo 2015; DTMB 5415: the model-basin's 6.15 m)
+MESH_HULLS = {
+    "dtc": ("DTC-scaled.stl.gz", "scale=59.407&lpp=355", 14.5),
+    "kcs": ("kcs_model_closed_from_igs.stl.gz", "scale=31.6&lpp=230", 10.8),
+    "dtmb5415": ("dtmb5415_navaltoolbox_fullscale.stl.gz", "lpp=142", 6.15),
+}
+
+
+@pytest.fixture(scope="session")
+def dtmb5415() -> tuple[str, float]:
+    """The DTMB 5415 (full scale, a closed coarse mesh with a sonar dome): its hull spec and design draft [m]."""
+    name, params, draft = MESH_HULLS["dtmb5415"]
+    return f"{HULLS / name}?{params}", draft
 
 
 @pytest.fixture(autouse=True)

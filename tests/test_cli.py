@@ -10,8 +10,8 @@ import trimesh
 from conftest import REPO
 
 WIGLEY = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=41"
-KEYS = ["draft", "volume", "displacement", "wetted_surface", "cb", "cp", "cm", "cwp", "lcb", "lcb_pct", "kb", "awp",
-        "lcf", "lcf_pct", "bmt", "bml", "kmt", "tpc", "mct", "lwl", "bwl"]
+KEYS = ["draft", "volume", "displacement", "wetted_surface", "a_transom", "cb", "cp", "cm", "cwp", "lcb", "lcb_pct",
+        "kb", "awp", "lcf", "lcf_pct", "bmt", "bml", "kmt", "tpc", "mct", "lwl", "bwl"]
 
 
 def test_hydro_json_has_exactly_the_documented_keys(cli):
@@ -20,6 +20,7 @@ def test_hydro_json_has_exactly_the_documented_keys(cli):
     d = json.loads(out)
     assert list(d) == KEYS
     assert d["volume"] == pytest.approx(4000) and d["displacement"] == pytest.approx(4000 * 1025)
+    assert d["a_transom"] == pytest.approx(10 * 4)  # a box's transom: B·T
     assert d["lcb"] == pytest.approx(50) and d["lcb_pct"] == pytest.approx(0, abs=1e-12)
 
 

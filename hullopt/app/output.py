@@ -68,7 +68,8 @@ JSON_UNITS = ("JSON (--json, report.json) is in SI units: m, m², m³, kg, N, s,
 # the JSON's value to the displayed one
 PARTICULARS: dict[str, tuple[str, str, float]] = {
     "draft": ("Draft T", "m", 1), "volume": ("Volume ∇", "m³", 1), "displacement": ("Displacement Δ", "t", 1e-3),
-    "wetted_surface": ("Wetted surface S", "m²", 1), "cb": ("Cb", "", 1), "cp": ("Cp", "", 1), "cm": ("Cm", "", 1),
+    "wetted_surface": ("Wetted surface S", "m²", 1), "a_transom": ("Immersed transom A_T", "m²", 1),
+    "cb": ("Cb", "", 1), "cp": ("Cp", "", 1), "cm": ("Cm", "", 1),
     "cwp": ("Cwp", "", 1), "lcb": ("LCB from AP", "m", 1), "lcb_pct": ("LCB from midship", "% Lpp", 1),
     "kb": ("KB", "m", 1), "awp": ("Awp", "m²", 1), "lcf": ("LCF from AP", "m", 1),
     "lcf_pct": ("LCF from midship", "% Lpp", 1), "bmt": ("BM_T", "m", 1), "bml": ("BM_L", "m", 1),

@@ -7,7 +7,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._safe import safe_div
+from ._safe import safe_div, safe_sqrt
 from ._sections import Sections, section_integrals
 
 
@@ -51,14 +51,55 @@ def volume_lcb(x: Float[Array, " n"], area: Float[Array, " n"]) -> tuple[Array, 
     return volume, (w @ (x * area)) / volume
 
 
-def _waterline_length(x: Array, bw: Array) -> Array:
-    """From the first to the last station with a waterline, each extended to its dry neighbour (where
-    the ruled surface between the two stations ends); exact when the stations include both ends."""
-    wet = bw > 0.0
+def _centre_waterline_distance(yz: Array, level: Array) -> Array:
+    """Distance [m] from the point ``(0, level)`` to each section's surface edges ``(n,)``: the edges of the
+    half-section polyline off the centre plane (all of them for a section wholly in the centre plane, a stem).
+    """
+    p0, p1 = yz[..., :-1, :], yz[..., 1:, :]
+    knife = jnp.all(yz[..., 0] == 0.0, axis=-1, keepdims=True)
+    surface = ~((p0[..., 0] == 0.0) & (p1[..., 0] == 0.0)) | knife
+    e = p1 - p0
+    w = jnp.stack([-p0[..., 0], level - p0[..., 1]], axis=-1)
+    ee = jnp.sum(e * e, axis=-1)
+    s = jnp.clip(safe_div(jnp.sum(w * e, axis=-1), ee, ee > 0.0), 0.0, 1.0)
+    r = w - s[..., None] * e
+    d2 = jnp.min(jnp.where(surface, jnp.sum(r * r, axis=-1), jnp.inf), axis=-1)
+    return safe_sqrt(jnp.where(jnp.isfinite(d2), d2, 0.0))
+
+
+def waterline_ends(x: Array, yz: Array, half_breadth: Array, level: Array) -> tuple[Array, Array]:
+    """The aft and forward ends [m from the AP] of the waterline ``z = level``: where it meets the stern and
+    stem profiles, between the last station with a waterline (``half_breadth > 0``) and its dry neighbour.
+
+    Each station gets ``φ``, the distance from the centre plane's waterline point ``(0, level)`` to its
+    surface, positive where the station has a waterline. Outside the hull ``φ`` grows about linearly with the
+    distance from the end (the gap under a counter, above a bulb, below a raked stem), so the end is where
+    the line through the first two dry stations reaches 0, kept between the wet and the dry station; where
+    there is no second dry station, or ``φ`` does not grow, ``φ`` is interpolated across the wet and the dry
+    station. A wet end station is the end (a transom; a box); a section wholly in the centre plane (a
+    stem, the Wigley's) has ``φ = 0`` and is the end. Both ends are 0 where nothing is wet.
+    """
     n = x.shape[0]
+    wet = half_breadth > 0.0
+    phi = jnp.where(wet, 1.0, -1.0) * _centre_waterline_distance(yz, level)
     first = jnp.argmax(wet)
     last = n - 1 - jnp.argmax(wet[::-1])
-    return jnp.where(jnp.any(wet), x[jnp.minimum(last + 1, n - 1)] - x[jnp.maximum(first - 1, 0)], 0.0)
+
+    def end(a, step):  # a: the last wet station; step: +1 forward, -1 aft
+        b, c = a + step, a + 2 * step
+        inside = (b >= 0) & (b <= n - 1)
+        has_c = (c >= 0) & (c <= n - 1)
+        b, c = jnp.clip(b, 0, n - 1), jnp.clip(c, 0, n - 1)
+        xa, xb, xc = x[a], x[b], x[c]
+        pa, pb, pc = phi[a], phi[b], phi[c]
+        grows = has_c & (pc < pb)  # φ more negative further out
+        outer = xb - pb * safe_div(xc - xb, pc - pb, grows)
+        lo, hi = jnp.minimum(xa, xb), jnp.maximum(xa, xb)
+        across = xa + (xb - xa) * safe_div(pa, pa - pb, pa - pb > 0.0)
+        return jnp.where(inside, jnp.clip(jnp.where(grows, outer, across), lo, hi), xa)
+
+    any_wet = jnp.any(wet)
+    return jnp.where(any_wet, end(first, -1), 0.0), jnp.where(any_wet, end(last, 1), 0.0)
 
 
 class LongitudinalIntegrals(eqx.Module):
@@ -68,8 +109,11 @@ class LongitudinalIntegrals(eqx.Module):
     ``area (n,)`` full-section immersed areas [m²] (the sectional-area curve), ``moment_z (n,)`` their
     first moments about the baseline [m³], ``half_breadth (n,)`` waterline half-breadths [m]; ``volume``
     ∇ [m³], ``lcb`` [m], ``kb`` [m]; the waterplane: ``awp`` [m²], ``lcf`` [m], its transverse and
-    longitudinal (about the LCF) second moments ``i_t``, ``i_l`` [m⁴], ``bwl`` = 2·max half-breadth and
-    ``lwl`` (from the first to the last wet station, each extended to its dry neighbour) [m].
+    longitudinal (about the LCF) second moments ``i_t``, ``i_l`` [m⁴], ``bwl`` = 2·max half-breadth; the
+    waterline's ends ``x_aft``, ``x_fwd`` [m from the AP] where it meets the stern and stem profiles
+    (:func:`waterline_ends`) and ``lwl`` = ``x_fwd − x_aft`` [m]; ``a_transom`` [m²], the immersed transom
+    area (Holtrop's A_T): the immersed area of the aft end station where the waterline reaches it (a
+    transom at the aftmost station), else 0.
     """
 
     area: Float[Array, " n"]
@@ -84,6 +128,9 @@ class LongitudinalIntegrals(eqx.Module):
     i_l: Float[Array, ""]
     bwl: Float[Array, ""]
     lwl: Float[Array, ""]
+    x_aft: Float[Array, ""]
+    x_fwd: Float[Array, ""]
+    a_transom: Float[Array, ""]
 
 
 def longitudinal_integrals(sections: Sections, draft) -> LongitudinalIntegrals:
@@ -102,8 +149,9 @@ def longitudinal_integrals(sections: Sections, draft) -> LongitudinalIntegrals:
     bw = s.width
     awp = 2.0 * (w @ bw)
     lcf = safe_div(2.0 * (w @ (x * bw)), awp)
+    x_aft, x_fwd = waterline_ends(x, sections.yz, bw, t)
     return LongitudinalIntegrals(
         area=area, moment_z=moment_z, half_breadth=bw, volume=volume, lcb=lcb, kb=kb, awp=awp, lcf=lcf,
         i_t=(2.0 / 3.0) * (w @ bw**3), i_l=2.0 * (w @ (x**2 * bw)) - awp * lcf**2, bwl=2.0 * jnp.max(bw),
-        lwl=_waterline_length(x, bw),
+        lwl=x_fwd - x_aft, x_aft=x_aft, x_fwd=x_fwd, a_transom=jnp.where(bw[0] > 0.0, area[0], 0.0),
     )

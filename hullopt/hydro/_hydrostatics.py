@@ -28,6 +28,7 @@ class Hydrostatics(eqx.Module):
     volume: Float[Array, ""]
     displacement: Float[Array, ""]
     wetted_surface: Float[Array, ""]
+    a_transom: Float[Array, ""]
     cb: Float[Array, ""]
     cp: Float[Array, ""]
     cm: Float[Array, ""]
@@ -79,7 +80,10 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
     Hydrostatics
         Scalars in SI: ``volume`` [m³], ``displacement`` [kg], ``cb``, ``cp``, ``cm``, ``cwp`` […],
         ``lcb``/``lcf`` [m from the AP] and ``lcb_pct``/``lcf_pct`` [% Lpp from midship, forward
-        positive], ``kb``, ``bmt``, ``bml``, ``kmt`` [m], ``awp`` [m²], ``tpc`` [t/cm], ``mct`` [t·m/cm].
+        positive], ``kb``, ``bmt``, ``bml``, ``kmt`` [m], ``awp`` [m²], ``tpc`` [t/cm], ``mct`` [t·m/cm];
+        ``wetted_surface`` [m²] (:func:`~hullopt.geometry.wetted_surface`), ``a_transom`` [m²] (the immersed
+        transom area, Holtrop's A_T), ``lwl`` [m] between the waterline's ends where it meets the stem and
+        stern profiles, ``bwl`` [m].
 
     Examples
     --------
@@ -105,6 +109,7 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
         volume=volume,
         displacement=displacement,
         wetted_surface=wetted_surface(sections, t),
+        a_transom=li.a_transom,
         cb=cb,
         cp=cb / cm,
         cm=cm,

@@ -116,18 +116,16 @@ def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_S
 def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_stern: float = 0.0) -> HoltropHull:
     """The method's inputs measured on our geometry at an even-keel ``draft`` [m].
 
-    L, B = waterline length and breadth; S = wetted surface of the grid (:func:`hullopt.geometry.wetted_surface`);
-    A_T = immersed area of the aft end station (the transom); A_BT, h_B = immersed area at the FP and its
-    centroid height; ``ie`` = the angle of the waterline's chord over the forward ``entrance_fraction`` of L
-    (Holtrop's half angle of entrance ignores the local rounding at the stem).
+    L, B = waterline length (between the waterline's ends) and breadth; S = wetted surface
+    (:func:`hullopt.geometry.wetted_surface`); A_T = immersed transom area (``a_transom`` of
+    :func:`hullopt.geometry.longitudinal_integrals`); A_BT, h_B = immersed area at the FP and its centroid
+    height; ``ie`` = the angle of the waterline's chord over the forward ``entrance_fraction`` of L (Holtrop's
+    half angle of entrance ignores the local rounding at the stem).
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     li = longitudinal_integrals(sections, t)
     x, bw = sections.x, li.half_breadth
-    wet = bw > 0.0
-    n = x.shape[0]
-    fwd = x[jnp.minimum(n - 1 - jnp.argmax(wet[::-1]) + 1, n - 1)]  # the waterline's forward end
-    aft = fwd - li.lwl
+    aft, fwd = li.x_aft, li.x_fwd  # the waterline's ends
     lcb = 100.0 * (li.lcb - 0.5 * (aft + fwd)) / li.lwl
     dx = entrance_fraction * li.lwl
     ie = jnp.degrees(jnp.arctan(jnp.interp(fwd - dx, x, bw) / dx))
@@ -137,5 +135,5 @@ def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_s
     cm = jnp.interp(sections.lpp / 2.0, x, li.area) / (li.bwl * t)  # as hullopt.hydro.hydrostatics
     return HoltropHull(
         L=li.lwl, B=li.bwl, T=t, T_F=t, volume=li.volume, cm=cm, cwp=li.awp / (li.lwl * li.bwl), lcb=lcb,
-        ie=ie, S=wetted_surface(sections, t), A_BT=area_fp, h_B=h_b, A_T=li.area[0], c_stern=jnp.asarray(c_stern),
+        ie=ie, S=wetted_surface(sections, t), A_BT=area_fp, h_B=h_b, A_T=li.a_transom, c_stern=jnp.asarray(c_stern),
     )
