@@ -65,7 +65,7 @@ def _sweep_report(n: int = 4) -> dict:
             "targets": {"cb": 0.444201, "volume": 2774.59},
             "objective": {"name": "calm_resistance", "measure": "mean_added_resistance"},
             "designs": [{"bf_target": float(b), "objective": 1.0e5 + 2e5 * b, "measure": 3.0e4 - 4e5 * b,
-                         "met": k != 1, "pareto": k not in (1, n - 1), "params": {},
+                         "met": k != 1, "pareto": k not in (1, n - 1), "params": {"apex_move_d": [[0.0, 0.0]]},
                          "particulars": {"cb": 0.4442, "volume": 2774.6, "wetted_surface": 1490.0 + k}}
                         for k, b in enumerate(bf)],
             "achieved": {"cb": 0.4442}, "parent": {"cb": 0.4442, "volume": 2774.6, "wetted_surface": 1487.6}}
@@ -124,16 +124,39 @@ def test_a_sweep_page_shows_the_front_with_bf_to_3_decimals_and_links_to_hulls(p
         assert f"Bf target {b:.3f}" in text  # the hover text of each design
     assert '<a href="designs/2/hull.stl">' in text and "designs/0/hull.stl" not in text
     assert "1 of 4 designs miss their targets" in text
+    # the designs' particulars beside the parent's (designs 0, 2 on the front, 3 and 4 off it)
+    assert re.search(r"<th>particular</th><th>parent</th><th>design 0</th><th>design 2</th></tr>", text)
+    assert "Wetted surface S [m²]" in text
 
 
-def test_report_command_rebuilds_the_page_and_names_a_folder_that_is_not_a_run(cli, tmp_path, monkeypatch):
-    from hullopt.app import report
+def test_report_command_rebuilds_the_hulls_from_the_run_folder(cli, tmp_path):
+    """``hullopt report`` on a fit's folder (config, kept parent and report; no solve): the hulls rebuilt from
+    the parameters — the parent's sectional-area curve integrates to the Wigley's closed-form volume
+    ∇ = (4/9)·L·B·T (the library's feature-curve Wigley, trapezoid over 41 stations: measured 0.18 % below);
+    the design's is moved aft."""
+    from hullopt.app.config import load_config
+    from hullopt.app.parents import run_parent
+    from hullopt.app.report import read_run, run_hulls
+    from hullopt.models import save_features
 
-    folder = _folder(tmp_path / "run", FIT)
-    monkeypatch.setattr(report, "run_hulls", lambda f, raw, rep: _hulls())  # the rebuild is test_run's
+    folder = tmp_path / "run"
+    folder.mkdir()
+    _, raw = load_config(Path(__file__).resolve().parents[1] / "configs" / "fit_cb_lcb.toml")
+    (folder / "config.json").write_text(json.dumps(raw))
+    save_features(run_parent("wigley"), folder / "parent.json")
+    params = {"apex_move_d": [[0.5, -0.3], [0.0, 0.0]], "distribution_c": [[0.2, -0.1]], "contour_edit_amplitude": []}
+    (folder / "report.json").write_text(json.dumps({k: v for k, v in FIT.items() if k != "objectives"} | {
+        "kind": "fit", "params": params}))
     code, out, err = cli("report", str(folder))
     assert code == 0, err
     assert "report.html" in out and (folder / "report.html").stat().st_size > 1e6
+    h = run_hulls(folder, *read_run(folder))
+    (name, design, areas), = h.designs
+    volume = np.trapezoid(h.parent_areas, h.parent.x)
+    assert volume == pytest.approx(4 / 9 * 100 * 10 * 6.25, rel=3e-3)
+    # the frames slid aft (distribution c = 0.2): the design's centre of buoyancy 1.2 m aft of midship
+    lcb = np.trapezoid(areas * design.x, design.x) / np.trapezoid(areas, design.x)
+    assert name == "design" and lcb < 49.5 and np.max(np.abs(areas - h.parent_areas)) > 1.0
     code, _, err = cli("report", str(tmp_path / "nothing"))
     assert code == 2 and "is not a run folder" in err and err.count("\n") == 1
 
