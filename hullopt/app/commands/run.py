@@ -86,7 +86,7 @@ def _summary(report: dict, folder: Path) -> None:
         _changes(report)
     for w in _warnings(report):
         warn(w)
-    say(f"results in {folder}/ (report.json, hull.stl, offsets.csv, plots)")
+    say(f"results in {folder}/: report.html (open it in a browser), report.json, hull.stl, offsets.csv, plots")
 
 
 def _targets(targets: dict) -> None:
