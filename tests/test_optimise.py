@@ -106,7 +106,7 @@ def test_objective_gradient_matches_finite_differences(wigley_design):
     d = Design(model=model, draft=jnp.asarray(6.25), param_scale=hi,
                targets=make_targets({"cb": float(parent.cb), "lcb_pct": 0.0, "volume": float(parent.volume)}),
                objective=MeanAddedResistance(jnp.asarray(15 * KNOT), jnp.asarray(3.0), jnp.asarray(9.0),
-                                             jnp.asarray(0.0)))
+                                             jnp.asarray(0.0), motion=False))  # motions' gradients: test_motions
     d = with_objective_scale(d, p0)
     p = jax.tree.map(lambda a: 0.2 * jnp.ones_like(a), p0)
     f = eqx.filter_jit(lambda q: jnp.concatenate([d.objective_value(q)[None], d.constraints(q)]))

@@ -103,6 +103,7 @@ class ObjectiveConfig(_Strict):
     tp: float = Field(default=10.0, gt=0)
     heading_deg: float = Field(default=0.0, ge=-360, le=360)
     smooth: float = Field(default=1.0, gt=0, description="width of the smooth max in C_U")
+    motion: bool = Field(default=True, description="mean_added_resistance: include the motion part R_AWM (strip theory)")
     wind_speed: float = Field(default=0.0, ge=0, description="true wind [m/s] (wind_added_resistance)")
     wind_angle_deg: float = Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")
 

@@ -123,7 +123,8 @@ class MeanAddedResistance(Objective):
         if options.get("hs", 0.0) <= 0 or options.get("tp", 0.0) <= 0:
             raise ValueError("mean_added_resistance needs a sea state: hs > 0 [m] and tp [s]")
         return cls(_scalar(options["speed_kn"] * KNOT), _scalar(options["hs"]), _scalar(options["tp"]),
-                   _scalar(np.radians(options.get("heading_deg", 0.0))), smooth=float(options.get("smooth", 1.0)))
+                   _scalar(np.radians(options.get("heading_deg", 0.0))), smooth=float(options.get("smooth", 1.0)),
+                   motion=bool(options.get("motion", True)))
 
 
 class CalmResistance(Objective):
