@@ -194,17 +194,20 @@ def _set_scale(fig, axes, spans) -> float:
 
 
 def _label_stations(ax, curves):
-    """Station numbers above the body plan's sections, those ending at one point named once (\"3–7\")."""
+    """Station numbers above the body plan's sections, those ending at one point named once (``3–7``, ``0, 10``)."""
     tops = [(label, pts[np.argmax(pts[:, 1])]) for kind, label, pts in curves if kind == "station"]
     tol = 0.03 * max(abs(float(p[0])) for _, p in tops) + 1e-12 if tops else 0.0
     groups = []
     for label, p in tops:
-        if groups and np.hypot(*(p - groups[-1][1])) <= tol:
-            groups[-1][0].append(label)
+        near = [g for g in groups if np.hypot(*(p - g[1])) <= tol]
+        if near:
+            near[0][0].append(label)
         else:
             groups.append(([label], p))
     for labels, p in groups:
-        text = labels[0] if len(labels) == 1 else f"{labels[0]}–{labels[-1]}"
+        nums = [int(v) for v in labels]
+        run = nums == list(range(nums[0], nums[0] + len(nums)))
+        text = labels[0] if len(labels) == 1 else f"{labels[0]}–{labels[-1]}" if run else ", ".join(labels)
         ax.annotate(text, p, xytext=(0, 3), textcoords="offset points", ha="center", fontsize=6,
                     color="tab:blue")
 
@@ -232,10 +235,10 @@ def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
     left_w = fig_w * (1.0 - body_frac)
     left_h = left_w * (height + half) / length
     body_h = fig_w * body_frac * height / (2 * half)
-    fig_h = max(left_h * 1.25, body_h) + 2.2
+    fig_h = max(left_h * 1.25, body_h) + 2.6
     fig = plt.figure(figsize=(fig_w, fig_h))
     gs = fig.add_gridspec(2, 2, width_ratios=[1.0 - body_frac, body_frac], height_ratios=[height, half],
-                          wspace=0.12, hspace=0.45, left=0.05, right=0.97, top=0.9, bottom=1.5 / fig_h)
+                          wspace=0.12, hspace=0.45, left=0.05, right=0.97, top=0.9, bottom=1.9 / fig_h)
     sheer, plan_ax, body = fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[:, 1])
     _draw(sheer, plan.sheer, "Sheer plan (buttocks)", "x from AP [m]", "z above base [m]")
     _draw(plan_ax, plan.half_breadth, "Half-breadth plan (waterlines)", "x from AP [m]", "y [m]")
@@ -255,7 +258,7 @@ def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
     mx, mz = 0.03 * length, 0.12 * height  # room for the station and waterline labels
     n_plans = _set_scale(fig, (sheer, plan_ax), ((x0 - mx, x1 + mx, z0 - mz, z1 + 0.05 * height),
                                                       (x0 - mx, x1 + mx, -0.12 * half, 1.05 * half)))
-    n_body = _set_scale(fig, (body,), ((-1.1 * half, 1.1 * half, z0 - 0.05 * height, z1 + mz),))
+    n_body = _set_scale(fig, (body,), ((-1.15 * half, 1.35 * half, z0 - 0.05 * height, z1 + mz),))
     fig.suptitle(f"Lines plan — {plan.name}" if plan.name else "Lines plan", fontsize=12, x=0.05, ha="left")
     kinds = ["station", "waterline", "buttock"] + (["dwl"] if plan.draft is not None else [])
     names = {"station": "stations", "waterline": "waterlines", "buttock": "buttocks", "dwl": "DWL"}

@@ -194,7 +194,7 @@ def lines(
         if not 1 <= v <= 100:
             raise HullError(f"{name} {v}: expected 1…100")
     h = load_hull(hull)
-    plan = lines_plan(h.sections, h.name, n_waterlines=waterlines, n_buttocks=buttocks)
+    plan = lines_plan(h.sections, h.name, n_waterlines=waterlines, n_buttocks=buttocks, draft=h.design_draft)
     for p in out:
         save_lines(plan, p)
         say(f"wrote {p}")
