@@ -15,7 +15,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 from jax.sharding import PartitionSpec as P
-from jaxtyping import Array, ArrayLike
+from jaxtyping import Array, ArrayLike, Float
 
 from ..hydro import Hydrostatics, hydrostatics
 from ._problems import Design, solve_minimum, with_objective_scale
@@ -40,10 +40,10 @@ class ParetoResult(eqx.Module):
         The upright hydrostatics of each design at the design draft (each field shape (k,)).
     """
 
-    values: Array
+    values: Float[Array, " k"]
     result: SolveResult
-    objective: Array
-    measure: Array | None
+    objective: Float[Array, " k"]
+    measure: Float[Array, " k"] | None
     hydrostatics: Hydrostatics
 
 

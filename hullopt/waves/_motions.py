@@ -31,7 +31,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, Complex, Float
 
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, longitudinal_integrals, simpson_weights
@@ -46,12 +46,12 @@ class Motions(eqx.Module):
     motion-induced added resistance [N] for ζ_a = 1 m (scales as ζ_a²).
     """
 
-    omega: Array
-    omega_e: Array
-    k: Array
-    heave: Array
-    pitch: Array
-    r_awm: Array
+    omega: Float[Array, "*W"]
+    omega_e: Float[Array, "*W"]
+    k: Float[Array, "*W"]
+    heave: Complex[Array, "*W"]
+    pitch: Complex[Array, "*W"]
+    r_awm: Float[Array, "*W"]
 
     @property
     def heave_rao(self) -> Array:

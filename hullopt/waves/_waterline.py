@@ -42,14 +42,14 @@ class Waterline(eqx.Module):
         return 2.0 * jnp.max(self.y)
 
     @property
-    def slope(self) -> Float[Array, " n-1"]:
+    def slope(self) -> Float[Array, " segments"]:  # n − 1 (a method's check cannot see the fields' n)
         """dy/dx of each station-to-station segment (0 where stations coincide)."""
         dxs = self.dx[1:-1]
         ok = dxs > 0.0
         return safe_div(self.dy[1:-1], dxs, ok)
 
     @property
-    def angle(self) -> Float[Array, " n+1"]:
+    def angle(self) -> Float[Array, " edges"]:  # n + 1
         """β_w [rad] of each segment: the waterline angle to the x axis, positive where the half-breadth
         shrinks going forward (the entrance), negative in the run; ±π/2 for the closing segments."""
         return jnp.arctan2(-self.dy, self.dx)
