@@ -325,3 +325,15 @@ def test_the_page_renders_in_headless_chromium_offline(browser, pages, name, plo
     box = rendered["hull3d"]["box"]
     ink3d, _ = _not_blank(png, [box[0], box[1] + 60, box[2], box[3] - 60])
     assert ink3d > 0.05, ink3d
+
+
+@needs_chromium
+def test_the_browser_check_sees_console_errors_exceptions_and_requests(browser, tmp_path):
+    """The check itself: a page that logs an error, throws and fetches from the network fails it."""
+    page = tmp_path / "bad.html"
+    page.write_text('<!DOCTYPE html><html><head><script>console.error("broken"); null.x;</script></head><body>'
+                    '<img src="https://example.com/x.png"></body></html>')
+    browser.load(page.as_uri())
+    browser.evaluate("new Promise(r => setTimeout(r, 200))")
+    found = "\n".join(browser.problems())
+    assert "console: broken" in found and "exception:" in found and "request: https://example.com/x.png" in found, found
