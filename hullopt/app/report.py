@@ -69,6 +69,7 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
 
     from ..models import read_features
     from .config import RunConfig
+    from .parents import parent_digest
     from .programs import cached_call
     from .run import build_problem, params_from_dict
 
@@ -90,7 +91,8 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
     stacked = jax.tree.map(lambda *a: np.stack([np.asarray(x, float) for x in a]), *params)
     draft = float(prob.design.draft)
 
-    digest = hashlib.sha256(kept.read_bytes()).hexdigest() if kept.is_file() else None
+    # the program's key: the config and the parent's content (kept file, else the config's spec as a run keys it)
+    digest = hashlib.sha256(kept.read_bytes()).hexdigest() if kept.is_file() else parent_digest(cfg.hull.parent)
     sections, areas = jax.device_get(cached_call("report", _evaluate, (prob.design.model, stacked), (draft,),
                                                  key=[raw, digest]))
     one = [_numpy(jax.tree.map(lambda a, i=i: a[i], sections)) for i in range(len(params))]
