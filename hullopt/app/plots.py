@@ -103,6 +103,13 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     it = np.arange(1, len(h) + 1)
     ok = np.isfinite(h)
     ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), "o-", ms=4, color="C0")
+    fin = np.abs(h[np.isfinite(h)])
+    if fin.size and fin.min() > 0 and fin.max() / fin.min() < 10:  # within a decade: plain numbers on the ticks
+        from matplotlib.ticker import FuncFormatter
+
+        plain = FuncFormatter(lambda v, _: f"{v:.3g}")
+        ax1.yaxis.set_major_formatter(plain)
+        ax1.yaxis.set_minor_formatter(plain)
     ax1.set_ylabel("objective / parent's [-]")
     ax1.grid(alpha=0.3, which="both")
     ok = np.isfinite(v)
@@ -110,6 +117,9 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     ax2.axhline(1.0, color="k", lw=0.8, ls="--", label="tolerance (≤ 1: targets met)")
     ax2.set_ylabel("max constraint violation [-]")
     ax2.set_xlabel(xlabel)
+    from matplotlib.ticker import MaxNLocator
+
+    ax2.xaxis.set_major_locator(MaxNLocator(integer=True))  # rounds are counted
     ax2.grid(alpha=0.3, which="both")
     ax2.legend(fontsize=8, loc="upper right")
     ax1.set_title(title or "Convergence: objective and constraint violation", loc="left", fontsize=10)
