@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hullopt.app.report import Hulls, build_html, write_report
+from hullopt.app.report import Hulls, write_report
 from hullopt.models import wigley
 
 CHROMIUM = next((p for p in (shutil.which(n) for n in ("chromium", "chromium-browser")) if p), None)
@@ -269,8 +269,10 @@ RENDERED = """(async () => {
   for (const d of document.querySelectorAll('.js-plotly-plot')) {
     const r = d.getBoundingClientRect();
     const gl = d.querySelector('.gl-container canvas');
-    out[d.id] = {svg: d.querySelectorAll('.main-svg').length, traces: d.querySelectorAll('.trace, .scatterlayer path').length,
-                 gl: gl ? gl.width * gl.height : 0, webgl: gl ? !!(gl.getContext('webgl') || gl.getContext('experimental-webgl')) : null,
+    out[d.id] = {svg: d.querySelectorAll('.main-svg').length,
+                 traces: d.querySelectorAll('.trace, .scatterlayer path').length,
+                 gl: gl ? gl.width * gl.height : 0,
+                 webgl: gl ? !!(gl.getContext('webgl') || gl.getContext('experimental-webgl')) : null,
                  box: [r.left, r.top + window.scrollY, r.width, r.height]};
   }
   return out;

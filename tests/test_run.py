@@ -21,7 +21,7 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path, m
     assert abs(report["achieved"]["cb"] - 0.48) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.5) <= 0.01
     assert set(report["achieved"]) >= {"volume", "cb", "lcb_pct", "kb", "wetted_surface"}
     for f in ("report.json", "config.json", "parent.json", "hull.stl", "offsets.csv", "body_plan.png",
-              "sectional_area.png", "convergence.png"):
+              "sectional_area.png", "convergence.png", "report.html"):
         assert (out / f).stat().st_size > 0, f
     assert json.loads((out / "config.json").read_text())["targets"]["cb"] == 0.48
     # The run folder is a hull spec: its design, rebuilt from config.json and report.json, at the run's draft.
@@ -88,6 +88,7 @@ def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
         dominated = any(q[0] <= p[0] and q[1] <= p[1] and q != p for q in pts)
         assert d["pareto"] == (not dominated)
     assert (out / "pareto.png").stat().st_size > 0
+    assert "Pareto front" in (out / "report.html").read_text(encoding="utf-8")  # the designs rebuilt for the page
     code, stdout, err = cli("hydro", f"{out}?design=2", "--json")  # one design of the sweep as a hull
     assert code == 0, err
     assert json.loads(stdout)["cb"] == pytest.approx(designs[2]["particulars"]["cb"], rel=1e-9)

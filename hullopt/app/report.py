@@ -4,8 +4,9 @@ The page is self-contained: plotly's JavaScript bundle (the ``plotly`` package's
 its ``<head>`` and every figure is drawn from data embedded beside it, so it opens with no network. It shows
 
 * the run: kind, convergence, steps, the largest constraint violation, and the report's warnings;
-* an interactive 3D view of the parent and the design hull(s) (plotly ``Mesh3d`` of the closed hull mesh of
-  both sides of the hull's surface grid, :func:`hullopt.geometry.surface_grid`), the body plan and the sectional-area curves at the draft;
+* an interactive 3D view of the parent and the design hull(s) (plotly ``Mesh3d`` of both sides of the hull's
+  surface grid, :func:`hullopt.geometry.surface_grid`), the body plan and the sectional-area curves at the
+  draft;
 * the targets (wanted, achieved, error, tolerance, met), the particulars and objectives parent → design, each
   with its unit (:mod:`hullopt.app.output`: resistances in kN, displacement in t);
 * convergence: each series the run recorded (``report.json``'s ``history``) against the iteration, log scale;
@@ -163,8 +164,9 @@ def _colour(i: int) -> str:
 
 
 def fig_hulls_3d(h: Hulls):
-    """The parent (grey, translucent) and the design(s) in 3D, to scale (x forward, y to port, z up) [m];
-    a sweep's first design shown, the others a click on the legend away."""
+    """The design(s) in 3D (shaded, translucent) over the parent (its half-station sections and waterline as
+    lines), to scale (x forward, y to port, z up) [m]; a sweep's first design shown, the others a click on
+    the legend away."""
     fig = _figure("Hulls in 3D: design (shaded) and parent (grey stations and waterlines); drag to turn, "
                   "scroll to zoom", height=540)
     for i, (name, s, _) in enumerate(h.designs):
@@ -176,11 +178,24 @@ def fig_hulls_3d(h: Hulls):
     ratio = 2.0 * ext / ext.max()
     axis = dict(nticks=4, title=dict(font=dict(size=11)))
     fig.update_layout(scene=dict(aspectmode="manual", aspectratio=dict(x=ratio[0], y=ratio[1], z=ratio[2]),
-                                 xaxis=dict(axis, title_text="x from AP [m]", nticks=8), yaxis=dict(axis, title_text="y [m]"),
+                                 xaxis=dict(axis, title_text="x from AP [m]", nticks=8),
+                                 yaxis=dict(axis, title_text="y [m]"),
                                  zaxis=dict(axis, title_text="z [m]"),
                                  camera=dict(eye=dict(x=-0.95, y=-1.3, z=0.62), center=dict(x=0, y=0, z=-0.12))),
                       margin=dict(l=0, r=0, t=50, b=0))
     return fig
+
+
+def _waterline_half_breadth(yz: np.ndarray, draft: float) -> float:
+    """Half-breadth [m] where a half-section polyline ``(m, 2)`` (keel → deck) last crosses z = ``draft``
+    (the outermost crossing of a bulb or a flared section); 0 where it does not reach the draft."""
+    dz = yz[:, 1] - draft
+    cross = np.flatnonzero(dz[:-1] * dz[1:] <= 0)
+    if not len(cross):
+        return 0.0
+    j = cross[-1]
+    t = dz[j] / (dz[j] - dz[j + 1]) if dz[j] != dz[j + 1] else 0.0
+    return float(yz[j, 0] + t * (yz[j + 1, 0] - yz[j, 0]))
 
 
 def _wireframe(s: Sections, name: str, draft: float):
@@ -192,8 +207,7 @@ def _wireframe(s: Sections, name: str, draft: float):
     for i in station_indices(x, float(s.lpp)):
         for side in (1.0, -1.0):
             pts += [*((x[i], side * y, z) for y, z in yz[i]), (None, None, None)]
-    wl = [float(np.interp(draft, yz[i, :, 1], yz[i, :, 0])) if yz[i, -1, 1] >= draft > yz[i, 0, 1] else 0.0
-          for i in range(len(x))]
+    wl = [_waterline_half_breadth(p, draft) for p in yz]
     for side in (1.0, -1.0):
         pts += [*((xi, side * w, draft) for xi, w in zip(x, wl)), (None, None, None)]
     a = np.array(pts, dtype=object)
@@ -335,7 +349,8 @@ def fig_convergence(report: dict):
         first = 1 if xlabel.endswith("round") else 0
         fig.add_trace(go.Scatter(x=it + first, y=y, name=name, mode="lines+markers", marker=dict(size=6),
                                  line=dict(color=_colour(3 * i)), customdata=v[it],
-                                 hovertemplate=f"{xlabel} %{{x}}<br>%{{customdata:.4g}}<extra>{html.escape(name)}</extra>"),
+                                 hovertemplate=f"{xlabel} %{{x}}<br>%{{customdata:.4g}}"
+                                               f"<extra>{html.escape(name)}</extra>"),
                       row=i + 1, col=1)
         if name == VIOLATION:
             fig.add_hline(y=1.0, line=dict(color="black", width=1, dash="dash"), row=i + 1, col=1,
@@ -359,7 +374,8 @@ def fig_pareto(report: dict, folder: Path):
     designs = report.get("designs", [])
     fig = _figure(f"Pareto front: {label(oname, unit=False)} against {label(mname, unit=False)} "
                   "(hover: each design; click: its hull file)", height=460)
-    groups = (("Pareto front", lambda d: d.get("pareto") and d.get("met"), dict(color=_colour(0), size=10), "lines+markers"),
+    groups = (("Pareto front", lambda d: d.get("pareto") and d.get("met"), dict(color=_colour(0), size=10),
+               "lines+markers"),
               ("dominated", lambda d: d.get("met") and not d.get("pareto"), dict(color="#999999", size=8), "markers"),
               ("targets not met", lambda d: not d.get("met"), dict(color="#d62728", size=9, symbol="x"), "markers"))
     for name, keep, marker, mode in groups:
