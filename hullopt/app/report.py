@@ -77,7 +77,9 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
     try:
         cfg = RunConfig.model_validate(raw)
     except ValidationError as e:
-        raise HullError(f"{folder / 'config.json'} is not a valid run config ({e.errors()[0]['msg']})") from None
+        err = e.errors()[0]
+        raise HullError(f"{folder / 'config.json'} is not a valid run config "
+                        f"({'.'.join(map(str, err['loc'])) or 'config'}: {err['msg']})") from None
     kept = folder / "parent.json"  # the parent the run deformed (the config's may have changed since)
     prob = build_problem(cfg, read_features(kept) if kept.is_file() else None)
     picked = sweep_picks(report) if "designs" in report else []
