@@ -83,7 +83,7 @@ def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
 def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "") -> Path:
     """Solver convergence on log scales.
 
-    A fit (``violation`` None): the cost (sum of squared scaled residuals) after each step. A constrained
+    A fit (``violation`` None): the cost (the sum of squared scaled residuals, penalties included) after each step. A constrained
     minimum: ``history`` the objective after each round (scaled to 1 at the parent, penalty terms included)
     above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
     Non-finite entries (rounds or steps not taken) are left out.
@@ -94,7 +94,7 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
         ok = np.isfinite(h)
         ax.semilogy(np.arange(len(h))[ok], np.maximum(h[ok], 1e-300), marker=".")
         ax.set_xlabel(xlabel)
-        ax.set_ylabel("cost Σ (residual / tolerance)² [-]")
+        ax.set_ylabel("cost: sum of squared scaled residuals [-]")
         ax.grid(alpha=0.3, which="both")
         ax.set_title(title or "Convergence of the fit", loc="left", fontsize=10)
         return _save(plt, fig, path)
