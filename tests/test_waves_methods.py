@@ -83,3 +83,21 @@ def test_one_method_says_what_it_includes(capsys):
     assert cli.main(["waves", HULL, "--speed", "12", "--method", "stawave1", "--lambda-over-l", "0.5:1:2"]) == 0
     out = capsys.readouterr().out
     assert "includes" in out and "reflection only, empirical" in out
+
+
+def test_nmri_without_motions_is_named_reflection_only(tmp_path, monkeypatch):
+    """--no-motion: NMRI's R_AW is its reflection part, and the table and the legend say so (not 'total')."""
+    import hullopt.drawing
+    from hullopt.app.commands.waves import _plot, includes
+
+    assert includes("nmri", motion=False) == "reflection only (Bf)"
+    figures, save = [], hullopt.drawing.save_figure
+    monkeypatch.setattr(hullopt.drawing, "save_figure", lambda fig, path, **kw: (figures.append(fig),
+                                                                                 save(fig, path, **kw))[1])
+    x = np.array([0.5, 1.0, 1.5])
+    r = 1e4 * np.exp(-x)
+    _plot(tmp_path / "r.png", dict(hull="h", method="nmri", beam=10.0, amplitude=1.0, lambda_over_l=x, k_aw=0.3,
+                                   fn=0.2, bf=0.1, heading_deg=0.0, includes=includes("nmri", False),
+                                   r_awm=0 * r, r_awr=r, r_aw=r))
+    labels = [t.get_text() for t in figures[0].axes[0].get_legend().get_texts()]
+    assert labels[0] == "nmri R_AW: reflection only (Bf)" and not any("motion part" in s for s in labels)
