@@ -1,0 +1,87 @@
+"""Strip-theory motions benchmarks (issue 16 item 7) and the KCS σ_aw side by side with SNNM and STAWAVE-2.
+
+1. ``motions`` (heave, pitch, R_AWM) of a Wigley (41 stations, 20 panels per section) at 30 frequencies:
+   value, and value + gradient of Σ R_AWM w.r.t. a beam scale, jitted and warm; compile times.
+2. vmap over designs (beam scale) × 30 frequencies: time per design in a batch of ``N_DESIGNS``.
+3. KCS at Fn 0.26, head seas: σ_aw = R_AW/(ρgζ²B²/L) by NMRI (strip-theory motion part + Bf reflection), SNNM
+   and STAWAVE-2 at the same λ/L.
+
+Run: ``cd benchmarks && ../.venv/bin/python bench_motions.py [N_DESIGNS]``; results in results/motions.json.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import jax
+
+jax.config.update("jax_enable_x64", True)
+
+import jax.numpy as jnp  # noqa: E402
+import numpy as np  # noqa: E402
+from _common import HULLS, save, timeit  # noqa: E402
+
+from hullopt.geometry import Sections  # noqa: E402
+from hullopt.models import wigley  # noqa: E402
+from hullopt.waves import method_resistance, motions, omega_from_wavelength  # noqa: E402
+
+G, RHO = 9.80665, 1025.0
+
+
+def _scaled(hull, scale):
+    return Sections(x=hull.x, yz=hull.yz * jnp.stack([scale, 1.0]), lpp=hull.lpp)
+
+
+def main() -> None:
+    n_designs = int(sys.argv[1]) if len(sys.argv) > 1 else 16
+    hull = wigley(100.0, 10.0, 6.25, 9.0, n=41, m=41)
+    omega = omega_from_wavelength(jnp.linspace(0.4, 2.5, 30) * 100.0)
+    u = 0.2 * np.sqrt(G * 100.0)
+
+    def value(scale):
+        return jnp.sum(motions(_scaled(hull, scale), 6.25, u, omega).r_awm)
+
+    f = jax.jit(value)
+    t0 = time.perf_counter()
+    jax.block_until_ready(f(1.0))
+    compile_value = time.perf_counter() - t0
+    t_value = timeit(lambda: jax.block_until_ready(f(1.0)), 5)
+    fg = jax.jit(jax.value_and_grad(value))
+    t0 = time.perf_counter()
+    jax.block_until_ready(fg(1.0))
+    compile_grad = time.perf_counter() - t0
+    t_grad = timeit(lambda: jax.block_until_ready(fg(1.0)), 5)
+
+    fv = jax.jit(jax.vmap(value))
+    scales = jnp.linspace(0.9, 1.1, n_designs)
+    jax.block_until_ready(fv(scales))
+    t_batch = timeit(lambda: jax.block_until_ready(fv(scales)), 3)
+
+    from hullopt.app.hulls import load_hull
+
+    kcs = load_hull(str(HULLS / "kcs_model_closed_from_igs.stl.gz") + "?scale=31.6&lpp=230&n=61").sections
+    lam = np.array([0.3, 0.5, 0.7, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.6, 2.0])
+    om = jnp.asarray(omega_from_wavelength(lam * 230.0))
+    uk = 0.26 * np.sqrt(G * 230.0)
+    scale = RHO * G * 32.2**2 / 230.0
+    sigma = {}
+    for method in ("nmri", "snnm", "stawave2"):
+        r = jax.jit(lambda s, m=method: method_resistance(m, s, 10.8, uk, om, 0.0, kyy=0.25, kg=7.28))(kcs)
+        sigma[method] = {"total": (np.asarray(r.total) / scale).round(3).tolist(),
+                         "motion": (np.asarray(r.motion) / scale).round(3).tolist(),
+                         "reflection": (np.asarray(r.reflection) / scale).round(3).tolist()}
+    out = {
+        "wigley_41_stations_30_frequencies": {
+            "value_s": t_value, "value_and_grad_s": t_grad, "ratio": t_grad / t_value,
+            "compile_value_s": compile_value, "compile_value_and_grad_s": compile_grad,
+            "vmap_designs": n_designs, "vmap_batch_s": t_batch, "vmap_per_design_s": t_batch / n_designs,
+        },
+        "kcs_fn026_head_seas_sigma_aw": {"lambda_over_l": lam.tolist(), **sigma},
+    }
+    print(save("motions", out))
+    print(out)
+
+
+if __name__ == "__main__":
+    main()
