@@ -567,7 +567,7 @@ def objective_rows(report: dict) -> list[tuple[str, str | None, Any, list]]:
 
 
 def _num(v: Any) -> bool:
-    return isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v)
+    return isinstance(v, int | float) and not isinstance(v, bool) and bool(np.isfinite(v))
 
 
 def objectives_table(report: dict, picks: list[int] | None = None) -> str:

@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from ._safe import safe_div, safe_sqrt
 from ._sections import Sections, section_integrals
 
 
-def simpson_weights(x: Float[Array, " n"]) -> Float[Array, " n"]:
+def simpson_weights(x: Float[ArrayLike, " n"]) -> Float[Array, " n"]:
     """Weights ``w`` with ``∫ f dx ≈ w @ f`` by composite Simpson's rule on uneven spacing.
 
     Exact for quadratics (so for the sectional-area curve of a Wigley hull). Pairs of intervals use
@@ -42,7 +42,7 @@ def simpson_weights(x: Float[Array, " n"]) -> Float[Array, " n"]:
     return w
 
 
-def volume_lcb(x: Float[Array, " n"], area: Float[Array, " n"]) -> tuple[Array, Array]:
+def volume_lcb(x: Float[ArrayLike, " n"], area: Float[ArrayLike, " n"]) -> tuple[Array, Array]:
     """Volume ``∫A dx`` [m³] and its centroid ``∫xA dx / ∫A dx`` [m from the AP] of the sectional-area curve
     ``area`` at stations ``x`` (Simpson's rule, :func:`simpson_weights`): the rule of
     :func:`longitudinal_integrals`, for areas held while the stations move (a Lackenby shift)."""

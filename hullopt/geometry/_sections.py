@@ -63,7 +63,7 @@ class Sections(eqx.Module):
         return jnp.max(self.yz[..., 0])
 
 
-def closed_half_polygon(yz: Float[Array, "... m 2"]) -> Float[Array, "... m+1 2"]:
+def closed_half_polygon(yz: Float[ArrayLike, "... m 2"]) -> Float[Array, "... m+1 2"]:
     """Close half-sections: append the deck's centreline point ``(0, z_deck_edge)``.
 
     The closing edge from that point back to the keel runs down the centreline.
@@ -118,7 +118,7 @@ def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:
     return EdgeIntegrals(area, moment_z, moment_y, width)
 
 
-def level_widths(poly: Float[Array, "... k 2"], levels: Float[Array, " K"]) -> Float[Array, "... K"]:
+def level_widths(poly: Float[ArrayLike, "... k 2"], levels: Float[ArrayLike, " K"]) -> Float[Array, "... K"]:
     """Widths of closed polygons at many ``levels``: ``polygon_integrals(poly, z).width`` for each ``z``
     (the same crossing rule, equal to rounding), computed for many levels at once — the slope of each edge
     once, then per level a crossing test and one multiply-add, with the edges on the leading axis so that
@@ -136,7 +136,7 @@ def level_widths(poly: Float[Array, "... k 2"], levels: Float[Array, " K"]) -> F
     return jnp.sum(width, axis=0)
 
 
-def polygon_integrals(poly: Float[Array, "... k 2"], level) -> EdgeIntegrals:
+def polygon_integrals(poly: Float[ArrayLike, "... k 2"], level) -> EdgeIntegrals:
     """Sum of :func:`clipped_edge_integrals` over the edges of closed polygons (last point joins the first)."""
     p1 = jnp.roll(poly, -1, axis=-2)
     e = clipped_edge_integrals(poly, p1, jnp.asarray(level)[..., None])
