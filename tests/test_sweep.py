@@ -15,7 +15,7 @@ import pytest
 
 from hullopt.app.cli import main
 
-CONFIG = Path(__file__).resolve().parents[1] / "configs" / "pareto_bow.toml"
+CONFIG = Path(__file__).resolve().parent / "data" / "sweep_small.toml"  # configs/pareto_bow.toml is the DTC's
 SMALL = ["--set", "sweep.count=4", "--set", "sweep.chunk=2", "--set", "solver.outer=2", "--set", "solver.max_steps=20"]
 
 
@@ -97,8 +97,8 @@ def test_bad_sweep_options(capsys, tmp_path, args, message):
 
 
 def test_shard_of_a_fit_is_an_error(capsys, tmp_path):
-    code, _, err = run(capsys, "run", str(CONFIG.parent / "fit_cb_lcb.toml"), "--out", str(tmp_path / "o"),
-                       "--shard", "1/2")
+    fit = CONFIG.parents[2] / "configs" / "fit_cb_lcb.toml"
+    code, _, err = run(capsys, "run", str(fit), "--out", str(tmp_path / "o"), "--shard", "1/2")
     assert code == 2 and "apply to sweeps" in err
 
 

@@ -26,8 +26,11 @@ from ..geometry import Sections
 from ..hydro import Hydrostatics, hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model, save_features
 from ..optimise import (
+    OBJECTIVES,
     Design,
+    Limits,
     Objective,
+    Particular,
     achieved,
     make_targets,
     non_dominated,
@@ -110,8 +113,29 @@ def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
         raise HullError(f"targets: {e}") from None
     design = Design(model=model, draft=np.asarray(float(draft)), targets=targets,
                     objective=objective_from(cfg.objective) if cfg.objective else None,
-                    smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness)
+                    smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness,
+                    limits=None if cfg.kind == "fit" else limits_from(cfg))
     return Problem(design, p0, lower, half, cfg.hull.parent)
+
+
+def constraint_measure(cfg: RunConfig, name: str):
+    """The measure a ``[constraints]`` key names: an objective (with the options of
+    :meth:`~hullopt.app.config.RunConfig.constraint_options`) or a :class:`~hullopt.optimise.Particular`."""
+    return objective_from(cfg.constraint_options(name)) if name in OBJECTIVES else Particular(name)
+
+
+def limits_from(cfg: RunConfig) -> Limits:
+    """The :class:`~hullopt.optimise.Limits` of a config's ``[constraints]`` (defaults: half-breadths within
+    the parent's, no new bulge below the waterline)."""
+    c = cfg.constraints
+    bounds = c.bounds()
+    mhb = {"parent": np.nan, "none": None}.get(c.max_half_breadth, c.max_half_breadth)
+    return Limits(names=tuple(bounds), measures=tuple(constraint_measure(cfg, k) for k in bounds),
+                  sense=np.array([b[0] for b in bounds.values()], float),
+                  values=np.array([b[1] for b in bounds.values()], float),
+                  relative=tuple(b[2] for b in bounds.values()),
+                  max_half_breadth=None if mhb is None else np.asarray(float(mhb)),
+                  bulge=c.bulge == "forbid", tol=c.tolerance)
 
 
 def _params_dict(p: FeatureParams) -> dict:
@@ -248,11 +272,180 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
                              violation=np.asarray(res.violation_history))
     report["achieved"] = _particulars(m.final)
     report["parent"] = _particulars(m.parent)
+    if cfg.kind == "pareto":
+        designs = _write_designs(prob, report["designs"], out)
+        report["objectives"], _ = assess(cfg, prob, designs)
+        report["warnings"] = _bound_warnings(prob, report["designs"], "design {k}: ")
+    else:
+        report["objectives"], active = assess(cfg, prob, [res.params])
+        report["warnings"] = _bound_warnings(prob, [report]) + active
+    write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
     _write_hull(m, d.draft, out)
     write_json(out / "report.json", report)
     # report.html: a sweep's designs are rebuilt from the folder, a run's hulls are the ones measured here
     write_report(out, report, None if cfg.kind == "pareto" else Hulls.of(m.before, m.after, m.areas, d.draft))
     return report
+
+
+# ----------------------------------------------------------------------------------------------- assessment
+
+SI_UNITS = {"volume": "m³", "displacement": "kg", "wetted_surface": "m²", "lcb": "m", "lcf": "m", "kb": "m",
+            "awp": "m²", "bmt": "m", "bml": "m", "kmt": "m", "tpc": "t/cm", "mct": "t·m/cm", "lwl": "m", "bwl": "m",
+            "lcb_pct": "% Lpp", "lcf_pct": "% Lpp", "draft": "m"}
+ROUGHNESS = 2.0
+"""A design's sectional-area curve or sections rougher than this many times the parent's is warned of."""
+
+
+def report_measures(cfg: RunConfig, d: Design) -> dict:
+    """``{name: measure(sections, draft)}`` that a report compares, parent and design: every objective of
+    :data:`~hullopt.optimise.OBJECTIVES` its options build (the ``[objective]`` table's; the sweep's measure
+    with its own), the constraints' measures and Bf."""
+    from pydantic import ValidationError
+
+    out = {}
+    base = cfg.objective
+    if base is not None:
+        for kind in OBJECTIVES:
+            try:
+                out[kind] = objective_from(ObjectiveConfig.model_validate(base.model_dump() | {"kind": kind}))
+            except ValidationError:
+                pass  # e.g. a sea state for mean_added_resistance when the objective is calm-water resistance
+        out[base.kind] = d.objective
+    if cfg.sweep is not None:
+        out[cfg.sweep.measure.kind] = objective_from(cfg.sweep.measure)
+    for name in cfg.constraints.bounds():
+        out.setdefault(name, constraint_measure(cfg, name))
+    out.setdefault("bf", Particular("bf"))
+    return out
+
+
+def _measure_all(measures: dict, d: Design, p0, designs) -> tuple:
+    """The measures of the parent and of each design (params stacked on a leading axis), and each limit
+    group's largest normalised value per design."""
+    parent = d.model(p0)
+    d = with_objective_scale(d, p0)
+    out_p = {k: m(parent, d.draft) for k, m in measures.items()}
+
+    def one(params):
+        s = d.model(params)
+        g = {} if d.limits is None else {k: jnp.max(v) for k, v in d.limits.groups(s, d.draft).items()}
+        return {k: m(s, d.draft) for k, m in measures.items()}, g, s
+
+    vals, groups, sections = jax.vmap(one)(designs)
+    return out_p, vals, groups, parent, sections
+
+
+def _sac_roughness(x, a) -> float:
+    """Σ (A'')² Δx of a sectional-area curve ``a (n,)`` [m²] at stations ``x (n,)`` [m], second divided
+    differences (m⁻²·m: compared between parent and design only)."""
+    x, a = np.asarray(x, float), np.asarray(a, float)
+    h0, h1 = np.diff(x)[:-1], np.diff(x)[1:]
+    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
+    return float(np.sum(d2**2 * 0.5 * (h0 + h1)))
+
+
+def _section_roughness(yz) -> float:
+    """The sections' variation of curvature, mean over stations of Σ (Δκ)²/Δs [m⁻³] of each half-section
+    polyline (its centreline and repeated points left out): compared between parent and design only."""
+    total = []
+    for p in np.asarray(yz, float):
+        p = p[p[:, 0] > 1e-9]
+        d = np.diff(p, axis=0)
+        ds = np.hypot(d[:, 0], d[:, 1])
+        d, ds = d[ds > 1e-9], ds[ds > 1e-9]
+        if len(ds) < 3:
+            total.append(0.0)
+            continue
+        t = d / ds[:, None]
+        turn = np.arctan2(t[:-1, 0] * t[1:, 1] - t[:-1, 1] * t[1:, 0], np.sum(t[:-1] * t[1:], 1))
+        kappa = turn / (0.5 * (ds[:-1] + ds[1:]))
+        total.append(float(np.sum(np.diff(kappa) ** 2 / ds[1:-1])))
+    return float(np.mean(total))
+
+
+def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str]]:
+    """``(objectives, warnings)`` of a run: every measure of :func:`report_measures` of the parent and the
+    design(s) as ``{name: {"parent", "design" (or "designs", a list for a sweep), "unit"}}`` (SI: N, m, m²,
+    m³, kg; ``"-"`` dimensionless), the fairness measures ``unfairness`` (:func:`hullopt.fairing.unfairness`),
+    ``sac_roughness`` and ``section_roughness`` (:func:`_sac_roughness`, :func:`_section_roughness`), and
+    warnings of the constraints that are active (within their tolerance of the bound) or violated and of a
+    sectional-area curve or sections more than :data:`ROUGHNESS` times as rough as the parent's."""
+    d = prob.design
+    measures = report_measures(cfg, d)
+    measures["unfairness"] = _unfairness
+    stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
+    p, vals, groups, parent, sections = jax.device_get(
+        eqx.filter_jit(_measure_all)(measures, d, prob.p0, stacked))
+    draft = float(d.draft)
+    areas = [np.asarray(sectional_areas(s, draft)) for s in (parent, *_unstack(sections))]
+    sac = [_sac_roughness(s.x, a) for s, a in zip((parent, *_unstack(sections)), areas)]
+    sec = [_section_roughness(s.yz) for s in (parent, *_unstack(sections))]
+    one = len(designs) == 1
+    objectives = {}
+    for k in measures:
+        unit = "-" if k == "unfairness" else getattr(measures[k], "unit", SI_UNITS.get(k, "-"))
+        v = [float(x) for x in np.asarray(vals[k])]
+        objectives[k] = {"parent": float(p[k]), "design" if one else "designs": v[0] if one else v, "unit": unit}
+    for k, r in (("sac_roughness", sac), ("section_roughness", sec)):
+        objectives[k] = {"parent": r[0], "design" if one else "designs": r[1] if one else r[1:], "unit": "-"}
+    warnings = []
+    tol = cfg.constraints.tolerance
+    for i in range(len(designs)):
+        who = "" if one else f"design {i}: "
+        for k, g in groups.items():
+            g = float(np.asarray(g)[i])
+            what = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline"}.get(
+                k, f"{k} {cfg.constraints.model_extra[k]}" if cfg.constraints.model_extra else k)
+            if g > tol:
+                warnings.append(f"{who}constraint violated: {what} (by {g:.3g} of its bound)")
+            elif g >= -tol:
+                warnings.append(f"{who}constraint active: {what}")
+        for k, r in (("sectional-area curve", sac), ("sections", sec)):
+            if r[i + 1] > ROUGHNESS * r[0]:
+                warnings.append(f"{who}the {k} are rougher than the parent's: {r[i + 1] / r[0]:.2f}× "
+                                f"(more than {ROUGHNESS:g}×); raise [solver] fairness")
+    return objectives, warnings
+
+
+def _unfairness(sections: Sections, draft) -> Array:
+    """:func:`hullopt.fairing.unfairness` as a measure (the draft unused)."""
+    from ..fairing import unfairness
+
+    return unfairness(sections)
+
+
+def _unstack(tree) -> list:
+    n = np.shape(jax.tree.leaves(tree)[0])[0]
+    return [jax.tree.map(lambda a: a[i], tree) for i in range(n)]
+
+
+def _bound_warnings(prob: Problem, rows: list[dict], who: str = "") -> list[str]:
+    """Warnings of parameters within 1 % of their bound (the bound, not the physics, stopped the design)."""
+    out = []
+    half = prob.upper
+    for k, row in enumerate(rows):
+        p = params_from_dict(row["params"], prob.p0)
+        for name, v, b in (("apex_move", p.apex, half.apex), ("distribution", p.distribution, half.distribution),
+                           ("contour_edit", p.contour, half.contour)):
+            v, b = np.asarray(v, float), np.asarray(b, float)
+            for idx in zip(*np.nonzero(np.abs(v) >= 0.99 * b)):
+                out.append(f"{who.format(k=k)}design.{name}[{idx[0]}]"
+                           f"{'' if len(idx) == 1 else f' component {idx[1]}'} = {v[idx]:.4g} is within 1 % of its "
+                           f"bound ±{b[idx]:.4g}")
+    return out
+
+
+def _write_designs(prob: Problem, rows: list[dict], out: Path) -> list:
+    """Each design of a sweep in ``designs/<k>/``: ``hull.stl`` and ``offsets.csv`` (as a run's); returns
+    their parameters."""
+    params = [params_from_dict(r["params"], prob.p0) for r in rows]
+    model = eqx.filter_jit(prob.design.model)
+    for k, p in enumerate(params):
+        s = jax.device_get(model(p))
+        folder = out / "designs" / str(k)
+        write_hull_file(s, folder / "hull.stl", float(prob.design.draft))
+        write_offsets_wide(s, folder / "offsets.csv", name=f"design {k} of the sweep", dense=True)
+    return params
 
 
 def _write_hull(m: Outcome, draft, out: Path) -> None:

@@ -102,8 +102,8 @@ def minimise_constrained(
 
     Augmented Lagrangian, Powell–Hestenes–Rockafellar for the inequalities (Nocedal & Wright 2006, eq.
     17.65): ``f + λ·c + μ/2 |c|² + Σ (max(0, ν + μ g)² − ν²)/(2μ)``, ``outer`` rounds of BFGS with
-    ``λ ← λ + μ c``, ``ν ← max(0, ν + μ g)`` and ``μ ← growth · μ`` between them (a fixed number of rounds,
-    so the whole solve is one ``vmap``-able computation). ``residuals`` are the equality residuals ``c``;
+    ``λ ← λ + μ c``, ``ν ← max(0, ν + μ g)`` and ``μ ← growth · μ`` between them (a fixed number of
+    rounds, so the whole solve is one ``vmap``-able computation). ``residuals`` are the equality residuals ``c``;
     ``max_violation`` and ``met`` count both kinds (an inequality's violation is ``max(g, 0) /
     inequality_tol``). ``history``: the augmented Lagrangian at the end of each round; ``objective_history`` and
     ``violation_history``: the objective and the largest ``|c| / tol`` there (what a convergence plot shows: the
