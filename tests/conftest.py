@@ -1,9 +1,16 @@
-"""Test set-up: float64 and strict dtype promotion, as the CLI runs (never a side effect of importing)."""
+"""Test set-up: float64 and strict dtype promotion, as the CLI runs (never a side effect of importing), and
+every annotation of the package checked (jaxtyping's import hook with beartype)."""
 
 from pathlib import Path
 
 import jax
+import jaxtyping
 import pytest
+
+# Every annotation in hullopt (Module fields, arguments, returns: dtypes and shapes) is checked while the tests
+# run: jaxtyping's import hook with beartype, installed before anything imports hullopt. is_pep484_tower: an int
+# passes for a float, as PEP 484 has it (lengths are annotated float; callers write 100).
+jaxtyping.install_import_hook("hullopt", "beartype.beartype(conf=beartype.BeartypeConf(is_pep484_tower=True))")
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_dtype_promotion", "strict")
