@@ -398,11 +398,11 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
                 k, f"{k} {cfg.constraints.model_extra[k]}" if cfg.constraints.model_extra else k)
             if g > tol:
                 warnings.append(f"{who}constraint violated: {what} (by {g:.3g} of its bound)")
-            elif g >= -tol:
+            elif g >= -tol and k not in ("max_half_breadth", "bulge"):  # those are on their bound at the parent
                 warnings.append(f"{who}constraint active: {what}")
-        for k, r in (("sectional-area curve", sac), ("sections", sec)):
+        for k, r in (("sectional-area curve is", sac), ("sections are", sec)):
             if r[i + 1] > ROUGHNESS * r[0]:
-                warnings.append(f"{who}the {k} are rougher than the parent's: {r[i + 1] / r[0]:.2f}× "
+                warnings.append(f"{who}the {k} rougher than the parent's: {r[i + 1] / r[0]:.2f}× "
                                 f"(more than {ROUGHNESS:g}×); raise [solver] fairness")
     return objectives, warnings
 
