@@ -58,3 +58,10 @@ def test_motions_derivative_in_the_hull_matches_central_differences(wigley_raos)
     fd = (wigley_raos(1.0 + h, u)[0] - wigley_raos(1.0 - h, u)[0]) / (2 * h)
     assert np.all(np.isfinite(np.asarray(tangent)))
     np.testing.assert_allclose(np.asarray(tangent), np.asarray(fd), rtol=1e-5, atol=1e-6)
+
+
+def test_n_strips_must_be_odd():
+    from hullopt.errors import HullError
+
+    with pytest.raises(HullError, match="n_strips"):
+        motions(wigley(100.0, 10.0, 6.25, 9.0, n=21, m=11), 6.25, 0.0, [0.8], n_strips=24)

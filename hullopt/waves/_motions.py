@@ -34,6 +34,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
 from ..constants import G, RHO_SEA
+from ..errors import HullError
 from ..geometry import Sections, longitudinal_integrals, simpson_weights
 from ._sections2d import heave_potential, section_panels
 
@@ -190,13 +191,16 @@ def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0
 def _strips(sections, t, lcb, n_panels, n_strips):
     """The strips the sectional coefficients are computed on: ``n_strips`` stations equally spaced over the wet
     length (from the aftmost station with an immersed section — a transom stays the aft end — or the dry
-    station just aft of it, to the foremost one or the dry station just ahead of it), each half-section interpolated linearly in x between its two neighbouring stations (point by
-    point); ``n_strips=None`` uses the hull's own stations. Returns x (S,), Simpson weights (S,), ξ = x − LCB,
-    panel nodes (S, n_panels+1, 2) and the wet mask (S,)."""
+    station just aft of it, to the foremost one or the dry station just ahead of it), each half-section
+    interpolated linearly in x between its two neighbouring stations (point by point); ``n_strips=None`` uses
+    the hull's own stations. Returns x (S,), Simpson weights (S,), ξ = x − LCB, panel nodes
+    (S, n_panels+1, 2) and the wet mask (S,)."""
     x = jnp.asarray(sections.x, dtype=float)
     if n_strips is None:
         nodes, wet = section_panels(sections, t, n_panels)
         return x, simpson_weights(x), x - lcb, nodes, wet
+    if not isinstance(n_strips, int) or n_strips < 5 or n_strips % 2 == 0:
+        raise HullError(f"n_strips: expected an odd integer >= 5 (or None for the hull's stations), got {n_strips!r}")
     _, wet0 = section_panels(sections, t, 2)  # which stations are immersed (cheap: no solve)
     n = x.shape[0]
     x_lo = x[jnp.maximum(jnp.argmax(wet0) - 1, 0)]  # a pointed end: from the dry station before the first wet
