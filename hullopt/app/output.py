@@ -295,8 +295,9 @@ def _split(heads: list[Text], cells: list[list[Text]], width: int) -> list[list[
 
 
 def say(text: str, style: str | None = None) -> None:
-    """Print a message as written (``[m]`` stays ``[m]``: no rich markup), wrapped at word boundaries."""
-    console.print(Text(text, style=style or ""))
+    """Print a message as written (``[m]`` stays ``[m]``: no rich markup) on one logical line: the terminal
+    wraps it, so paths and the words scripts look for are never split."""
+    console.print(Text(text, style=style or ""), soft_wrap=True)
 
 
 def warn(text: str) -> None:
