@@ -4,7 +4,9 @@ Strip theory: Salvesen, Tuck & Faltinsen (1970), "Ship motions and sea loads", T
 its forward-speed terms and the transom end terms (a section at the aftmost station with a wet area is a
 transom; for a hull ending in a point the end terms vanish). Sectional added mass a33(x) and damping b33(x)
 at the encounter frequency come from each section's own shape by Frank's close-fit method
-(:mod:`hullopt.waves._sections2d`). Excitation: Froude–Krylov from the incident pressure over each section
+(:mod:`hullopt.waves._sections2d`), on ``n_strips`` (25) strips equally spaced over the wet length with the
+half-sections interpolated between the hull's stations (the mass and restoring come from the hull's own
+stations). Excitation: Froude–Krylov from the incident pressure over each section
 plus diffraction by the 2D Haskind relation (STF eq. 45 form) with STF's speed terms.
 
 R_AWM: Gerritsma & Beukelman (1972), "Analysis of the resistance increase in waves of a fast cargo ship",
