@@ -38,7 +38,22 @@ BEAUFORT = {
 def bretschneider(omega, hs, tp) -> Array:
     """Two-parameter (modified) Pierson–Moskowitz spectrum S(ω) [m²s] for H_s [m] and peak period T_p [s]:
     S = (5/16) H_s² ω_p⁴ ω⁻⁵ exp(−(5/4)(ω_p/ω)⁴), ω_p = 2π/T_p; m0 = H_s²/16 exactly. The ITTC 1978 form
-    (173 H_s²/T_1⁴, 691/T_1⁴) is this spectrum with rounded constants and T_1 = 0.772 T_p."""
+    (173 H_s²/T_1⁴, 691/T_1⁴) is this spectrum with rounded constants and T_1 = 0.772 T_p.
+
+    Parameters
+    ----------
+    omega : float or Array
+        Circular frequency ω [rad/s], any shape; ω ≤ 0 gives S = 0.
+    hs : float or Array
+        Significant wave height H_s [m]; broadcasts with ``omega``.
+    tp : float or Array
+        Peak period T_p [s]; broadcasts with ``omega``.
+
+    Returns
+    -------
+    Array
+        Spectral density S(ω) [m²·s/rad], shape of the broadcast inputs.
+    """
     omega = jnp.asarray(omega, dtype=float)
     wp = 2.0 * jnp.pi / tp
     pos = omega > 0.0
@@ -47,7 +62,22 @@ def bretschneider(omega, hs, tp) -> Array:
 
 
 def ittc_1978(omega, hs, t1) -> Array:
-    """ITTC 1978 spectrum S = A/ω⁵ exp(−B/ω⁴), A = 173 H_s²/T_1⁴, B = 691/T_1⁴, T_1 the mean period [s]."""
+    """ITTC 1978 spectrum S = A/ω⁵ exp(−B/ω⁴), A = 173 H_s²/T_1⁴, B = 691/T_1⁴, T_1 the mean period [s].
+
+    Parameters
+    ----------
+    omega : float or Array
+        Circular frequency ω [rad/s], any shape; ω ≤ 0 gives S = 0.
+    hs : float or Array
+        Significant wave height H_s [m]; broadcasts with ``omega``.
+    t1 : float or Array
+        Mean (centroid) period T_1 [s]; broadcasts with ``omega``.
+
+    Returns
+    -------
+    Array
+        Spectral density S(ω) [m²·s/rad], shape of the broadcast inputs.
+    """
     omega = jnp.asarray(omega, dtype=float)
     pos = omega > 0.0
     w = jnp.where(pos, omega, 1.0)
@@ -68,14 +98,44 @@ def jonswap(omega, hs, tp, gamma=3.3) -> Array:
     """JONSWAP spectrum [m²s]: (1 − 0.287 ln γ)·:func:`bretschneider`·γ^r (DNV-RP-C205 §3.5.5), whose
     normalisation keeps m0 ≈ H_s²/16: within 0.33 % for 1 ≤ γ ≤ 5 (+0.24 % at γ = 3.3), within 1 % up to
     γ ≈ 6.3, then falling off (−1.75 % at γ = 7, −6.9 % at 10; measured by quadrature, the same for every
-    H_s and T_p); γ = 1 is Bretschneider."""
+    H_s and T_p); γ = 1 is Bretschneider.
+
+    Parameters
+    ----------
+    omega : float or Array
+        Circular frequency ω [rad/s], any shape; ω ≤ 0 gives S = 0.
+    hs : float or Array
+        Significant wave height H_s [m]; broadcasts with ``omega``.
+    tp : float or Array
+        Peak period T_p [s]; broadcasts with ``omega``.
+    gamma : float or Array
+        Peak enhancement factor γ (dimensionless, > 0); 3.3 the mean JONSWAP value, 1 gives Bretschneider.
+
+    Returns
+    -------
+    Array
+        Spectral density S(ω) [m²·s/rad], shape of the broadcast inputs.
+    """
     omega = jnp.asarray(omega, dtype=float)
     return _jonswap_norm(gamma) * bretschneider(omega, hs, tp) * _peak_enhancement(omega * tp / (2 * jnp.pi), gamma)
 
 
 def spreading(theta, s=1.0) -> Array:
     """cos-2s spreading D(θ) = 2^(2s) Γ(1+s)² / (π Γ(1+2s)) cos^(2s) θ for |θ| ≤ π/2, else 0 [1/rad];
-    ∫D dθ = 1. s = 1 (wind sea) gives (2/π) cos² θ; s = 0.75 is used for swell."""
+    ∫D dθ = 1. s = 1 (wind sea) gives (2/π) cos² θ; s = 0.75 is used for swell.
+
+    Parameters
+    ----------
+    theta : float or Array
+        Direction θ relative to the mean wave heading [rad], any shape.
+    s : float
+        Spreading exponent s (dimensionless, ≥ 0, a Python number: it sets a static normalisation).
+
+    Returns
+    -------
+    Array
+        Spreading density D(θ) [1/rad], shape of ``theta``; 0 for |θ| ≥ π/2.
+    """
     theta = jnp.asarray(theta, dtype=float)
     c = 2.0 ** (2 * s) * _gamma(1 + s) ** 2 / (np.pi * _gamma(1 + 2 * s))
     inside = jnp.abs(theta) < 0.5 * jnp.pi
@@ -86,7 +146,23 @@ def spreading(theta, s=1.0) -> Array:
 def beaufort_sea_state(number: int) -> tuple[float, float]:
     """(H_s [m], T_p [s]) for a Beaufort number 1–12: H_s the WMO probable wave height, T_p of a fully
     developed Pierson–Moskowitz sea with that H_s (H_s = 0.21 U²/g, ω_p = 0.877 g/U, so
-    T_p = 2π/0.877·√(H_s/(0.21 g)) ≈ 4.99 √H_s)."""
+    T_p = 2π/0.877·√(H_s/(0.21 g)) ≈ 4.99 √H_s).
+
+    Parameters
+    ----------
+    number : int
+        Beaufort number, 1 to 12.
+
+    Returns
+    -------
+    tuple of float
+        (H_s [m], T_p [s]).
+
+    Raises
+    ------
+    ValueError
+        If ``number`` is not an integer 1 to 12.
+    """
     if number not in BEAUFORT or number == 0:
         raise ValueError(f"Beaufort number {number!r}: expected an integer 1 to 12")
     hs = BEAUFORT[number][1]
@@ -95,7 +171,24 @@ def beaufort_sea_state(number: int) -> tuple[float, float]:
 
 def frequency_nodes(tp, omega_max=None, order: int = 8) -> tuple[Array, Array]:
     """Quadrature nodes ω_i [rad/s] and weights w_i with ∫ f(ω) S_PM(ω) dω ≈ (H_s²/16) Σ w_i f(ω_i) for
-    the Bretschneider spectrum of peak period ``tp`` [s] (over ω ≤ ``omega_max`` if given)."""
+    the Bretschneider spectrum of peak period ``tp`` [s] (over ω ≤ ``omega_max`` if given).
+
+    Parameters
+    ----------
+    tp : float or Array
+        Peak period T_p [s] (scalar).
+    omega_max : float or None
+        Short-wave cut-off [rad/s]; None integrates to ω = ∞.
+    order : int
+        Gauss–Legendre points per panel.
+
+    Returns
+    -------
+    omega : Array
+        Nodes ω_i [rad/s], shape (18·order,) float.
+    weights : Array
+        Weights w_i (dimensionless, summing to ≈ 1 without a cut-off), shape (18·order,) float.
+    """
     ref, wref = np.polynomial.legendre.leggauss(order)
     edges = np.minimum(1.25 * np.asarray(_RATIO_EDGES) ** -4.0, _U_MAX)
     edges = np.append(edges, _U_MAX)
@@ -113,7 +206,22 @@ def frequency_nodes(tp, omega_max=None, order: int = 8) -> tuple[Array, Array]:
 
 def direction_nodes(s=None, order: int = 16) -> tuple[Array, Array]:
     """Relative directions θ_j [rad] and weights (summing to 1) for cos-2s spreading ``s``; a single
-    direction (0, weight 1) when ``s`` is None (long-crested)."""
+    direction (0, weight 1) when ``s`` is None (long-crested).
+
+    Parameters
+    ----------
+    s : float or None
+        cos-2s spreading exponent (dimensionless); None for long-crested seas.
+    order : int
+        Gauss–Legendre points over −π/2 … π/2.
+
+    Returns
+    -------
+    theta : Array
+        Directions θ_j [rad] relative to the mean heading, shape (order,) float, or (1,) when ``s`` is None.
+    weights : Array
+        Weights (dimensionless, summing to 1), same shape as ``theta``.
+    """
     if s is None:
         return jnp.zeros(1), jnp.ones(1)
     ref, wref = np.polynomial.legendre.leggauss(order)
@@ -141,6 +249,40 @@ def spectral_mean(
     peak period [s], ``heading`` the mean wave heading [rad] (0 = head seas); ``spectrum`` "pm"
     (Bretschneider / ITTC modified Pierson–Moskowitz) or "jonswap" (with ``gamma``); ``spreading_s``
     None for long-crested seas or the cos-2s exponent; ``omega_max`` an optional short-wave cut-off [rad/s].
+
+    Parameters
+    ----------
+    response : callable
+        ``response(omega, heading)`` with ``omega`` (k,) [rad/s] and ``heading`` (h,) [rad], returning
+        R_AW/ζ_a² [N/m²] of shape (k, h, ...).
+    hs : float or Array
+        Significant wave height H_s [m] (scalar).
+    tp : float or Array
+        Peak period T_p [s] (scalar).
+    heading : float or Array
+        Mean wave heading [rad], 0 = head seas (scalar).
+    spectrum : {"pm", "jonswap"}
+        "pm": Bretschneider (ITTC modified Pierson–Moskowitz); "jonswap": with peak enhancement ``gamma``.
+    gamma : float or Array
+        JONSWAP peak enhancement factor γ (dimensionless); used only with ``spectrum="jonswap"``.
+    spreading_s : float or None
+        cos-2s spreading exponent; None for long-crested seas (a single heading).
+    omega_max : float or None
+        Short-wave cut-off [rad/s]; None integrates to ω = ∞.
+    order : int
+        Gauss–Legendre points per frequency panel.
+    n_dir : int
+        Gauss–Legendre points over direction (short-crested seas only).
+
+    Returns
+    -------
+    Array
+        Mean added resistance R̄_AW [N], shape of ``response``'s trailing dimensions ``...`` (scalar if none).
+
+    Raises
+    ------
+    ValueError
+        If ``spectrum`` is not one of ``SPECTRA``.
     """
     if spectrum not in SPECTRA:
         raise ValueError(f"spectrum {spectrum!r}: expected one of {SPECTRA}")
