@@ -18,6 +18,16 @@ def simpson_weights(x: Float[ArrayLike, " n"]) -> Float[Array, " n"]:
     the uneven three-point rule; with an odd number of intervals the last one is integrated with the
     parabola through the last three points (as ``scipy.integrate.simpson``). ``n`` must be ≥ 2; with
     ``n = 2`` this is the trapezoidal rule.
+
+    Parameters
+    ----------
+    x : array_like, (n,) float
+        Strictly increasing positions [m] (any unit), ``n ≥ 2``.
+
+    Returns
+    -------
+    Array, (n,) float
+        Quadrature weights, in the unit of ``x``.
     """
     x = jnp.asarray(x)
     n = x.shape[0]
@@ -45,7 +55,22 @@ def simpson_weights(x: Float[ArrayLike, " n"]) -> Float[Array, " n"]:
 def volume_lcb(x: Float[ArrayLike, " n"], area: Float[ArrayLike, " n"]) -> tuple[Array, Array]:
     """Volume ``∫A dx`` [m³] and its centroid ``∫xA dx / ∫A dx`` [m from the AP] of the sectional-area curve
     ``area`` at stations ``x`` (Simpson's rule, :func:`simpson_weights`): the rule of
-    :func:`longitudinal_integrals`, for areas held while the stations move (a Lackenby shift)."""
+    :func:`longitudinal_integrals`, for areas held while the stations move (a Lackenby shift).
+
+    Parameters
+    ----------
+    x : array_like, (n,) float
+        Station positions [m from the AP], strictly increasing.
+    area : array_like, (n,) float
+        Full-section immersed areas [m²] at the stations.
+
+    Returns
+    -------
+    volume : Array, scalar
+        ``∫A dx`` [m³].
+    lcb : Array, scalar
+        ``∫xA dx / ∫A dx`` [m from the AP] (not guarded: NaN or inf where the volume is 0).
+    """
     w = simpson_weights(x)
     volume = w @ area
     return volume, (w @ (x * area)) / volume
@@ -136,7 +161,22 @@ class LongitudinalIntegrals(eqx.Module):
 def longitudinal_integrals(sections: Sections, draft) -> LongitudinalIntegrals:
     """:class:`LongitudinalIntegrals` of ``sections`` at the waterline ``z = draft`` [m] (even keel): the
     kernel's :func:`section_integrals` at every station, :func:`simpson_weights` along x. Pure JAX:
-    jit/vmap/grad in the geometry and the draft. ``lcb``, ``kb`` and ``lcf`` are 0 where the hull is dry."""
+    jit/vmap/grad in the geometry and the draft. ``lcb``, ``kb`` and ``lcf`` are 0 where the hull is dry.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    LongitudinalIntegrals
+        Per station ``area``, ``moment_z``, ``half_breadth`` ``(n,)``; scalars ``volume``, ``lcb``, ``kb``,
+        ``awp``, ``lcf``, ``i_t``, ``i_l``, ``bwl``, ``lwl``, ``x_aft``, ``x_fwd``, ``a_transom`` (units as in
+        :class:`LongitudinalIntegrals`).
+    """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     x = sections.x
     s = section_integrals(sections, t)

@@ -18,6 +18,20 @@ def split_for_print(mesh: trimesh.Trimesh, pieces: int, scale: float = 1.0) -> l
     a closed 2-manifold even where the hull's two sides nearly touch (the thin centre wall of
     :func:`to_trimesh`), so the pieces are watertight and their volumes add up to the whole's.
     Raises ``ValueError`` if the mesh is not a closed manifold or a piece comes out open.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A closed 2-manifold mesh, e.g. from :func:`to_trimesh` (vertices in m).
+    pieces : int
+        Number of parts, ≥ 1 (1 keeps the whole, scaled).
+    scale : float
+        Factor applied to every vertex coordinate before cutting (1 by default: the mesh's own unit).
+
+    Returns
+    -------
+    list of trimesh.Trimesh
+        ``pieces`` watertight meshes, ordered aft to forward, in the scaled unit.
     """
     import manifold3d
     import trimesh

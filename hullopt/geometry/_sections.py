@@ -67,6 +67,16 @@ def closed_half_polygon(yz: Float[ArrayLike, "... m 2"]) -> Float[Array, "... m+
     """Close half-sections: append the deck's centreline point ``(0, z_deck_edge)``.
 
     The closing edge from that point back to the keel runs down the centreline.
+
+    Parameters
+    ----------
+    yz : array_like, (..., m, 2) float
+        Half-section polylines ``(y, z)`` [m], keel to deck edge.
+
+    Returns
+    -------
+    Array, (..., m+1, 2) float
+        The same points followed by ``(0, z_deck_edge)`` [m].
     """
     deck_centre = jnp.stack([jnp.zeros_like(yz[..., -1, 1]), yz[..., -1, 1]], axis=-1)
     return jnp.concatenate([yz, deck_centre[..., None, :]], axis=-2)
@@ -88,7 +98,20 @@ class EdgeIntegrals(eqx.Module):
 
 
 def clipped_edge_integrals(p0: Array, p1: Array, level: Array) -> EdgeIntegrals:
-    """Closed-form integrals of edges ``p0 → p1`` (``(..., 2)`` arrays of (y, z)) clipped to ``z ≤ level``."""
+    """Closed-form integrals of edges ``p0 → p1`` (``(..., 2)`` arrays of (y, z)) clipped to ``z ≤ level``.
+
+    Parameters
+    ----------
+    p0, p1 : Array, (..., 2) float
+        Start and end points ``(y, z)`` [m] of each edge, broadcast together.
+    level : Array, float
+        The clipping height ``z`` [m], broadcast with the edges' shape ``(...)``.
+
+    Returns
+    -------
+    EdgeIntegrals
+        Per edge, shape ``(...)``: ``area`` [m²], ``moment_z`` and ``moment_y`` [m³], ``width`` [m] (signed).
+    """
     y0, z0 = p0[..., 0], p0[..., 1]
     y1, z1 = p1[..., 0], p1[..., 1]
     dz = z1 - z0
@@ -122,7 +145,20 @@ def level_widths(poly: Float[ArrayLike, "... k 2"], levels: Float[ArrayLike, " K
     """Widths of closed polygons at many ``levels``: ``polygon_integrals(poly, z).width`` for each ``z``
     (the same crossing rule, equal to rounding), computed for many levels at once — the slope of each edge
     once, then per level a crossing test and one multiply-add, with the edges on the leading axis so that
-    the sum over them is elementwise (which matters under ``vmap``)."""
+    the sum over them is elementwise (which matters under ``vmap``).
+
+    Parameters
+    ----------
+    poly : array_like, (..., k, 2) float
+        Closed polygons ``(y, z)`` [m] (last point joins the first), e.g. from :func:`closed_half_polygon`.
+    levels : array_like, (K,) float
+        Heights ``z`` [m].
+
+    Returns
+    -------
+    Array, (..., K) float
+        The polygons' widths [m] at each level (a half-section's half-breadth).
+    """
     p1 = jnp.roll(poly, -1, axis=-2)
     y0, z0, y1, z1 = (jnp.moveaxis(q, -1, 0)[..., None] for q in (poly[..., 0], poly[..., 1], p1[..., 0], p1[..., 1]))
     dz = z1 - z0
@@ -137,7 +173,21 @@ def level_widths(poly: Float[ArrayLike, "... k 2"], levels: Float[ArrayLike, " K
 
 
 def polygon_integrals(poly: Float[ArrayLike, "... k 2"], level) -> EdgeIntegrals:
-    """Sum of :func:`clipped_edge_integrals` over the edges of closed polygons (last point joins the first)."""
+    """Sum of :func:`clipped_edge_integrals` over the edges of closed polygons (last point joins the first).
+
+    Parameters
+    ----------
+    poly : array_like, (..., k, 2) float
+        Closed polygons ``(y, z)`` [m], ordered counter-clockwise (last point joins the first).
+    level : float or array_like, (...)
+        Clipping height ``z`` [m], scalar or one per polygon.
+
+    Returns
+    -------
+    EdgeIntegrals
+        Sums over the edges, each ``(...)``: ``area`` [m²] below the level, ``moment_z`` and ``moment_y`` [m³],
+        ``width`` [m] at the level.
+    """
     p1 = jnp.roll(poly, -1, axis=-2)
     e = clipped_edge_integrals(poly, p1, jnp.asarray(level)[..., None])
     return EdgeIntegrals(*(jnp.sum(v, axis=-1) for v in (e.area, e.moment_z, e.moment_y, e.width)))
@@ -148,5 +198,17 @@ def section_integrals(sections: Sections, draft) -> EdgeIntegrals:
 
     ``area`` [m²] (one side), ``moment_z`` = ∫ z dA [m³], ``moment_y`` = ∫ y dA [m³], ``width`` = the
     waterline half-breadth [m] (summed over every crossing, so bulbs and tumblehome come out right).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    EdgeIntegrals
+        ``area``, ``moment_z``, ``moment_y``, ``width``, each ``(n,)``, units as above.
     """
     return polygon_integrals(closed_half_polygon(sections.yz), draft)

@@ -42,6 +42,19 @@ def natural_cubic_spline(knots: Float[Array, " k"], values: Float[Array, "k ..."
 
     ``knots`` strictly increasing, ``k ≥ 2``. Solves the tridiagonal system for the second
     derivatives (a dense solve: k is a handful of stations or waterlines).
+
+    Parameters
+    ----------
+    knots : Array, (k,) float
+        Strictly increasing abscissae, ``k ≥ 2`` (any unit, e.g. m).
+    values : Array, (k, ...) float
+        Ordinates at the knots; trailing axes are several curves on the same knots.
+
+    Returns
+    -------
+    CubicSpline
+        The spline: ``knots (k,)``, coefficients ``a, b, c, d (k−1, ...)``; call it at ``t`` for values or
+        derivatives.
     """
     knots = jnp.asarray(knots)
     y = jnp.asarray(values)
@@ -70,6 +83,18 @@ def spline_matrix(knots, at) -> np.ndarray:
 
     A natural spline is linear in its values, so with fixed knots (static preprocessing, numpy) the
     interpolation on the hot path is one matrix product.
+
+    Parameters
+    ----------
+    knots : array_like, (k,) float
+        Strictly increasing knot positions, ``k ≥ 2`` (any unit).
+    at : array_like, (p,) float
+        Positions to interpolate at, same unit as ``knots``.
+
+    Returns
+    -------
+    numpy.ndarray, (p, k) float64
+        Weights ``W`` with ``s(at) = W @ values`` for values ``(k, ...)`` on ``knots``.
     """
     from scipy.interpolate import CubicSpline as _ScipySpline  # static preprocessing only
 
