@@ -32,7 +32,20 @@ BF_KINK = (C_U_INTERCEPT - C_U_MIN) / -C_U_SLOPE  # 58/310 = 0.1871: where C_U r
 def speed_coefficient(bf, smooth: float | None = None) -> Array:
     """C_U = max(68 − 310·Bf, 10) (patent eqs. 11–12), or with ``smooth = τ`` the soft maximum
     10 + τ·softplus((58 − 310·Bf)/τ), which is C^∞, lies above the exact value by at most τ·ln 2 (at the
-    kink Bf = 0.1871) and within 1 % of τ beyond |Bf − 0.1871| > 4.6τ/310 (τ = 1: ±0.015 in Bf)."""
+    kink Bf = 0.1871) and within 1 % of τ beyond |Bf − 0.1871| > 4.6τ/310 (τ = 1: ±0.015 in Bf).
+
+    Parameters
+    ----------
+    bf : float or Array
+        Bluntness coefficient Bf (dimensionless), any shape.
+    smooth : float or None
+        Width τ of the soft maximum (dimensionless, in units of C_U); None: the exact, kinked maximum.
+
+    Returns
+    -------
+    Array
+        C_U (dimensionless), shape of ``bf``.
+    """
     bf = jnp.asarray(bf, dtype=float)
     lin = C_U_INTERCEPT + C_U_SLOPE * bf
     if smooth is None:
@@ -91,18 +104,63 @@ def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
 
 
 def froude_number(speed, lpp, g: float = G) -> Array:
-    """Fn = U/√(g·Lpp)."""
+    """Fn = U/√(g·Lpp).
+
+    Parameters
+    ----------
+    speed : float or Array
+        Ship speed U [m/s], any shape.
+    lpp : float or Array
+        Length between perpendiculars Lpp [m]; broadcasts with ``speed``.
+    g : float
+        Gravitational acceleration [m/s²].
+
+    Returns
+    -------
+    Array
+        Froude number Fn (dimensionless), shape of the broadcast inputs.
+    """
     return jnp.asarray(speed, dtype=float) / jnp.sqrt(g * jnp.asarray(lpp, dtype=float))
 
 
 def omega_from_wavelength(wavelength, g: float = G) -> Array:
-    """Deep-water circular frequency ω = √(2πg/λ) [rad/s] of waves of length λ [m]."""
+    """Deep-water circular frequency ω = √(2πg/λ) [rad/s] of waves of length λ [m].
+
+    Parameters
+    ----------
+    wavelength : float or Array
+        Wave length λ [m], any shape.
+    g : float
+        Gravitational acceleration [m/s²].
+
+    Returns
+    -------
+    Array
+        Circular frequency ω [rad/s], shape of ``wavelength``.
+    """
     return jnp.sqrt(2.0 * jnp.pi * g / jnp.asarray(wavelength, dtype=float))
 
 
 def encounter_wavenumber(omega, speed, heading, g: float = G) -> Array:
     """k_e = k(1 + Ω cos α)² with k = ω²/g, Ω = ωU/g [1/m] (patent eq. 7). In following seas k_e → 0 where
-    U cos α meets the phase speed (the reflected wave cannot catch the ship), and grows again beyond."""
+    U cos α meets the phase speed (the reflected wave cannot catch the ship), and grows again beyond.
+
+    Parameters
+    ----------
+    omega : float or Array
+        Wave circular frequency ω [rad/s], any shape.
+    speed : float or Array
+        Ship speed U [m/s], ahead positive; broadcasts.
+    heading : float or Array
+        Wave heading α [rad], 0 = head seas; broadcasts.
+    g : float
+        Gravitational acceleration [m/s²].
+
+    Returns
+    -------
+    Array
+        Wavenumber k_e [1/m], shape of the broadcast inputs.
+    """
     omega = jnp.asarray(omega, dtype=float)
     k = omega**2 / g
     return k * (1.0 + omega * speed / g * jnp.cos(heading)) ** 2
@@ -154,6 +212,35 @@ def nmri_added_resistance(
     The reflection part is never negative (Bf⁺ = max(Bf, 0)): in following seas it is 0. Pure and
     differentiable in the sections, draft, speed and ω;
     finite (0) as ω → 0.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull's stations (offsets in metres).
+    draft : float or Array
+        Draft d [m] (scalar): the waterline for Bf and d in α_T.
+    speed : float or Array
+        Ship speed U [m/s] (scalar), ahead positive.
+    omega : float or Array
+        Wave circular frequencies ω [rad/s], any shape W.
+    heading : float or Array
+        Wave headings α [rad], 0 = head seas, any shape H.
+    amplitude : float or Array
+        Wave amplitude ζ_a [m]; broadcasts with the W + H results.
+    rho : float
+        Water density [kg/m³].
+    g : float
+        Gravitational acceleration [m/s²].
+    smooth : float or None
+        Width τ of the soft maximum in C_U and of the ramp in Bf⁺; None: the exact maxima.
+    aft : {"exclude", "include"}
+        Lit range of the waterline, see :func:`~hullopt.waves.bluntness_of_waterline`.
+
+    Returns
+    -------
+    NMRIResult
+        ``bf``, ``c_u``, ``k_aw_short`` of shape H; ``alpha_t``, ``k_aw``, ``r_awr`` [N] of shape W + H;
+        ``fn`` and ``beam`` [m] scalars.
     """
     wl = waterline(sections, draft)
     om, hd = _outer(omega, heading)

@@ -111,13 +111,35 @@ def _k1e_jvp(primals, tangents):
 
 
 def k0(x):
-    """Modified Bessel function of the second kind, order 0 (x > 0)."""
+    """Modified Bessel function of the second kind, order 0 (x > 0).
+
+    Parameters
+    ----------
+    x : float or Array
+        Argument x > 0 (dimensionless), any shape.
+
+    Returns
+    -------
+    Array
+        K0(x), shape of ``x``.
+    """
     x = jnp.asarray(x, dtype=float)
     return k0e(x) * jnp.exp(-x)
 
 
 def k1(x):
-    """Modified Bessel function of the second kind, order 1 (x > 0)."""
+    """Modified Bessel function of the second kind, order 1 (x > 0).
+
+    Parameters
+    ----------
+    x : float or Array
+        Argument x > 0 (dimensionless), any shape.
+
+    Returns
+    -------
+    Array
+        K1(x), shape of ``x``.
+    """
     x = jnp.asarray(x, dtype=float)
     return k1e(x) * jnp.exp(-x)
 
@@ -129,6 +151,16 @@ def alpha_t(x):
     xK₁ = x log(x/2) I₁ + (Chebyshev series), finite at x = 0, α_T = r²/(1 + r²) → π²x⁴/4 as x → 0
     (0 at x = 0, with a finite gradient); for x > 2, with q = K₁/(πI₁) = k1e·e^(−2x)/(π·i1e),
     α_T = 1/(1 + q²) → 1. Values and gradients are finite for every x ≥ 0.
+
+    Parameters
+    ----------
+    x : float or Array
+        k_e·d ≥ 0 (dimensionless; encounter wavenumber [1/m] times draft [m]), any shape.
+
+    Returns
+    -------
+    Array
+        α_T in [0, 1] (dimensionless), shape of ``x``.
     """
     x = jnp.asarray(x, dtype=float)
     small, xs, xl = _split(x)
