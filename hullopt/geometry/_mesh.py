@@ -37,7 +37,20 @@ EXPORT_FORMATS = ("stl", "obj", "ply", "glb", "x3d")
 
 def surface_grid(sections: Sections, xp=jnp) -> Float[ArrayLike, "n m 3"]:
     """Port-side hull surface points ``(x, y, z)`` [m] on the structured station × point grid; ``xp = numpy``
-    for a numpy grid (exports, which run no JAX op)."""
+    for a numpy grid (exports, which run no JAX op).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    xp : module
+        The array module, ``jax.numpy`` (default) or ``numpy``.
+
+    Returns
+    -------
+    Array or numpy.ndarray, (n, m, 3) float
+        The points ``(x, y, z)`` [m].
+    """
     yz = xp.asarray(sections.yz)
     x = xp.broadcast_to(xp.asarray(sections.x)[:, None], yz.shape[:-1])
     return xp.concatenate([x[..., None], yz], axis=-1)
@@ -47,6 +60,16 @@ def grid_triangles(n: int, m: int) -> np.ndarray:
     """Triangle vertex indices ``(2 (n−1)(m−1), 3)`` into the flattened ``(n·m)`` grid.
 
     Wound so that normals point outward (to port) for a port-side grid running keel → deck.
+
+    Parameters
+    ----------
+    n, m : int
+        Grid size: stations and points per section.
+
+    Returns
+    -------
+    numpy.ndarray, (2 (n−1)(m−1), 3) int
+        Vertex indices ``i·m + j`` of each triangle.
     """
     i, j = np.meshgrid(np.arange(n - 1), np.arange(m - 1), indexing="ij")
     a = (i * m + j).ravel()
@@ -137,6 +160,18 @@ def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
     Cost: ``O(n m²)`` for the search of the nearest vertex (every point against every point of the next
     section, no gradient), ``O(n m)`` for the rest and its gradient; vectorised; differentiable in the
     offsets, the station positions and the draft.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, scalar
+        Wetted surface of both sides [m²].
     """
     level = jnp.asarray(draft, dtype=sections.yz.dtype)
     yz, dx = sections.yz, jnp.diff(sections.x)
@@ -206,6 +241,19 @@ def to_trimesh(sections: Sections, wall: float = 1e-7) -> trimesh.Trimesh:
     volume this adds is negligible (2·1e-7·size × the centre-plane area); exclude faces with
     ``|y| ≤ 1e-7·size`` when summing areas. ``wall`` sets that fraction (:func:`hull_mesh` writes 1e-6, so
     the faces across the wall stay well above float32's resolution and the degenerate-face threshold).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    wall : float
+        Half-thickness of the centre-plane wall as a fraction of the hull's size (largest coordinate [m], at
+        least 1 m); 1e-7 by default.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        ``2·n·m`` vertices [m] (port grid, then its mirror), float64, closed and outward wound; not processed.
     """
     import trimesh
 
@@ -342,7 +390,18 @@ def _corners(p: np.ndarray, s: np.ndarray, angle_deg: float = 30.0) -> np.ndarra
 
 def hull_mesh(sections: Sections) -> trimesh.Trimesh:
     """The closed mesh to write for a hull [m]: :func:`to_trimesh` of :func:`resample_sections` (float64,
-    not yet welded; :func:`export_mesh` welds it)."""
+    not yet welded; :func:`export_mesh` welds it).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+
+    Returns
+    -------
+    trimesh.Trimesh
+        The closed mesh [m], float64, on the resampled grid.
+    """
     return to_trimesh(resample_sections(sections), wall=1e-6)
 
 
@@ -458,7 +517,19 @@ def read_back(path: str | os.PathLike) -> trimesh.Trimesh:
 
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """Write ``data`` to ``path`` via a temporary file in the same folder and a rename; the file gets the
-    permissions an ordinary ``open(path, "w")`` would give (mkstemp's are owner-only)."""
+    permissions an ordinary ``open(path, "w")`` would give (mkstemp's are owner-only).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists); its folder must exist.
+    data : bytes
+        The file's contents.
+
+    Returns
+    -------
+    None
+    """
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
@@ -479,14 +550,39 @@ def _umask() -> int:
 
 def stl_header(lpp: float, draft: float | None = None) -> bytes:
     """The 80-byte binary-STL header hullopt writes: ``hullopt lpp=<m> [draft=<m>]``, so that reading the file
-    back (:func:`read_stl_header`) needs no ``?lpp=`` and knows the design draft."""
+    back (:func:`read_stl_header`) needs no ``?lpp=`` and knows the design draft.
+
+    Parameters
+    ----------
+    lpp : float
+        Length between perpendiculars [m].
+    draft : float, optional
+        Design draft [m above the baseline]; ``None`` leaves it out.
+
+    Returns
+    -------
+    bytes
+        80 ASCII bytes, space padded.
+    """
     text = f"hullopt lpp={lpp:.9g}" + ("" if draft is None else f" draft={draft:.9g}")
     return text.encode("ascii").ljust(80, b" ")
 
 
 def read_stl_header(text: str) -> dict[str, float]:
     """``{"lpp": …, "draft": …}`` [m] from a header written by :func:`stl_header` (trimesh keeps it as
-    ``mesh.metadata["header"]``); empty for any other header."""
+    ``mesh.metadata["header"]``); empty for any other header.
+
+    Parameters
+    ----------
+    text : str
+        The STL header as text.
+
+    Returns
+    -------
+    dict of str to float
+        ``"lpp"`` and, where written, ``"draft"`` [m] (any other ``key=number`` word too); ``{}`` for a header
+        not starting with ``hullopt``.
+    """
     words = text.split()
     if not words or words[0] != "hullopt":
         return {}
@@ -505,7 +601,23 @@ def export_mesh(mesh: trimesh.Trimesh, path: str | os.PathLike, header: bytes | 
     (:func:`weld_mesh`) so that the file holds a valid mesh; then read the file back and report its checks
     (:class:`MeshReport`, from the file, not from the mesh in memory). ``ValueError`` if the written file
     is not closed, consistently wound, one body and free of degenerate faces. ``header`` (80 bytes, see
-    :func:`stl_header`) goes into a binary STL's header; other formats ignore it."""
+    :func:`stl_header`) goes into a binary STL's header; other formats ignore it.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A closed 2-manifold mesh [m], e.g. from :func:`hull_mesh`.
+    path : str or os.PathLike
+        The file to write; its extension (``.stl``, ``.obj``, ``.ply``, ``.glb``, ``.x3d``) picks the format.
+    header : bytes, optional
+        A binary STL's 80-byte header (cut or space padded to 80); ``None`` keeps trimesh's.
+
+    Returns
+    -------
+    MeshReport
+        The checks of the file as read back: ``faces``, ``watertight``, ``winding_consistent``, ``bodies``,
+        ``tiny_faces``, ``volume`` [m³], ``volume_change`` (relative, by welding).
+    """
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in EXPORT_FORMATS:
