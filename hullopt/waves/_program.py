@@ -36,7 +36,32 @@ class ProgramResult(eqx.Module):
 def evaluate_modifications(sections: Sections, modify: Callable[[Sections, Array], Sections], params, draft, speed,
                            heading=0.0, g: float = G, smooth: float | None = None):
     """(Bf, C_U, K_AW) of the original hull and of ``modify(sections, p)`` for each ``p`` in ``params`` (k,)
-    (one ``vmap``); each output is (k + 1,), the original first. Pure: jit/grad-able."""
+    (one ``vmap``); each output is (k + 1,), the original first. Pure: jit/grad-able.
+
+    Parameters
+    ----------
+    sections : Sections
+        The original hull (offsets in metres).
+    modify : callable
+        Pure ``modify(sections, p) -> Sections``.
+    params : Array
+        Modification parameters, shape (k, ...) (one leading axis of k candidates).
+    draft : float or Array
+        Draft T [m] (scalar).
+    speed : float or Array
+        Ship speed U [m/s] (scalar).
+    heading : float or Array
+        Wave heading α [rad], 0 = head seas; any shape H.
+    g : float
+        Gravitational acceleration [m/s²].
+    smooth : float or None
+        Width τ of the soft maximum in C_U (:func:`speed_coefficient`); None: the exact maximum.
+
+    Returns
+    -------
+    tuple of Array
+        (Bf, C_U, K_AW, Fn): the first three dimensionless of shape (k + 1, *H), original first; Fn scalar.
+    """
     fn = froude_number(speed, sections.lpp, g)
 
     def one(s):
@@ -53,7 +78,30 @@ def select_lower_k_aw(sections: Sections, modify: Callable[[Sections, Array], Se
     """Claim 6: compute Bf, K_AW of ``sections`` (steps 1802–1803), modify it by ``modify(sections, p)`` for
     every ``p`` in ``params`` (1804), recompute (1806), compare and keep the hull with the lowest K_AW
     (1807–1808; the original on ties). ``modify`` may be any pure ``(Sections, p) -> Sections``, e.g.
-    :func:`hullopt.models.blunt_bow` or a feature-curve deformation."""
+    :func:`hullopt.models.blunt_bow` or a feature-curve deformation.
+
+    Parameters
+    ----------
+    sections : Sections
+        The original hull (offsets in metres).
+    modify : callable
+        Pure ``modify(sections, p) -> Sections``.
+    params : float or Array
+        Modification parameters, shape (k, ...) (a scalar is one candidate).
+    draft : float or Array
+        Draft T [m] (scalar).
+    speed : float or Array
+        Ship speed U [m/s] (scalar).
+    heading : float or Array
+        Wave heading α [rad], 0 = head seas (scalar).
+    g : float
+        Gravitational acceleration [m/s²].
+
+    Returns
+    -------
+    ProgramResult
+        Every candidate's Bf, C_U, K_AW (k + 1,), the index ``best`` and the chosen ``sections``.
+    """
     params = jnp.atleast_1d(jnp.asarray(params, dtype=sections.yz.dtype))
     bf, c_u, kaw, fn = eqx.filter_jit(evaluate_modifications)(sections, modify, params, draft, speed, heading, g)
     best = int(jnp.argmin(kaw))  # argmin keeps the first (the original) on ties

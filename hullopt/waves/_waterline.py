@@ -56,7 +56,20 @@ class Waterline(eqx.Module):
 
 
 def waterline(sections: Sections, draft) -> Waterline:
-    """The waterline at ``draft`` [m above the baseline], exact for the sections' ruled surface."""
+    """The waterline at ``draft`` [m above the baseline], exact for the sections' ruled surface.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull's n stations (offsets in metres).
+    draft : float or Array
+        Waterline height T [m] above the baseline (scalar).
+
+    Returns
+    -------
+    Waterline
+        ``x``, ``y`` (n,) [m] and segment increments ``dx``, ``dy`` (n + 1,) [m].
+    """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     y = section_integrals(sections, t).width
     zero = jnp.zeros((1,), dtype=y.dtype)
@@ -108,6 +121,25 @@ def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "exclude") -> 
     smallest entrance angle), where no aft-facing element is lit. In head seas
     Bf = (2/B) ∫_entrance sin³β_w dl; a wedge of half-angle E gives sin²E, a semicircle 2/3, and in
     oblique seas a wedge bow (half-breadth b = B/2) gives Bf = ½[sin²(α+E)·[α+E < π] + sin²(α−E)·[α < E]].
+
+    Parameters
+    ----------
+    wl : Waterline
+        The waterline (:func:`waterline`).
+    heading : float or Array
+        Wave headings α [rad], any shape H; 0 = head seas.
+    aft : {"exclude", "include"}
+        Which lit elements count (see above).
+
+    Returns
+    -------
+    Array
+        Bf (dimensionless), shape H; 0 where the waterline has no breadth.
+
+    Raises
+    ------
+    ValueError
+        If ``aft`` is not one of ``AFT_OPTIONS``.
     """
     if aft not in AFT_OPTIONS:
         raise ValueError(f"aft={aft!r}: expected one of {AFT_OPTIONS}")
@@ -123,13 +155,45 @@ def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "exclude") -> 
 
 def bluntness(sections: Sections, draft, heading=0.0, aft: str = "exclude") -> Array:
     """Bluntness coefficient Bf of the waterline at ``draft`` [m] for headings ``heading`` [rad];
-    see :func:`bluntness_of_waterline`."""
+    see :func:`bluntness_of_waterline`.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull's stations (offsets in metres).
+    draft : float or Array
+        Waterline height T [m] above the baseline (scalar).
+    heading : float or Array
+        Wave headings α [rad], any shape H; 0 = head seas.
+    aft : {"exclude", "include"}
+        Which lit elements count, see :func:`bluntness_of_waterline`.
+
+    Returns
+    -------
+    Array
+        Bf (dimensionless), shape H.
+    """
     return bluntness_of_waterline(waterline(sections, draft), heading, aft)
 
 
 def entrance_lengths(wl: Waterline, fraction) -> tuple[Array, Array]:
     """Lengths [m] from the forward and the aft end of the waterline to where its half-breadth first
-    reaches ``fraction`` of its maximum (STAWAVE-1's L_BWL at 0.95; SNNM's L_E, L_R at 0.99)."""
+    reaches ``fraction`` of its maximum (STAWAVE-1's L_BWL at 0.95; SNNM's L_E, L_R at 0.99).
+
+    Parameters
+    ----------
+    wl : Waterline
+        The waterline (:func:`waterline`).
+    fraction : float or Array
+        Fraction of the maximum half-breadth (dimensionless, 0 … 1; scalar).
+
+    Returns
+    -------
+    forward : Array
+        Length [m] from the forward end of the waterline to the crossing (the entrance), scalar.
+    aft : Array
+        Length [m] from the aft end of the waterline to the crossing (the run), scalar.
+    """
     y, x = wl.y, wl.x
     level = fraction * jnp.max(y)
     n = x.shape[0]
