@@ -38,7 +38,20 @@ class Particulars(eqx.Module):
 
 def particulars(sections: Sections, draft) -> Particulars:
     """:class:`Particulars` of the hull at ``draft`` (even keel); exact for the polyline sections,
-    Simpson along x."""
+    Simpson along x.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+
+    Returns
+    -------
+    Particulars
+        Lpp, B_wl, T [m], C_B (dimensionless) and the waterline lengths L_BWL, L_E, L_R [m], all scalars.
+    """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     wl = waterline(sections, t)
     volume = longitudinal_integrals(sections, t).volume
@@ -88,7 +101,26 @@ def _within_45(heading):
 def stawave1(p: Particulars, omega, heading=0.0, amplitude=1.0, rho=RHO_SEA, g=G) -> WaveResistance:
     """STAWAVE-1 (ITTC 7.5-04-01-01.1, ISO 15016): R = (1/16)ρgH_s²B√(B/L_BWL) in a sea state, i.e. the
     frequency-independent reflection ½ρgζ_a²B√(B/L_BWL) per regular wave (so the spectral mean gives the
-    published formula exactly); heading within ±45° of the bow only, no speed dependence, no motion part."""
+    published formula exactly); heading within ±45° of the bow only, no speed dependence, no motion part.
+
+    Parameters
+    ----------
+    p : Particulars
+        Main particulars (:func:`particulars`).
+    omega : float or Array
+        Wave circular frequencies ω [rad/s], any shape W (the result does not depend on them).
+    heading : float or Array
+        Wave headings α [rad], 0 = head seas, any shape H.
+    amplitude : float or Array
+        Wave amplitude ζ_a [m].
+    rho, g : float
+        Water density [kg/m³] and gravity [m/s²].
+
+    Returns
+    -------
+    WaveResistance
+        ``motion`` (0) and ``reflection`` [N], shape W + H.
+    """
     om, hd = _outer(omega, heading)
     r = 0.5 * rho * g * amplitude**2 * p.beam * jnp.sqrt(p.beam / p.l_bwl)
     r = jnp.where(_within_45(hd), r, 0.0) * jnp.ones_like(om)
@@ -100,6 +132,28 @@ def stawave2(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25,
 
     R_AWML = 4ρgζ²(B²/L) ω̄^b1 exp[(b1/d1)(1 − ω̄^d1)] 60.3 C_B^1.34 Fr^1.5 e^(−3.5Fr),
     ω̄ = √(L/g) kyy^(1/3) ω Fr^0.143/1.17; R_AWRL = ½ρgζ²B α_T(1.5kT) f1, f1 = 0.692 (U/√(gT))^0.769 + 1.81 C_B^6.95.
+
+    Parameters
+    ----------
+    p : Particulars
+        Main particulars (:func:`particulars`).
+    speed : float or Array
+        Ship speed U [m/s] (scalar), ahead positive.
+    omega : float or Array
+        Wave circular frequencies ω [rad/s], any shape W.
+    heading : float or Array
+        Wave headings α [rad], 0 = head seas, any shape H.
+    amplitude : float or Array
+        Wave amplitude ζ_a [m].
+    kyy : float or Array
+        Pitch radius of gyration over Lpp (dimensionless).
+    rho, g : float
+        Water density [kg/m³] and gravity [m/s²].
+
+    Returns
+    -------
+    WaveResistance
+        ``motion`` (R_AWML) and ``reflection`` (R_AWRL) [N], shape W + H; 0 beyond ±45° of the bow.
     """
     om, hd = _outer(omega, heading)
     lpp, b, t, cb = p.lpp, p.beam, p.draft, p.cb
@@ -121,6 +175,28 @@ def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho
     following seas (the public codes disagree on the following-sea expression, METHODS §2.3 caveat 1).
     Reflection part R1–R4 for all headings with E1, E2 from the entrance and run lengths at 99 % breadth
     and the fullness factor on R1, R2 only. σ = R/(ρgζ²B²/L).
+
+    Parameters
+    ----------
+    p : Particulars
+        Main particulars (:func:`particulars`).
+    speed : float or Array
+        Ship speed U [m/s] (scalar), ahead positive.
+    omega : float or Array
+        Wave circular frequencies ω [rad/s], any shape W.
+    heading : float or Array
+        Wave headings α [rad], 0 = head seas, any shape H.
+    amplitude : float or Array
+        Wave amplitude ζ_a [m].
+    kyy : float or Array
+        Pitch radius of gyration over Lpp (dimensionless).
+    rho, g : float
+        Water density [kg/m³] and gravity [m/s²].
+
+    Returns
+    -------
+    WaveResistance
+        ``motion`` and ``reflection`` [N], shape W + H.
     """
     om, hd = _outer(omega, heading)
     a = _fold(hd)
@@ -173,7 +249,45 @@ def method_resistance(method: str, sections: Sections, draft, speed, omega, head
     """Added resistance [N] in regular waves by ``method`` (one of :data:`METHODS`), motion and reflection
     parts. NMRI: R_AW = R_AWM + R_AWR(Bf), the motion part by strip theory
     (:func:`~hullopt.waves.motion_added_resistance`, with ``kg`` [m] and ``kyy``; ``motion=False`` leaves it
-    out, 0), the reflection part by the patent's formula."""
+    out, 0), the reflection part by the patent's formula.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS` (``"nmri"``, ``"stawave1"``, ``"stawave2"``, ``"snnm"``).
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+    speed : float or Array
+        Ship speed U [m/s] (scalar), ahead positive.
+    omega : float or Array
+        Wave circular frequencies ω [rad/s], any shape W.
+    heading : float or Array
+        Wave headings α [rad], 0 = head seas, any shape H.
+    amplitude : float or Array
+        Wave amplitude ζ_a [m].
+    kyy : float or Array
+        Pitch radius of gyration over Lpp (STAWAVE-2, SNNM, and NMRI's motion part).
+    rho, g : float
+        Water density [kg/m³] and gravity [m/s²].
+    smooth, aft
+        NMRI only: as :func:`nmri_added_resistance` takes them.
+    kg : float or None
+        NMRI only: KG [m] for the motion part (None: KG = draft).
+    motion : bool
+        NMRI only: include the strip-theory motion part (False: it is 0).
+
+    Returns
+    -------
+    WaveResistance
+        ``motion``, ``reflection`` and ``total`` [N], shape W + H.
+
+    Raises
+    ------
+    ValueError
+        If ``method`` is not one of :data:`METHODS`.
+    """
     if method == "nmri":
         r = nmri_added_resistance(sections, draft, speed, omega, heading, amplitude, rho=rho, g=g, smooth=smooth,
                                   aft=aft).r_awr
