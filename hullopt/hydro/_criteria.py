@@ -75,7 +75,22 @@ def _upper(flooding_angle) -> Array:
 
 def criteria_heels(flooding_angle=None, n_grid: int = 91, max_heel: float = np.pi / 2) -> Array:
     """The heels [rad] at which :func:`criteria_from_gz` needs GZ: Gauss nodes on [0, 30°] and
-    [30°, min(40°, θf)], then a uniform grid of ``n_grid`` heels on [0, max_heel] (``max_heel`` > 30°)."""
+    [30°, min(40°, θf)], then a uniform grid of ``n_grid`` heels on [0, max_heel] (``max_heel`` > 30°).
+
+    Parameters
+    ----------
+    flooding_angle : float or Array, scalar, optional
+        Downflooding angle θf [rad]; ``None`` means none (the upper limit is 40°).
+    n_grid : int
+        Number of heels on the uniform grid (91 by default: 1° steps to 90°).
+    max_heel : float
+        The uniform grid's last heel [rad], above 30° (π/2 by default).
+
+    Returns
+    -------
+    Array, (20 + n_grid,) float
+        10 Gauss nodes on [0, 30°], 10 on [30°, min(40°, θf)], then the grid [rad].
+    """
     a, b = jnp.deg2rad(30.0), _upper(flooding_angle)
     x = jnp.asarray(_GL_X)
     return jnp.concatenate([0.5 * a * (x + 1.0), a + 0.5 * (b - a) * (x + 1.0), jnp.linspace(0.0, max_heel, n_grid)])
@@ -96,7 +111,25 @@ def _parabola_peak(g: Array, i: Array, h, lowest: Array | int = 1) -> tuple[Arra
 
 def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_heel: float = np.pi / 2,
                      tau: float = 0.01) -> Criteria:
-    """The criteria from GZ [m] at :func:`criteria_heels` (same arguments) and GM₀ [m]."""
+    """The criteria from GZ [m] at :func:`criteria_heels` (same arguments) and GM₀ [m].
+
+    Parameters
+    ----------
+    gz : Array, (20 + n_grid,) float
+        Righting lever GZ [m] at the heels of :func:`criteria_heels`, in that order.
+    gm0 : float or Array, scalar
+        Initial metacentric height GM₀ [m] (corrected for free surfaces).
+    flooding_angle, n_grid, max_heel
+        As given to :func:`criteria_heels` (θf and ``max_heel`` in rad).
+    tau : float
+        Softmax temperature [m] of the smooth margins for the max GZ and its angle (0.01 by default).
+
+    Returns
+    -------
+    Criteria
+        ``value``, ``required``, ``margin`` ``(6,)`` in the order of :data:`CRITERIA` (m·rad, m, degrees);
+        ``gz_max`` [m], ``angle_gz_max`` and ``vanishing_angle`` [rad].
+    """
     gz = jnp.asarray(gz)
     a, b = jnp.deg2rad(30.0), _upper(flooding_angle)
     w = jnp.asarray(_GL_W)
@@ -134,6 +167,21 @@ def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_
 
 def intact_criteria(gz_fn, gm0, flooding_angle=None, n_grid: int = 91, max_heel: float = np.pi / 2,
                     tau: float = 0.01) -> Criteria:
-    """The criteria for a GZ curve given as a function ``gz_fn(heels (k,) [rad]) -> (k,) [m]``."""
+    """The criteria for a GZ curve given as a function ``gz_fn(heels (k,) [rad]) -> (k,) [m]``.
+
+    Parameters
+    ----------
+    gz_fn : callable
+        ``gz_fn(heels)``: GZ [m] ``(k,)`` at heels ``(k,)`` [rad].
+    gm0 : float or Array, scalar
+        Initial metacentric height GM₀ [m].
+    flooding_angle, n_grid, max_heel, tau
+        As for :func:`criteria_from_gz` (θf and ``max_heel`` in rad, ``tau`` in m).
+
+    Returns
+    -------
+    Criteria
+        As :func:`criteria_from_gz`.
+    """
     heels = criteria_heels(flooding_angle, n_grid, max_heel)
     return criteria_from_gz(gz_fn(heels), gm0, flooding_angle, n_grid, max_heel, tau)

@@ -53,7 +53,20 @@ class Hydrostatics(eqx.Module):
 
 
 def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
-    """Immersed area of each full section (both sides) [m²]: the sectional-area curve A(x)."""
+    """Immersed area of each full section (both sides) [m²]: the sectional-area curve A(x).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (n,) float
+        Immersed full-section areas [m²] at the stations.
+    """
     return 2.0 * section_integrals(sections, draft).area
 
 
@@ -131,12 +144,40 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
 
 
 def hydrostatic_table(sections: Sections, drafts, rho: float = RHO_SEA) -> Hydrostatics:
-    """:func:`hydrostatics` at every draft of ``drafts (k,)``: each field becomes ``(k,)`` (one ``vmap``)."""
+    """:func:`hydrostatics` at every draft of ``drafts (k,)``: each field becomes ``(k,)`` (one ``vmap``).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    drafts : array_like, (k,) float
+        Waterline heights [m above the baseline], each above the keel and at most at the deck.
+    rho : float
+        Water density [kg/m³] (sea water 1025 by default).
+
+    Returns
+    -------
+    Hydrostatics
+        Every field ``(k,)``, units as in :func:`hydrostatics`.
+    """
     return jax.vmap(hydrostatics, in_axes=(None, 0, None))(sections, jnp.asarray(drafts), rho)
 
 
 def volume_at(sections: Sections, draft) -> Array:
-    """Displaced volume [m³] at ``draft`` (cheaper than the full :func:`hydrostatics`)."""
+    """Displaced volume [m³] at ``draft`` (cheaper than the full :func:`hydrostatics`).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, scalar
+        Displaced volume ∇ [m³] (both sides).
+    """
     return longitudinal_integrals(sections, draft).volume
 
 
@@ -146,6 +187,21 @@ def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:
     A bracketed root find (optimistix bisection between keel and deck: the volume curve is monotone but
     flat above the deck, where Newton would stall); differentiable by the implicit function theorem,
     so ``d draft / d volume = 1 / Awp``.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    volume : float or Array, scalar
+        Target displaced volume [m³], positive.
+    rtol : float
+        Relative tolerance of the bisection on the draft (1e-12 by default).
+
+    Returns
+    -------
+    Array, scalar
+        The draft [m above the baseline], between the keel and the deck (the nearer bound if the volume is
+        out of reach; no error is raised).
     """
     lo, hi = sections.keel, sections.depth
 
