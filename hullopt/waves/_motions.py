@@ -241,7 +241,30 @@ def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0
                             rho: float = RHO_SEA, g: float = G) -> Array:
     """R_AWM [N] in regular waves of amplitude ``amplitude`` [m], frequencies ``omega`` (W,) [rad/s] and
     headings ``heading`` (H,) [rad] (0 head seas), shape W + H as the other methods' (``omega`` outer
-    ``heading``); see :func:`motions` for the model and the other parameters."""
+    ``heading``); see :func:`motions` for the model and the other parameters.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline); even keel at ``draft``.
+    draft : float
+        Draft [m above the baseline].
+    speed : float
+        Ship speed U [m/s], ahead positive.
+    omega : float or Array
+        Wave frequencies [rad/s] (> 0), any shape W.
+    heading : float or Array
+        Wave headings α [rad], 0 = head seas, any shape H.
+    amplitude : float or Array
+        Wave amplitude ζ_a [m].
+    kg, kyy, n_panels, n_gauss, n_strips, rho, g
+        As :func:`motions` takes them (KG [m], k_yy/Lpp, discretisation, ρ [kg/m³], g [m/s²]).
+
+    Returns
+    -------
+    Array
+        R_AWM [N], positive a resistance, shape W + H.
+    """
     omega = jnp.asarray(omega, dtype=float)
     heading = jnp.asarray(heading, dtype=float)
     om = omega.reshape(omega.shape + (1,) * heading.ndim)

@@ -103,7 +103,18 @@ def _exp1_scaled_jvp(primals, tangents):
 
 
 def exp1(z):
-    """The exponential integral E₁(z) = ∫_z^∞ e^{−t}/t dt for complex ``z`` (principal branch)."""
+    """The exponential integral E₁(z) = ∫_z^∞ e^{−t}/t dt for complex ``z`` (principal branch).
+
+    Parameters
+    ----------
+    z : complex or Array
+        Argument (complex; real input is cast), any shape.
+
+    Returns
+    -------
+    Array
+        E₁(z), complex, shape of ``z``.
+    """
     z = jnp.asarray(z, dtype=complex)
     return jnp.exp(-z) * exp1_scaled(z)
 
@@ -255,6 +266,26 @@ def heave_coefficients(nodes, omega, rho: float = RHO_SEA, g: float = G, n_gauss
 
     ``nodes`` (N+1, 2): the port half-section's panel ends, keel to waterline (z ≤ 0 measured from the
     waterline). Validated (tests/test_sections2d.py) for ω²B/2g ≤ 2 on sections with B/T 0.5–4.
+
+    Parameters
+    ----------
+    nodes : (N+1, 2) float
+        Panel ends (y ≥ 0, z ≤ 0 from the waterline) [m] from the keel to the waterline.
+    omega : float
+        Frequency [rad/s] (> 0); ignored when ``infinite``.
+    rho, g : float
+        Water density [kg/m³] and gravity [m/s²].
+    n_gauss : int
+        Gauss points per panel for the wave term.
+    infinite : bool
+        The ω → ∞ limit (φ = 0 on the free surface; b33 = 0).
+
+    Returns
+    -------
+    a33 : Array
+        Added mass per unit length [kg/m], scalar.
+    b33 : Array
+        Damping per unit length [kg/(m s)], scalar.
     """
     phi, _, length, normal = heave_potential(nodes, omega, g, n_gauss, infinite)
     integral = 2.0 * jnp.sum(phi * (normal[:, 1] * length).astype(complex))
@@ -292,7 +323,24 @@ def _resample_polyline(yz, draft, n_panels, min_half_breadth):
 def section_panels(sections: Sections, draft, n_panels: int = 20):
     """Every station's immersed half-section as ``n_panels`` panels: nodes (n, n_panels+1, 2) with z from the
     waterline (≤ 0), keel to waterline, and ``wet`` (n,) bool: the station has an immersed section (stations
-    without one get a small semicircle, so the solve stays regular; mask their coefficients with ``wet``)."""
+    without one get a small semicircle, so the solve stays regular; mask their coefficients with ``wet``).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull's n stations (offsets [m] above the baseline).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+    n_panels : int
+        Panels per half-section.
+
+    Returns
+    -------
+    nodes : Array
+        (n, n_panels + 1, 2) float: panel ends (y, z) [m], z from the waterline.
+    wet : Array
+        (n,) bool: the station has an immersed section.
+    """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     b_ref = jnp.maximum(sections.max_half_breadth, 1e-9)
     nodes, total = jax.vmap(lambda yz: _resample_polyline(yz, t, n_panels, 1e-3 * b_ref))(sections.yz)
