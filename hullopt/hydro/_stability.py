@@ -37,7 +37,18 @@ from ._criteria import Criteria, criteria_from_gz, criteria_heels
 def icll_sheer(sections: Sections) -> Float[Array, " n"]:
     """The ICLL standard sheer at each station [m] (seed 003 eqs. 12–13, L = Lpp in m, heights in cm):
     ``y_f = (1.666 L + 50.8)(2ξ/L)²`` forward of midship and ``y_a = (0.833 L + 25.4)(2ξ/L)²`` aft, ξ the
-    distance from midship; so 1.666 L + 50.8 cm at the FP and half that at the AP."""
+    distance from midship; so 1.666 L + 50.8 cm at the FP and half that at the AP.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``lpp`` [m].
+
+    Returns
+    -------
+    Array, (n,) float
+        Standard sheer [m] above the deck edge at each station.
+    """
     lpp = sections.lpp
     xi = 2.0 * (sections.x - 0.5 * lpp) / lpp
     forward = (1.666 * lpp + 50.8) * xi**2
@@ -47,7 +58,20 @@ def icll_sheer(sections: Sections) -> Float[Array, " n"]:
 
 def with_sheer(sections: Sections, sheer) -> Sections:
     """Sections with each deck edge raised by ``sheer`` ((n,) or scalar, m ≥ 0): one point is appended
-    straight above the deck edge, so ``m`` grows by one. Pass a given deck line as ``z_deck(x) − z_edge``."""
+    straight above the deck edge, so ``m`` grows by one. Pass a given deck line as ``z_deck(x) − z_edge``.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    sheer : float or array_like, scalar or (n,)
+        Rise of each deck edge [m], ≥ 0.
+
+    Returns
+    -------
+    Sections
+        The same stations with ``yz (n, m+1, 2)`` [m].
+    """
     edge = sections.yz[:, -1, :]
     rise = jnp.broadcast_to(jnp.asarray(sheer, dtype=sections.yz.dtype), edge.shape[:1])
     top = edge + jnp.stack([jnp.zeros_like(rise), rise], axis=-1)
@@ -57,7 +81,18 @@ def with_sheer(sections: Sections, sheer) -> Sections:
 def full_sections(yz: Float[Array, "n m 2"]) -> Float[Array, "n 2*m 2"]:
     """Closed full sections, counter-clockwise in (y, z): the port polyline keel → deck edge, then the
     mirrored starboard one deck edge → keel (the closing edge is the flat deck). Centreline joints of the
-    two sides are traversed in opposite directions and cancel."""
+    two sides are traversed in opposite directions and cancel.
+
+    Parameters
+    ----------
+    yz : Array, (n, m, 2) float
+        Port half-sections ``(y, z)`` [m], keel to deck edge.
+
+    Returns
+    -------
+    Array, (n, 2m, 2) float
+        Closed full sections ``(y, z)`` [m] (last point joins the first).
+    """
     starboard = yz[:, ::-1, :] * jnp.array([-1.0, 1.0], dtype=yz.dtype)
     return jnp.concatenate([yz, starboard], axis=1)
 
@@ -83,7 +118,25 @@ class HeeledIntegrals(eqx.Module):
 
 def heeled_integrals(sections: Sections, heel, level, trim=0.0) -> HeeledIntegrals:
     """Volume and centre of buoyancy below the waterplane ``z' = level + trim·(x − Lpp/2)`` at ``heel``
-    [rad] (see the module docstring). Exact per section, Simpson along x; differentiable in everything."""
+    [rad] (see the module docstring). Exact per section, Simpson along x; differentiable in everything.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    heel : float or Array, scalar
+        Heel φ [rad], starboard down positive.
+    level : float or Array, scalar
+        Waterplane height at midship [m] in the heeled frame (z' up from the baseline's rotation about x).
+    trim : float or Array, scalar
+        Trim slope ``s = tan θ``, bow down positive (0 by default).
+
+    Returns
+    -------
+    HeeledIntegrals
+        ``volume`` [m³]; ``xb`` [m from the AP], ``yb``, ``zb`` [m, heeled frame] (0 where dry); ``awp`` [m²];
+        ``it`` [m⁴].
+    """
     dtype = sections.yz.dtype
     heel, level, trim = (jnp.asarray(v, dtype=dtype) for v in (heel, level, trim))
     poly = _rotate(full_sections(sections.yz), heel)
@@ -110,7 +163,24 @@ def _level_bounds(sections: Sections, heel) -> tuple[Array, Array]:
 def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array:
     """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad]
     displaces ``volume`` [m³]. Bisection between the lowest and highest point of the hull (robust when the
-    deck or the bilge leaves the water), differentiable by the implicit function theorem."""
+    deck or the bilge leaves the water), differentiable by the implicit function theorem.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    heel : float or Array, scalar
+        Heel φ [rad], starboard down positive.
+    volume : float or Array, scalar
+        Displaced volume [m³], positive.
+    rtol : float
+        Relative tolerance of the bisection (1e-12 by default).
+
+    Returns
+    -------
+    Array, scalar
+        Waterplane height [m] in the heeled frame (the nearer bound where the volume is out of reach).
+    """
     dtype = sections.yz.dtype
     heel = jnp.asarray(heel, dtype=dtype)
     lo, hi = _level_bounds(sections, heel)
@@ -141,7 +211,28 @@ def heeled_equilibrium(sections: Sections, heel, volume, lcg, kg, free_trim: boo
     """Sink (and, with ``free_trim``, trim) the hull heeled by ``heel`` [rad] until it displaces ``volume``
     [m³] and, with free trim, B lies on the vertical through G = (lcg, 0, kg) in the longitudinal plane:
     ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim), then Newton on
-    (level, trim) from there; both differentiable by the implicit function theorem."""
+    (level, trim) from there; both differentiable by the implicit function theorem.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    heel : float or Array, scalar
+        Heel φ [rad], starboard down positive.
+    volume : float or Array, scalar
+        Displaced volume [m³].
+    lcg : float or Array, scalar
+        Longitudinal centre of gravity [m from the AP] (used only with ``free_trim``).
+    kg : float or Array, scalar
+        Centre of gravity [m above the baseline] (used only with ``free_trim``).
+    free_trim : bool
+        Solve for the trim too (True, default), or float on even keel.
+
+    Returns
+    -------
+    Equilibrium
+        ``level`` [m] and ``trim`` (tan θ) as scalars, the :class:`HeeledIntegrals` there, ``converged`` (bool).
+    """
     dtype = sections.yz.dtype
     heel, volume, lcg, kg = (jnp.asarray(v, dtype=dtype) for v in (heel, volume, lcg, kg))
     level0 = heeled_level(sections, heel, volume)
@@ -178,7 +269,20 @@ class Upright(eqx.Module):
 def upright(sections: Sections, volume) -> Upright:
     """Draft, LCB, KB and BM_T upright on even keel at ``volume`` [m³], from the full (heel 0) sections, so
     a raised deck line is included. ``lcb`` is the LCG that floats the hull level;
-    GM₀ = KB + BM_T − KG − FSC."""
+    GM₀ = KB + BM_T − KG − FSC.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    volume : float or Array, scalar
+        Displaced volume [m³].
+
+    Returns
+    -------
+    Upright
+        Scalars ``level`` [m above the baseline], ``lcb`` [m from the AP], ``kb`` [m], ``bmt`` [m].
+    """
     level = heeled_level(sections, 0.0, volume)
     b = heeled_integrals(sections, 0.0, level)
     return Upright(level, b.xb, b.zb, b.it / b.volume)
@@ -264,7 +368,24 @@ def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim
 
 def cross_curves(sections: Sections, volumes, heels, free_trim: bool = True) -> Float[Array, "v k"]:
     """KN [m] at every volume ``(v,)`` [m³] and heel ``(k,)`` [rad]: the cross curves of stability, each
-    with KG = 0 and LCG at the upright LCB of its volume (free trim) or even keel (fixed trim)."""
+    with KG = 0 and LCG at the upright LCB of its volume (free trim) or even keel (fixed trim).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    volumes : array_like, (v,) float
+        Displaced volumes [m³].
+    heels : array_like, (k,) float
+        Heels [rad], starboard down positive.
+    free_trim : bool
+        Trim free at each heel (True, default) or even keel.
+
+    Returns
+    -------
+    Array, (v, k) float
+        KN [m].
+    """
     dtype = sections.yz.dtype
 
     def one(v):
@@ -284,7 +405,37 @@ def stability(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_tri
               flooding_angle=None, n_grid: int = 91, tau: float = 0.01) -> Stability:
     """:func:`gz_curve` at ``heels`` [rad] and :func:`~hullopt.hydro.criteria_from_gz` (IS Code 2008
     §2.2), from one ``vmap`` over the requested heels and the criteria's heels. ``flooding_angle`` θf
-    [rad] or None; ``n_grid`` heels on [0, 90°] for the maximum; ``tau`` [m] the soft-max temperature."""
+    [rad] or None; ``n_grid`` heels on [0, 90°] for the maximum; ``tau`` [m] the soft-max temperature.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    volume : float
+        Displaced volume [m³] of the loading.
+    kg : float
+        Centre of gravity [m above the baseline].
+    heels : array_like, (k,) float
+        Heels [rad] of the returned curve.
+    lcg : float or None
+        Longitudinal centre of gravity [m from the AP]; None: the upright LCB.
+    fsc : float
+        Free-surface correction [m] (0 by default).
+    free_trim : bool
+        Trim free at each heel (True, default) or the upright trim.
+    flooding_angle : float or None
+        Downflooding angle θf [rad]; None: no limit below 40°.
+    n_grid : int
+        Uniform heels on [0, 90°] for the criteria's maximum (91 by default).
+    tau : float
+        Softmax temperature [m] of the smooth margins (0.01 by default).
+
+    Returns
+    -------
+    Stability
+        ``curve``, the :class:`StabilityCurve` at ``heels`` (fields ``(k,)``), and ``criteria``, the
+        :class:`Criteria`.
+    """
     heels = jnp.asarray(heels, dtype=sections.yz.dtype)
     k = heels.shape[0]
     extra = criteria_heels(flooding_angle, n_grid).astype(heels.dtype)
