@@ -54,7 +54,20 @@ class Coefficients(eqx.Module):
 
 
 def read_table(name: str) -> tuple[list[str], list[dict[str, str]]]:
-    """A package data table ``hullopt/data/wind/<name>``: its ``#`` header lines and its rows."""
+    """A package data table ``hullopt/data/wind/<name>``: its ``#`` header lines and its rows.
+
+    Parameters
+    ----------
+    name : str
+        File name in ``hullopt/data/wind`` (e.g. ``"isherwood1972_cx.csv"``).
+
+    Returns
+    -------
+    header : list of str
+        The lines starting with ``#``, in order.
+    rows : list of dict
+        The CSV rows as column name → text.
+    """
     text = resources.files("hullopt").joinpath("data", "wind", name).read_text(encoding="utf-8")
     lines = text.splitlines()
     header = [ln for ln in lines if ln.startswith("#")]
@@ -63,7 +76,24 @@ def read_table(name: str) -> tuple[list[str], list[dict[str, str]]]:
 
 
 def group_factors(expr: str) -> list[tuple[str, int]]:
-    """A dimensionless group like ``A_L/(L*B)`` or ``L^2/A_T`` as ``[(name, power), …]`` ("1" → [])."""
+    """A dimensionless group like ``A_L/(L*B)`` or ``L^2/A_T`` as ``[(name, power), …]`` ("1" → []).
+
+    Parameters
+    ----------
+    expr : str
+        The group: products of names with optional integer powers ``^k``, over an optional (bracketed)
+        denominator; aliases such as ``A_YV`` map to the :class:`WindVariables` names.
+
+    Returns
+    -------
+    list of (str, int)
+        Variable name and power, negative in the denominator.
+
+    Raises
+    ------
+    ValueError
+        If a factor cannot be read.
+    """
     expr = expr.replace(" ", "")
     if expr == "1":
         return []
@@ -109,7 +139,25 @@ Y56_OPTIONS = ("C*H_C/A_L", "L*H_C/A_L")  # the default (public implementations)
 def fujiwara1998_harmonics(v: WindVariables, y56: str = "C*H_C/A_L") -> dict[str, dict[int, Array]]:
     """The harmonics X_i, Y_i, N_i, K_i of seed 004 eqs. (1b–4b): ``{"X": {0: X0, 1: X1, …}, …}``; ``y56``
     the variable of the Y5 term y56: ``"C*H_C/A_L"`` (default, the public implementations) or
-    ``"L*H_C/A_L"`` (seed 004 eq. 7 as printed)."""
+    ``"L*H_C/A_L"`` (seed 004 eq. 7 as printed).
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI).
+    y56 : {"C*H_C/A_L", "L*H_C/A_L"}
+        The variable of the Y5 term y56.
+
+    Returns
+    -------
+    dict of str to dict of int to Array
+        Component (``"X"``, ``"Y"``, ``"N"``, ``"K"``) → harmonic index → dimensionless scalar coefficient.
+
+    Raises
+    ------
+    HullError
+        If ``y56`` is not one of ``Y56_OPTIONS``.
+    """
     if y56 not in Y56_OPTIONS:
         raise HullError(f"y56 {y56!r}: expected 'C*H_C/A_L' (the default, as public implementations have it) "
                         "or 'L*H_C/A_L' (seed 004 eq. 7 as printed)")
@@ -119,7 +167,22 @@ def fujiwara1998_harmonics(v: WindVariables, y56: str = "C*H_C/A_L") -> dict[str
 
 
 def fujiwara1998(v: WindVariables, psi, y56: str = "C*H_C/A_L") -> Coefficients:
-    """Fujiwara, Ueno & Nimura (1998): C_X = Σ X_i cos iψ, C_Y, C_N, C_K = Σ (·)_i sin iψ."""
+    """Fujiwara, Ueno & Nimura (1998): C_X = Σ X_i cos iψ, C_Y, C_N, C_K = Σ (·)_i sin iψ.
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI).
+    psi : float or Array
+        Relative wind angle ψ [rad] (where the wind comes from, 0 = head wind, + from starboard), any shape.
+    y56 : {"C*H_C/A_L", "L*H_C/A_L"}
+        The variable of the Y5 term y56, see :func:`fujiwara1998_harmonics`.
+
+    Returns
+    -------
+    Coefficients
+        Dimensionless ``cx``, ``cy``, ``cn``, ``ck``, shape of ``psi``.
+    """
     h = fujiwara1998_harmonics(v, y56)
     psi = jnp.asarray(psi, dtype=float)
 
@@ -164,7 +227,20 @@ def _iso_caa(s: dict[str, Array], a: Array) -> Array:
 
 
 def fujiwara2005(v: WindVariables, psi) -> Coefficients:
-    """ISO 15016:2015 C_X (Fujiwara, Ueno & Ikeda 2005) and the ShipMMG.jl C_Y, C_N (unverified); C_K = NaN."""
+    """ISO 15016:2015 C_X (Fujiwara, Ueno & Ikeda 2005) and the ShipMMG.jl C_Y, C_N (unverified); C_K = NaN.
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI).
+    psi : float or Array
+        Relative wind angle ψ [rad] (where the wind comes from, 0 = head wind, + from starboard), any shape.
+
+    Returns
+    -------
+    Coefficients
+        Dimensionless ``cx``, ``cy``, ``cn`` and ``ck`` = NaN, shape of ``psi``.
+    """
     s = v.scalars()
     a, sign = _wrap(psi)
     cx = -_iso_caa(s, a)
@@ -188,7 +264,20 @@ def _isherwood_tables() -> dict[str, np.ndarray]:
 
 
 def isherwood(v: WindVariables, psi) -> Coefficients:
-    """Isherwood (1972), interpolated linearly in angle; C (from the bow) is ``C_bow``; C_K = NaN."""
+    """Isherwood (1972), interpolated linearly in angle; C (from the bow) is ``C_bow``; C_K = NaN.
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI).
+    psi : float or Array
+        Relative wind angle ψ [rad] (where the wind comes from, 0 = head wind, + from starboard), any shape.
+
+    Returns
+    -------
+    Coefficients
+        Dimensionless ``cx``, ``cy``, ``cn`` and ``ck`` = NaN, shape of ``psi``.
+    """
     a, sign = _wrap(psi)
     deg = jnp.rad2deg(a)
     t = _isherwood_tables()
@@ -213,7 +302,23 @@ def blendermann_types() -> dict[str, dict[str, float]]:
 
 
 def ship_type(name: str) -> str:
-    """The Blendermann type matching ``name`` (case-insensitive, a unique prefix or its number 1–17)."""
+    """The Blendermann type matching ``name`` (case-insensitive, a unique prefix or its number 1–17).
+
+    Parameters
+    ----------
+    name : str
+        A type name, a unique case-insensitive prefix of one, or its number 1–17 as text.
+
+    Returns
+    -------
+    str
+        The full type name, a key of :func:`blendermann_types`.
+
+    Raises
+    ------
+    HullError
+        If ``name`` matches no type or more than one.
+    """
     types = list(blendermann_types())
     if name.strip().isdigit() and 1 <= int(name) <= len(types):
         return types[int(name) - 1]
@@ -225,7 +330,22 @@ def ship_type(name: str) -> str:
 
 
 def blendermann(v: WindVariables, psi, ship: str = DEFAULT_SHIP_TYPE) -> Coefficients:
-    """Blendermann (1994) for a ship type (:func:`ship_type`); s_L = C, s_H = H_C, H_M = A_L/L."""
+    """Blendermann (1994) for a ship type (:func:`ship_type`); s_L = C, s_H = H_C, H_M = A_L/L.
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI).
+    psi : float or Array
+        Relative wind angle ψ [rad] (where the wind comes from, 0 = head wind, + from starboard), any shape.
+    ship : str
+        Blendermann's ship type, anything :func:`ship_type` accepts.
+
+    Returns
+    -------
+    Coefficients
+        Dimensionless ``cx``, ``cy``, ``cn``, ``ck``, shape of ``psi``.
+    """
     p = blendermann_types()[ship_type(ship)]
     a, sign = _wrap(psi)
     cdl_af = jnp.where(a <= jnp.pi / 2, p["CDl_AF_bow"], p["CDl_AF_stern"])

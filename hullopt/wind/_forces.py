@@ -33,6 +33,22 @@ def relative_wind(ship_speed, wind_speed, wind_angle) -> tuple[Array, Array]:
     With compass directions pass ``wind_angle = wind_from − heading``. The ship meets the air at
     ``V_T(−cos β, sin β) − (U, 0)``, so ``V_R = √(U² + V_T² + 2 U V_T cos β)`` and
     ``ψ = atan2(V_T sin β, V_T cos β + U)``. Finite gradients in still air (then ψ = 0).
+
+    Parameters
+    ----------
+    ship_speed : float or Array
+        Ship speed U through the air mass [m/s], ahead positive.
+    wind_speed : float or Array
+        True wind speed V_T [m/s]; broadcasts.
+    wind_angle : float or Array
+        True wind angle β off the bow [rad]; broadcasts.
+
+    Returns
+    -------
+    speed : Array
+        Relative wind speed V_R [m/s], shape of the broadcast inputs.
+    angle : Array
+        Relative wind angle ψ [rad] in (−π, π], same shape.
     """
     u, vt, beta = (jnp.asarray(a, dtype=float) for a in (ship_speed, wind_speed, wind_angle))
     ax, ay = vt * jnp.cos(beta) + u, vt * jnp.sin(beta)
@@ -45,7 +61,24 @@ def relative_wind(ship_speed, wind_speed, wind_angle) -> tuple[Array, Array]:
 
 def wind_loads(v: WindVariables, c: Coefficients, speed, rho_air=RHO_AIR) -> WindLoads:
     """Loads for coefficients ``c`` at a relative wind ``speed`` [m/s]: X = qA_T C_X, Y = qA_L C_Y,
-    N = qLA_L C_N, K = qA_L H_L C_K with q = ½ρU²."""
+    N = qLA_L C_N, K = qA_L H_L C_K with q = ½ρU².
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI): A_T, A_L [m²], L, H_L [m].
+    c : Coefficients
+        Wind-load coefficients (:func:`wind_coefficients`), shape of its ``psi``.
+    speed : float or Array
+        Relative wind speed [m/s]; broadcasts with the coefficients.
+    rho_air : float
+        Air density [kg/m³].
+
+    Returns
+    -------
+    WindLoads
+        X, Y [N] and N, K [N·m], shape of the broadcast ``c`` and ``speed``.
+    """
     q = 0.5 * rho_air * jnp.asarray(speed, dtype=float) ** 2
     return WindLoads(q * v.A_T * c.cx, q * v.A_L * c.cy, q * v.L * v.A_L * c.cn, q * v.A_L * v.H_L * c.ck)
 
@@ -57,6 +90,28 @@ def wind_added_resistance(v: WindVariables, ship_speed, wind_speed, wind_angle, 
 
     ``ΔR_AA = ½ρ A_T (C_AA(ψ_R) V_R² − C_AA(0) U²)`` with C_AA = −C_X of ``model``; the second term, the
     still-air resistance at the ship's own speed, is already in the calm-water resistance.
+
+    Parameters
+    ----------
+    v : WindVariables
+        The explanatory variables (:func:`wind_variables`, SI).
+    ship_speed : float or Array
+        Ship speed U [m/s], ahead positive.
+    wind_speed : float or Array
+        True wind speed [m/s]; broadcasts.
+    wind_angle : float or Array
+        True wind angle off the bow [rad] (where it comes from, 0 = ahead, + from starboard); broadcasts.
+    model : str
+        Coefficient model, one of ``MODELS`` (see :func:`wind_coefficients`).
+    rho_air : float
+        Air density [kg/m³].
+    ship : str
+        Blendermann's ship type (``model="blendermann"`` only).
+
+    Returns
+    -------
+    Array
+        ΔR_AA [N], shape of the broadcast inputs.
     """
     vr, psi = relative_wind(ship_speed, wind_speed, wind_angle)
     caa = -wind_coefficients(v, jnp.stack([psi, jnp.zeros_like(psi)]), model, ship=ship).cx
