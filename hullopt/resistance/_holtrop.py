@@ -63,7 +63,27 @@ class HoltropResult(eqx.Module):
 
 
 def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:
-    """Total calm-water resistance [N] at ``speed`` [m/s] (any shape: vectorised)."""
+    """Total calm-water resistance [N] at ``speed`` [m/s] (any shape: vectorised).
+
+    Parameters
+    ----------
+    h : HoltropHull
+        The method's inputs (lengths [m], areas [m²], volume [m³], ``lcb`` [% L fwd of 0.5 L], ``ie`` [deg]),
+        e.g. from :func:`holtrop_hull`.
+    speed : float or array_like
+        Ship speed [m/s], any shape.
+    rho : float
+        Water density [kg/m³] (sea water 1025 by default).
+    nu : float
+        Kinematic viscosity [m²/s] (sea water at 15 °C, 1.18831e-6, by default).
+
+    Returns
+    -------
+    HoltropResult
+        Components [N] ``total``, ``friction`` (without 1 + k1), ``appendages``, ``wave``, ``bulb``,
+        ``transom``, ``correlation`` and ``cf``, ``fn``, ``m2`` in the shape of ``speed``; ``form_factor``
+        (1 + k1), ``ca``, ``c1``, ``c2``, ``c5``, ``m1``, ``lam`` scalars (dimensionless).
+    """
     V = jnp.asarray(speed)
     L, B, T, vol = h.L, h.B, h.T, h.volume
     cb = vol / (L * B * T)
@@ -121,6 +141,23 @@ def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_s
     :func:`hullopt.geometry.longitudinal_integrals`); A_BT, h_B = immersed area at the FP and its centroid
     height; ``ie`` = the angle of the waterline's chord over the forward ``entrance_fraction`` of L (Holtrop's
     half angle of entrance ignores the local rounding at the stem).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Even-keel draft [m above the baseline]; also ``T_F``.
+    entrance_fraction : float
+        Fraction of L over which the half angle of entrance is measured (0.05 by default).
+    c_stern : float
+        Holtrop's stern-shape coefficient (0 normal sections by default; −25 pram, −10 V, +10 U).
+
+    Returns
+    -------
+    HoltropHull
+        Scalars ``L``, ``B``, ``T``, ``T_F``, ``h_B`` [m], ``volume`` [m³], ``S``, ``A_BT``, ``A_T`` [m²],
+        ``cm``, ``cwp``, ``lcb`` [% L fwd of 0.5 L], ``ie`` [deg], ``c_stern``; no appendages.
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     li = longitudinal_integrals(sections, t)

@@ -110,7 +110,26 @@ def half_breadths(sections: Sections, draft, n_levels: int = 33):
 
 
 def michell_integrand(sections: Sections, draft, k0, lam, n_levels: int = 33) -> Array:
-    """|P + iQ|² [m⁴] at the wave numbers ``lam`` (any shape) of Michell's integral, k₀ = g/U² [1/m]."""
+    """|P + iQ|² [m⁴] at the wave numbers ``lam`` (any shape) of Michell's integral, k₀ = g/U² [1/m].
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Draft T [m above the baseline].
+    k0 : float or Array, scalar
+        Wave number g/U² [1/m].
+    lam : array_like, any shape
+        λ = sec θ ≥ 1 (dimensionless); the wave number is k₀λ.
+    n_levels : int
+        Heights from the keel to the draft sampled (33 by default), ≥ 2.
+
+    Returns
+    -------
+    Array
+        |P + iQ|² [m⁴], shape of ``lam``.
+    """
     y, levels = half_breadths(sections, draft, n_levels)
     x = sections.x
     zero = jnp.zeros_like(y[:1])
@@ -195,6 +214,23 @@ def michell_wave_resistance(sections: Sections, draft, speed, *, rho: float = RH
 
 
 def wave_resistance_coefficient(r_w, speed, wetted_surface, rho: float = RHO_SEA) -> Array:
-    """C_w = R_w/(½ρU²S) (dimensionless) from R_w [N], U [m/s] and the wetted surface S [m²]."""
+    """C_w = R_w/(½ρU²S) (dimensionless) from R_w [N], U [m/s] and the wetted surface S [m²].
+
+    Parameters
+    ----------
+    r_w : float or array_like
+        Wave resistance [N].
+    speed : float or array_like
+        Ship speed [m/s], broadcast with ``r_w``.
+    wetted_surface : float or array_like
+        Wetted surface [m²].
+    rho : float
+        Water density [kg/m³] (sea water 1025 by default).
+
+    Returns
+    -------
+    Array
+        C_w (dimensionless) in the broadcast shape; 0 where the dynamic pressure is 0.
+    """
     q = 0.5 * rho * jnp.asarray(speed) ** 2 * jnp.asarray(wetted_surface)
     return safe_div(jnp.asarray(r_w), q, q > 0.0)
