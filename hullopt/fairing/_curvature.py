@@ -23,6 +23,20 @@ def surface_curvatures(r_u, r_v, r_uu, r_uv, r_vv) -> tuple[Array, Array]:
 
     ``H > 0`` where the surface bends towards ``N`` (a sphere with ``N`` pointing inwards has
     ``H = 1/R``). The surface must be regular (``r_u × r_v ≠ 0``).
+
+    Parameters
+    ----------
+    r_u, r_v : Array, (..., 3) float
+        First partial derivatives of ``r`` [m per unit of the parameter].
+    r_uu, r_uv, r_vv : Array, (..., 3) float
+        Second partial derivatives of ``r``.
+
+    Returns
+    -------
+    K : Array, (...)
+        Gaussian curvature [1/m²].
+    H : Array, (...)
+        Mean curvature [1/m], positive bending towards ``N``.
     """
     n = jnp.cross(r_u, r_v)
     n = n / jnp.linalg.norm(n, axis=-1, keepdims=True)
@@ -41,6 +55,20 @@ def graph_curvatures(fx, fz, fxx, fxz, fzz) -> tuple[Array, Array]:
 
     i.e. :func:`surface_curvatures` of ``r = (x, f, z)`` with ``(u, v) = (x, z)``, whose normal points
     into the hull: ``H > 0`` at a convex bilge.
+
+    Parameters
+    ----------
+    fx, fz : array_like
+        First partial derivatives of ``f`` (dimensionless), broadcast together.
+    fxx, fxz, fzz : array_like
+        Second partial derivatives of ``f`` [1/m].
+
+    Returns
+    -------
+    K : Array
+        Gaussian curvature [1/m²], in the broadcast shape.
+    H : Array
+        Mean curvature [1/m], positive at a convex bilge.
     """
     w2 = 1.0 + fx**2 + fz**2
     k = (fxx * fzz - fxz**2) / w2**2
@@ -52,6 +80,18 @@ def curve_curvature(dy, d2y) -> Array:
     """Signed curvature [1/m] of a plane curve ``y(t)`` (a frame line ``y(z)`` or a waterline ``y(x)``)::
 
         κ = −y'' / (1 + y'²)^{3/2}    (positive where the hull is convex).
+
+    Parameters
+    ----------
+    dy : array_like
+        First derivative ``y'`` (dimensionless).
+    d2y : array_like
+        Second derivative ``y''`` [1/m], broadcast with ``dy``.
+
+    Returns
+    -------
+    Array
+        Signed curvature κ [1/m] in the broadcast shape, positive where the hull is convex.
     """
     return -d2y / (1.0 + dy**2) ** 1.5
 
@@ -74,6 +114,24 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
     arc length [m]; ``ok`` false where an adjacent edge is shorter than ``eps`` (repeated points) or
     excluded by ``edge_ok (..., k−1)``; there ``kappa`` and ``ds`` are 0. Smooth (no norms of
     curvature), NaN-free gradients.
+
+    Parameters
+    ----------
+    points : Array, (..., k, d) float
+        Polyline vertices [m], ``k ≥ 3``.
+    eps : float
+        Shortest edge [m] that counts (1e-9 by default).
+    edge_ok : Array, (..., k−1) bool, optional
+        Edges to use; ``None``: all of them.
+
+    Returns
+    -------
+    kappa : Array, (..., k−2, d) float
+        Curvature vectors [1/m] at the interior vertices.
+    ds : Array, (..., k−2) float
+        Each interior vertex's share of arc length [m].
+    ok : Array, (..., k−2) bool
+        Where ``kappa`` is defined.
     """
     t, length, ok_e = _safe_unit(jnp.diff(points, axis=-2), eps)
     if edge_ok is not None:
@@ -89,6 +147,18 @@ def section_curvature(sections: Sections, eps: float = 1e-9) -> Float[Array, "n 
     to repeated points): ``±|κ|`` of :func:`polyline_curvature` (exactly ``1/R`` on the chords of a
     circle), positive where the section turns left going from
     keel to deck (a convex bilge). The "porcupine" of seed 001 §2.2 draws ``κ`` along the section normal.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``yz (n, m, 2)`` [m].
+    eps : float
+        Shortest edge [m] that counts (1e-9 by default).
+
+    Returns
+    -------
+    Array, (n, m) float
+        Signed curvature [1/m] at every point, positive at a convex bilge.
     """
     kappa, _, _ = polyline_curvature(sections.yz, eps)
     t, _, _ = _safe_unit(jnp.diff(sections.yz, axis=-2), eps)
