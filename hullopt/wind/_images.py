@@ -66,7 +66,24 @@ class PartSpec:
 
 
 def render(polygons, colours, scale: ViewScale, shape: tuple[int, int]) -> np.ndarray:
-    """Draw filled polygons ``(k, 2)`` in metres (u, h) into a white RGB ``uint8`` image of ``shape``."""
+    """Draw filled polygons ``(k, 2)`` in metres (u, h) into a white RGB ``uint8`` image of ``shape``.
+
+    Parameters
+    ----------
+    polygons : sequence of (k, 2) float
+        Polygons in metres (u along the view, h above water), one per part.
+    colours : sequence of (3,) int
+        RGB colour (0–255) of each polygon.
+    scale : ViewScale
+        The view's scale and origin.
+    shape : (int, int)
+        Image (rows, columns) in pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (rows, columns, 3) uint8 RGB image, later polygons drawn over earlier ones.
+    """
     from skimage import draw
 
     img = np.full((*shape, 3), 255, dtype=np.uint8)
@@ -91,7 +108,22 @@ def _rgb(image: np.ndarray) -> np.ndarray:
 
 
 def ship_mask(image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
-    """Binary mask of the ship above the waterline: grey level below ``threshold``."""
+    """Binary mask of the ship above the waterline: grey level below ``threshold``.
+
+    Parameters
+    ----------
+    image : array_like
+        Grey (rows, cols), RGB or RGBA (rows, cols, 3|4) image, uint8 or floats in 0–1.
+    scale : ViewScale
+        The view's scale (its ``waterline_row`` cuts the mask).
+    threshold : float
+        Grey level (0–1) below which a pixel is the ship.
+
+    Returns
+    -------
+    numpy.ndarray
+        (rows, cols) bool mask.
+    """
     from skimage import color
 
     rgb = _rgb(image)
@@ -103,7 +135,29 @@ def ship_mask(image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
 
 def part_mask(image, part: PartSpec, scale: ViewScale, ship: np.ndarray) -> np.ndarray:
     """Mask of one part above the waterline: its colour (within ``tolerance`` per channel, any lightness),
-    or the ship's pixels inside its polygon."""
+    or the ship's pixels inside its polygon.
+
+    Parameters
+    ----------
+    image : array_like
+        The side view, grey, RGB or RGBA (rows, cols[, 3|4]).
+    part : PartSpec
+        The part, with a ``colour`` or a pixel ``polygon``.
+    scale : ViewScale
+        The view's scale (its ``waterline_row`` cuts the mask).
+    ship : numpy.ndarray
+        (rows, cols) bool ship mask (:func:`ship_mask`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (rows, cols) bool mask of the part.
+
+    Raises
+    ------
+    HullError
+        If the part has neither colour nor polygon, a bad polygon, or an empty mask.
+    """
     from skimage import draw
 
     if part.colour is not None:
@@ -124,7 +178,23 @@ def part_mask(image, part: PartSpec, scale: ViewScale, ship: np.ndarray) -> np.n
 
 def box_counting_dimension(outline: np.ndarray) -> float:
     """Box-counting (Minkowski) dimension of a set of pixels: the slope of log N(s) against log(1/s) over
-    box sizes s = 1, 2, 4, … up to a quarter of the smaller image side."""
+    box sizes s = 1, 2, 4, … up to a quarter of the smaller image side.
+
+    Parameters
+    ----------
+    outline : numpy.ndarray
+        (rows, cols) bool pixel set (e.g. :func:`outline` of a mask).
+
+    Returns
+    -------
+    float
+        The dimension (dimensionless; ≈ 1 for a smooth curve).
+
+    Raises
+    ------
+    HullError
+        If ``outline`` is empty.
+    """
     outline = np.asarray(outline, dtype=bool)
     if not outline.any():
         raise HullError("box counting: empty outline")
@@ -142,7 +212,18 @@ def box_counting_dimension(outline: np.ndarray) -> float:
 
 
 def outline(mask: np.ndarray) -> np.ndarray:
-    """The boundary pixels of a mask (the mask less its erosion)."""
+    """The boundary pixels of a mask (the mask less its erosion).
+
+    Parameters
+    ----------
+    mask : numpy.ndarray
+        (rows, cols) bool mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        (rows, cols) bool boundary pixels.
+    """
     from skimage import morphology
 
     return mask & ~morphology.erosion(mask)
@@ -150,7 +231,24 @@ def outline(mask: np.ndarray) -> np.ndarray:
 
 def mask_moments(mask: np.ndarray, scale: ViewScale, x_ref: float, order: int = 3) -> np.ndarray:
     """Raw moments ``Σ x^p h^q · pixel area`` [m^(2+p+q)] about (x_ref, waterline), p + q ≤ order
-    (``skimage.measure.moments_coords`` on the pixel centres in metres)."""
+    (``skimage.measure.moments_coords`` on the pixel centres in metres).
+
+    Parameters
+    ----------
+    mask : numpy.ndarray
+        (rows, cols) bool mask.
+    scale : ViewScale
+        The view's scale and origin.
+    x_ref : float
+        Reference position along the view [m] (the origin of x).
+    order : int
+        Highest total order p + q.
+
+    Returns
+    -------
+    numpy.ndarray
+        (order + 1, order + 1) float moments [m^(2+p+q)], indexed [p, q]; 0 where p + q > order.
+    """
     from skimage import measure
 
     rows, cols = np.nonzero(mask)
@@ -180,6 +278,28 @@ def drawing_variables(side_image, front_image, side: ViewScale, front: ViewScale
     ``M`` the number of connected components (``skimage.measure.label``) of the mast mask, or of the mast
     groups named in ``parts`` when they are given. ``part_*`` follow ``parts`` (a ``hull`` part, if any,
     is listed first as in the geometry); ``part_front_area`` is NaN (parts are picked in the side view).
+
+    Parameters
+    ----------
+    side_image, front_image : array_like
+        Side and front views, grey, RGB or RGBA (rows, cols[, 3|4]), uint8 or floats in 0–1.
+    side, front : ViewScale
+        The views' scales (pixels per metre, waterline row, origin; the side view's bow direction).
+    parts : list of PartSpec
+        Parts picked in the side view (by colour or polygon).
+    threshold : float
+        Grey level (0–1) below which a pixel is the ship.
+
+    Returns
+    -------
+    DrawingResult
+        The :class:`~hullopt.wind.WindVariables` (SI), the side outline's box-counting dimension and the side
+        and front ship masks (bool).
+
+    Raises
+    ------
+    HullError
+        If a view's mask is empty or a part cannot be found.
     """
     from skimage import measure
 
