@@ -90,6 +90,18 @@ def line_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
     """Residuals of ``"lines"``: ``(dκ/ds) √(w ds)`` on every frame line and waterline (module docstring).
 
     ``mask (s, w)``: offsets that belong to the hull (default ``y > 0``).
+
+    Parameters
+    ----------
+    surface : CoonsSurface
+        The surface ``y = f(x, z)``: stations ``x (s,)``, waterlines ``z (w,)`` [m].
+    mask : array_like, (s, w) bool, optional
+        Grid offsets that belong to the hull; ``None``: ``y > 0``.
+
+    Returns
+    -------
+    Array, (k,) float
+        Residuals (dimensionless), 3 per curve segment of the frame lines and waterlines; 0 off the hull.
     """
     m, _ = _masks(surface, mask)
     ell = _length(surface)
@@ -153,14 +165,40 @@ def _mean(fx, fz, fxx, fxz, fzz):
 
 def jump_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
     """Residuals of ``"jumps"``: jumps of section curvature across waterline edges and of waterline
-    curvature across station edges (module docstring). ``mask (s, w)``: hull offsets (default ``y > 0``)."""
+    curvature across station edges (module docstring). ``mask (s, w)``: hull offsets (default ``y > 0``).
+
+    Parameters
+    ----------
+    surface : CoonsSurface
+        The surface ``y = f(x, z)``: stations ``x (s,)``, waterlines ``z (w,)`` [m].
+    mask : array_like, (s, w) bool, optional
+        Grid offsets that belong to the hull; ``None``: ``y > 0``.
+
+    Returns
+    -------
+    Array, (k,) float
+        Residuals (dimensionless), 3 per interior patch edge; 0 where either patch is off the hull.
+    """
     _, cells = _masks(surface, mask)
     return jnp.concatenate([_edge_jumps(surface, cells, _kappa_s, "z"), _edge_jumps(surface, cells, _kappa_w, "x")])
 
 
 def mean_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
     """Residuals of ``"mean"``: the surface gradient of the mean curvature inside each patch and its jumps
-    across all interior patch edges (module docstring). ``mask (s, w)``: hull offsets (default ``y > 0``)."""
+    across all interior patch edges (module docstring). ``mask (s, w)``: hull offsets (default ``y > 0``).
+
+    Parameters
+    ----------
+    surface : CoonsSurface
+        The surface ``y = f(x, z)``: stations ``x (s,)``, waterlines ``z (w,)`` [m].
+    mask : array_like, (s, w) bool, optional
+        Grid offsets that belong to the hull; ``None``: ``y > 0``.
+
+    Returns
+    -------
+    Array, (k,) float
+        Residuals (dimensionless): 2 × 9 per patch, then 3 per interior patch edge; 0 off the hull.
+    """
     _, cells = _masks(surface, mask)
     g = jnp.asarray(GAUSS_T)
     d = {(a, b): surface.cells(g, g, a, b) for a in range(4) for b in range(4 - a) if a + b >= 1}
@@ -184,7 +222,20 @@ def mean_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
 
 def knot_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
     """Residuals of ``"knots"``: jumps of ``dκ/ds`` of every frame line and waterline at its interior
-    knots (the patch corners), ``[[dκ/ds]] √h̄``. ``mask (s, w)``: hull offsets (default ``y > 0``)."""
+    knots (the patch corners), ``[[dκ/ds]] √h̄``. ``mask (s, w)``: hull offsets (default ``y > 0``).
+
+    Parameters
+    ----------
+    surface : CoonsSurface
+        The surface ``y = f(x, z)``: stations ``x (s,)``, waterlines ``z (w,)`` [m].
+    mask : array_like, (s, w) bool, optional
+        Grid offsets that belong to the hull; ``None``: ``y > 0``.
+
+    Returns
+    -------
+    Array, (k,) float
+        Residuals (dimensionless), one per interior knot of every frame line and waterline; 0 off the hull.
+    """
     m, _ = _masks(surface, mask)
     ell = _length(surface)
     ends = jnp.array([0.0, 1.0])
@@ -219,7 +270,22 @@ RESIDUALS: dict[str, Callable[..., Array]] = {
 
 def measure(surface: CoonsSurface, name: str = "lines", mask=None) -> Float[Array, ""]:
     """The unfairness functional ``name`` (``"knots"``, ``"lines"``, ``"jumps"`` or ``"mean"``) of ``surface``:
-    ``Σ r²`` of its residuals (dimensionless; see the module docstring for the formulas)."""
+    ``Σ r²`` of its residuals (dimensionless; see the module docstring for the formulas).
+
+    Parameters
+    ----------
+    surface : CoonsSurface
+        The surface ``y = f(x, z)``: stations ``x (s,)``, waterlines ``z (w,)`` [m].
+    name : str
+        The functional: ``"knots"``, ``"lines"`` (default), ``"jumps"`` or ``"mean"``.
+    mask : array_like, (s, w) bool, optional
+        Grid offsets that belong to the hull; ``None``: ``y > 0``.
+
+    Returns
+    -------
+    Array, scalar
+        F ≥ 0 (dimensionless).
+    """
     if name not in RESIDUALS:
         raise ValueError(f"unknown unfairness measure {name!r}; expected one of {', '.join(RESIDUALS)}")
     r = RESIDUALS[name](surface, mask)
