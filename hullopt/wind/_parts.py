@@ -49,7 +49,13 @@ class Parts(eqx.Module):
 
 
 def no_parts() -> Parts:
-    """The bare hull: no parts."""
+    """The bare hull: no parts.
+
+    Returns
+    -------
+    Parts
+        Parts with p = 0: ``side`` and ``front`` of shape (0, 4, 2), empty names.
+    """
     return Parts(jnp.zeros((0, 4, 2)), jnp.zeros((0, 4, 2)), (), (), ())
 
 
@@ -71,6 +77,33 @@ def box_parts(names, kinds, x_aft, x_fore, z_low, z_top, breadth, y_centre=0.0, 
 
     ``x_aft < x_fore`` from the AP, ``z_low < z_top`` from the baseline, full ``breadth`` centred on
     ``y_centre`` (to port). Mast groups default to one group per mast.
+
+    Parameters
+    ----------
+    names : sequence of str
+        p unique part names (not ``"hull"``).
+    kinds : sequence of str
+        Each part's kind, one of :data:`KINDS`.
+    x_aft, x_fore : float or (p,) float
+        Aft and forward ends [m from the AP].
+    z_low, z_top : float or (p,) float
+        Bottom and top [m above the baseline].
+    breadth : float or (p,) float
+        Full breadth [m].
+    y_centre : float or (p,) float
+        Centre of the breadth [m], to port positive.
+    groups : sequence of str or None
+        Mast-group labels; None: each mast its own group, "" for the other kinds.
+
+    Returns
+    -------
+    Parts
+        ``side`` and ``front`` rectangles of shape (p, 4, 2) [m].
+
+    Raises
+    ------
+    HullError
+        If the names, kinds and groups differ in number, a kind is unknown, or a name repeats or is ``"hull"``.
     """
     names, kinds, groups = _check_meta(names, kinds, groups)
     p = len(names)
@@ -107,7 +140,31 @@ def _pad(polys: list[np.ndarray]) -> np.ndarray:
 
 def polygon_parts(names, kinds, sides, fronts, groups=None) -> Parts:
     """Parts from convex polygons (static input, e.g. a config): ``sides[i]`` is a list of ``(x, z)`` [m]
-    and ``fronts[i]`` a list of ``(y, z)`` [m] (z from the baseline); either orientation is accepted."""
+    and ``fronts[i]`` a list of ``(y, z)`` [m] (z from the baseline); either orientation is accepted.
+
+    Parameters
+    ----------
+    names : sequence of str
+        p unique part names (not ``"hull"``).
+    kinds : sequence of str
+        Each part's kind, one of :data:`KINDS`.
+    sides : sequence of (k_i, 2) array_like
+        Side-view convex polygons ``(x, z)`` [m from the AP, m above the baseline], k_i ≥ 3.
+    fronts : sequence of (k_i, 2) array_like
+        Front-view convex polygons ``(y, z)`` [m to port, m above the baseline], k_i ≥ 3.
+    groups : sequence of str or None
+        Mast-group labels; None: each mast its own group, "" for the other kinds.
+
+    Returns
+    -------
+    Parts
+        Counter-clockwise polygons padded to shape (p, k, 2), k the largest k_i of each view.
+
+    Raises
+    ------
+    HullError
+        If the metadata disagree (see :func:`box_parts`) or a polygon is too short, not finite, flat or not convex.
+    """
     names, kinds, groups = _check_meta(names, kinds, groups)
     if not names:
         return no_parts()
@@ -117,7 +174,23 @@ def polygon_parts(names, kinds, sides, fronts, groups=None) -> Parts:
 
 
 def concat_parts(*parts: Parts) -> Parts:
-    """Join several :class:`Parts` (their polygons are padded to one size)."""
+    """Join several :class:`Parts` (their polygons are padded to one size).
+
+    Parameters
+    ----------
+    *parts : Parts
+        The sets to join, in order.
+
+    Returns
+    -------
+    Parts
+        All their parts (:func:`no_parts` if none), polygons padded to the largest vertex count of each view.
+
+    Raises
+    ------
+    HullError
+        If the joined names repeat.
+    """
     parts = [p for p in parts if p.p]
     if not parts:
         return no_parts()
@@ -163,6 +236,23 @@ def projections(sections: Sections, draft, parts: Parts, levels: int = 24) -> Pr
     The profile at a station spans from ``max(T, lowest point)`` to ``max(T, highest point)`` of its
     half-section and is linear between stations. The frontal hull outline uses ``levels`` + 1 levels (the
     top one just under the highest deck edge); its area converges as ``levels`` grows (exact for wall sides).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull's n stations (x [m from the AP], z [m above the baseline]).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+    parts : Parts
+        The above-deck parts (p of them).
+    levels : int
+        Level intervals K of the frontal hull outline.
+
+    Returns
+    -------
+    Projections
+        ``hull_side`` (2n, 2), ``hull_front`` (2K + 2, 2), ``part_side``, ``part_front`` (p, k, 2) [m], heights
+        above the waterline; ``present`` (n,) bool; ``draft`` [m].
     """
     t = jnp.asarray(draft, dtype=float)
     z = sections.yz[..., 1]
@@ -182,7 +272,27 @@ def projections(sections: Sections, draft, parts: Parts, levels: int = 24) -> Pr
 
 def check_parts(sections: Sections, draft: float, parts: Parts) -> None:
     """Static sanity checks (numpy): every part above the waterline, within the hull's length above water
-    and within its breadth; :class:`HullError` naming the part otherwise."""
+    and within its breadth; :class:`HullError` naming the part otherwise.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float
+        Draft T [m above the baseline].
+    parts : Parts
+        The above-deck parts.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    HullError
+        If the hull is wholly under water, or a part lies below the waterline, beyond the hull's length above
+        water or beyond its half-breadth.
+    """
     pr = projections(sections, draft, parts)
     front = np.asarray(pr.hull_front)
     xs = np.asarray(sections.x)[np.asarray(pr.present)]

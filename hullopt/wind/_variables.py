@@ -41,6 +41,23 @@ def polygon_moments(poly: Float[Array, "... k 2"], order: int = 3) -> Float[Arra
     By Green's theorem ``M[p, q] = ∮ u^(p+1) v^q /(p+1) dv``: a polynomial of degree ≤ order + 1 along each
     edge, integrated exactly by three-point Gauss–Legendre (exact to degree 5). ``M[0, 0]`` is the shoelace
     area; ``M[1, 0]/M[0, 0]``, ``M[0, 1]/M[0, 0]`` the centroid.
+
+    Parameters
+    ----------
+    poly : (..., k, 2) float
+        Counter-clockwise polygons, vertices (u, v) [m]; any leading batch shape.
+    order : int
+        Highest total order p + q, at most 4.
+
+    Returns
+    -------
+    Array
+        (..., order + 1, order + 1) float moments [m^(2+p+q)], indexed [p, q].
+
+    Raises
+    ------
+    ValueError
+        If ``order`` > 4.
     """
     if order > 4:
         raise ValueError("order ≤ 4 (three-point Gauss–Legendre is exact to degree 5)")
@@ -246,7 +263,18 @@ class WindVariables(eqx.Module):
 
 
 def variables_from_projections(pr: Projections) -> WindVariables:
-    """:class:`WindVariables` of given projections (see :func:`wind_variables`)."""
+    """:class:`WindVariables` of given projections (see :func:`wind_variables`).
+
+    Parameters
+    ----------
+    pr : Projections
+        Projections of the hull and its parts (:func:`projections`).
+
+    Returns
+    -------
+    WindVariables
+        The explanatory variables (SI: lengths [m], areas [m²]).
+    """
     return _variables(pr, pr.hull_side[: pr.present.shape[0], 0])
 
 
@@ -317,5 +345,21 @@ def wind_variables(sections: Sections, draft, parts: Parts, levels: int = 24) ->
 
     Pure JAX: jit/grad/vmap-able in the sections, the draft and the parts' polygons. See the module
     docstring for the conventions and :func:`~hullopt.wind.projections` for the geometry.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+    parts : Parts
+        The above-deck parts (:func:`box_parts`, :func:`polygon_parts`, :func:`no_parts`).
+    levels : int
+        Level intervals of the frontal hull outline (see :func:`projections`).
+
+    Returns
+    -------
+    WindVariables
+        L, B, A_T, A_L, … (lengths [m], areas [m²]; M a count) and the per-part areas and moments, the hull first.
     """
     return _variables(projections(sections, draft, parts, levels), sections.x)
