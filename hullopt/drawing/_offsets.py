@@ -19,7 +19,18 @@ SEED003_STATIONS = tuple(Fraction(s) for s in (
 
 
 def station_label(s: Fraction) -> str:
-    """``0`` → ``AP``, ``10`` → ``FP``, ``3/2`` → ``1 1/2``, ``1/4`` → ``1/4``."""
+    """``0`` → ``AP``, ``10`` → ``FP``, ``3/2`` → ``1 1/2``, ``1/4`` → ``1/4``.
+
+    Parameters
+    ----------
+    s : fractions.Fraction
+        Station number, 0 (AP) to 10 (FP).
+
+    Returns
+    -------
+    str
+        The label as the seed-003 layout writes it.
+    """
     if s == 0:
         return "AP"
     if s == 10:
@@ -33,7 +44,22 @@ def station_label(s: Fraction) -> str:
 def half_breadths(sections: Sections, x, z) -> np.ndarray:
     """Half-breadths ``(len(x), len(z))`` [m]: at each station position (sections interpolated linearly
     along x, point by point) the outermost crossing of the section with each waterline, 0 where the section
-    does not reach it."""
+    does not reach it.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    x : (nx,) array_like
+        Station positions [m from the AP]; clamped to the sections' extent.
+    z : (nz,) array_like
+        Waterline heights [m above the baseline].
+
+    Returns
+    -------
+    numpy.ndarray
+        (nx, nz) float half-breadths [m], ≥ 0.
+    """
     xs = np.asarray(sections.x, float)
     yz = np.asarray(sections.yz, float)
     x, z = np.asarray(x, float), np.asarray(z, float)
@@ -67,6 +93,26 @@ def write_offsets_wide(sections: Sections, path: str | os.PathLike, x=None, z=No
     to about 1e-4 (the reader keeps the table's own waterlines, so the clustered ones resolve a flat bottom
     with a slight rise of floor, as the DTC's). Metadata: ``lpp`` [m] and ``deck``
     [m], the top waterline (the lowest deck edge), which the reader takes as the deck.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    path : str or os.PathLike
+        The CSV file to write.
+    x : (nx,) array_like or None
+        Station positions [m from the AP]; None: the sections' stations.
+    z : (nz,) array_like or None
+        Waterline heights [m above the baseline]; None: the default (or ``dense``) waterlines.
+    name : str
+        The hull's name for the comment line.
+    dense : bool
+        Use :func:`dense_waterlines` and the stations' knuckles (when ``z`` is None).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
     x = np.asarray(sections.x, float) if x is None else np.asarray(x, float)
     corners: dict[int, float] = {}
@@ -128,7 +174,24 @@ def dense_waterlines(sections: Sections, n: int = 41) -> np.ndarray:
 def write_offsets_stations(sections: Sections, path: str | os.PathLike, n_waterlines: int = 11,
                            name: str = "") -> Path:
     """Seed-003 layout: rows AP, 1/4, … 9 3/4, FP; columns waterline numbers 0…n−1, equally spaced from
-    the baseline to the lowest deck edge (``waterline_spacing`` metadata)."""
+    the baseline to the lowest deck edge (``waterline_spacing`` metadata).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    path : str or os.PathLike
+        The CSV file to write.
+    n_waterlines : int
+        Number of waterlines, the baseline (0) to the lowest deck edge.
+    name : str
+        The hull's name for the comment line.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     lpp = float(sections.lpp)
     dz = float(_default_waterlines(sections, n_waterlines)[1])
     z = dz * np.arange(n_waterlines)

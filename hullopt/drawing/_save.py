@@ -13,7 +13,29 @@ from ..geometry import atomic_write_bytes
 def save_figure(fig, path: str | os.PathLike, **savefig_kw) -> Path:
     """Save ``fig`` to ``path`` atomically and close it (also when saving fails); ``savefig_kw`` go to
     ``Figure.savefig`` (``dpi``, ``bbox_inches``…). A reader never sees a half-written file, and a failed save
-    leaves no temporary file. ValueError for a format matplotlib cannot write, OSError for a bad folder."""
+    leaves no temporary file. ValueError for a format matplotlib cannot write, OSError for a bad folder.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure; closed afterwards.
+    path : str or os.PathLike
+        The file; its suffix picks the format (PNG when none).
+    **savefig_kw
+        Passed to ``Figure.savefig``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        For a format matplotlib cannot write.
+    OSError
+        For a folder that cannot be written.
+    """
     import matplotlib.pyplot as plt
 
     path = Path(path)
