@@ -19,6 +19,18 @@ def box(L: float, B: float, D: float, n: int = 3) -> Sections:
     """Rectangular barge of length ``L``, breadth ``B`` and depth ``D`` [m], AP at its aft end.
 
     Each half-section is three points: keel ``(0, 0)``, bilge corner ``(B/2, 0)``, deck edge ``(B/2, D)``.
+
+    Parameters
+    ----------
+    L, B, D : float
+        Length [m] (also Lpp), breadth [m] and depth [m], each positive.
+    n : int
+        Number of equally spaced stations from 0 to ``L`` (3 by default).
+
+    Returns
+    -------
+    Sections
+        ``x (n,)`` [m from the AP], ``yz (n, 3, 2)`` [m], ``lpp = L``.
     """
     _positive(L=L, B=B, D=D)
     x = jnp.linspace(0.0, L, n)
@@ -32,6 +44,21 @@ def wigley(L: float, B: float, T: float, D: float, n: int = 81, m: int = 201) ->
 
     ``n`` stations (odd, equally spaced, so Simpson's rule is exact for its quadratic area curve) and ``m``
     points on the curved part of each section (the polyline's area error is ≈ 1/(4(m−1)²) relative).
+
+    Parameters
+    ----------
+    L, B, T, D : float
+        Length [m] (also Lpp), breadth [m], design draft [m] and depth [m], each positive, ``D ≥ T``.
+    n : int
+        Number of equally spaced stations from 0 to ``L`` (81 by default; odd for exact Simpson sums).
+    m : int
+        Points on each section's curved part from the keel to ``T`` (201 by default).
+
+    Returns
+    -------
+    Sections
+        ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m], or ``(n, m+1, 2)`` with the deck-edge point where
+        ``D > T``; ``lpp = L``.
     """
     _positive(L=L, B=B, T=T, D=D)
     if D < T:

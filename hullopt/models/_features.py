@@ -125,7 +125,25 @@ class FeatureHull(eqx.Module):
 
 
 def feature_hull(features: dict, name: str = "hull", design_draft: float | None = None, q: int = 2) -> FeatureHull:
-    """A :class:`FeatureHull` from the arrays of :func:`extract_features` (or a parent file)."""
+    """A :class:`FeatureHull` from the arrays of :func:`extract_features` (or a parent file).
+
+    Parameters
+    ----------
+    features : dict
+        Arrays (any array-likes) ``x (n,)``, ``keel (n, 2)``, ``deck (n, 2)``, ``ends (n, S+1, 2)``,
+        ``apex (n, S, 2)``, ``aux (n, S, 2, J, 2)``, ``real (n, S)`` and the scalar ``lpp`` (lengths in m).
+    name : str
+        The hull's name ("hull" by default).
+    design_draft : float, optional
+        Design draft [m above the baseline]; ``None``: unknown.
+    q : int
+        Samples per knot interval when the frames are rebuilt (2 by default).
+
+    Returns
+    -------
+    FeatureHull
+        With numpy float64 leaves (``real`` bool).
+    """
     # numpy leaves: reading a parent and building a design on it run no JAX op (each costs a compile)
     f = {k: np.asarray(features[k], dtype=np.float64) for k in ("x", "keel", "deck", "ends", "apex", "aux")}
     return FeatureHull(
@@ -135,14 +153,40 @@ def feature_hull(features: dict, name: str = "hull", design_draft: float | None 
 
 
 def save_features(hull: FeatureHull, path: str | Path, **meta) -> Path:
-    """Write a parent file (JSON: the arrays plus ``meta``, e.g. its source and how it was extracted)."""
+    """Write a parent file (JSON: the arrays plus ``meta``, e.g. its source and how it was extracted).
+
+    Parameters
+    ----------
+    hull : FeatureHull
+        The parent to write.
+    path : str or Path
+        The JSON file to write (replaced atomically).
+    **meta
+        Extra JSON-serialisable entries written beside the arrays.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     path = Path(path)
     atomic_write_bytes(path, (json.dumps({**meta, **hull.to_dict()}, separators=(",", ":")) + "\n").encode())
     return path
 
 
 def read_features(path: str | Path) -> FeatureHull:
-    """Read a parent file written by :func:`save_features`; :class:`HullError` if it is not one."""
+    """Read a parent file written by :func:`save_features`; :class:`HullError` if it is not one.
+
+    Parameters
+    ----------
+    path : str or Path
+        A parent JSON file.
+
+    Returns
+    -------
+    FeatureHull
+        Its name from the file (else the file's stem), ``design_draft`` [m] or ``None``, ``q`` (2 if absent).
+    """
     path = Path(path)
     try:
         d = json.loads(path.read_text())
@@ -152,12 +196,29 @@ def read_features(path: str | Path) -> FeatureHull:
 
 
 def parent_names() -> list[str]:
-    """Names of the parents in the package library (``hullopt/data/parents/*.json``)."""
+    """Names of the parents in the package library (``hullopt/data/parents/*.json``).
+
+    Returns
+    -------
+    list of str
+        The library parents' names, sorted.
+    """
     return sorted(p.stem for p in PARENTS_DIR.glob("*.json"))
 
 
 def load_parent(name: str) -> FeatureHull:
-    """A library parent by name (see :func:`parent_names`), or a parent file path."""
+    """A library parent by name (see :func:`parent_names`), or a parent file path.
+
+    Parameters
+    ----------
+    name : str
+        A library parent's name, or the path of a parent JSON file.
+
+    Returns
+    -------
+    FeatureHull
+        The parent (raises :class:`HullError` if neither is found).
+    """
     path = PARENTS_DIR / f"{name}.json"
     if path.is_file():
         return read_features(path)
@@ -511,7 +572,20 @@ def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> Fe
 def design_margins(model: FeatureModel, params: FeatureParams) -> dict[str, Array]:
     """Smooth-enough margins (≥ 0 when valid, JAX, differentiable) an optimiser can bound:
     ``apex`` min over real segments of β and 1 − β (the apex inside its segment); ``aux`` the least gap
-    between consecutive knots along each half, as a fraction of the half; ``warp`` 1 − Σ|c| per group."""
+    between consecutive knots along each half, as a fraction of the half; ``warp`` 1 − Σ|c| per group.
+
+    Parameters
+    ----------
+    model : FeatureModel
+        The parent and its design (see :func:`feature_model`).
+    params : FeatureParams
+        The design parameters: ``apex (K, 2)`` [m], ``distribution (G, J)``, ``contour (E,)`` [m].
+
+    Returns
+    -------
+    dict of str to Array
+        ``"apex"`` and ``"aux"`` scalars (fractions, dimensionless), ``"warp"`` ``(G,)`` (dimensionless).
+    """
     f = model.features(params)
     real = f.real
     beta = f.apex[..., 0]
@@ -528,7 +602,20 @@ def design_margins(model: FeatureModel, params: FeatureParams) -> dict[str, Arra
 def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
     """The deformed hull, or :class:`HullError` saying what is wrong: an apex outside its segment, a folded
     frame (knots out of order, a frame crossing itself or the centreline, feature lines crossing), a
-    non-monotone distribution. Not for use under ``jit`` (it inspects values)."""
+    non-monotone distribution. Not for use under ``jit`` (it inspects values).
+
+    Parameters
+    ----------
+    model : FeatureModel
+        The parent and its design (see :func:`feature_model`).
+    params : FeatureParams
+        The design parameters: ``apex (K, 2)`` [m], ``distribution (G, J)``, ``contour (E,)`` [m].
+
+    Returns
+    -------
+    Sections
+        The deformed hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    """
     from shapely.geometry import LineString
 
     p = {k: np.asarray(v) for k, v in vars(params).items()}
