@@ -37,7 +37,18 @@ _CURVATURE_SCALE = 32 * _DEFAULT_SIZE
 
 
 def is_cad(path: str | Path) -> bool:
-    """Whether ``path`` names an IGES or STEP file (by its extension)."""
+    """Whether ``path`` names an IGES or STEP file (by its extension).
+
+    Parameters
+    ----------
+    path : str or Path
+        A file name.
+
+    Returns
+    -------
+    bool
+        True for ``.igs``, ``.iges``, ``.stp`` or ``.step`` (any case).
+    """
     return Path(path).suffix.lower() in CAD_SUFFIXES
 
 

@@ -144,6 +144,24 @@ def lackenby(sections: Sections, draft, *, cb: float | None = None, lcb_pct: flo
 
     Raises :class:`HullError` for a target outside the physical range, a draft outside the hull, a hull
     without a midship station, and a target beyond the reach of the shift (stations would cross).
+
+    Parameters
+    ----------
+    sections : Sections
+        The parent: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m], with a station at midship.
+    draft : float
+        Draft [m above the baseline], above the keel and at most at the deck.
+    cb : float, optional
+        Target block coefficient in (0, 1); ``None`` keeps the parent's.
+    lcb_pct : float, optional
+        Target LCB [% Lpp from midship, forward +] in (−50, 50); ``None`` keeps the parent's.
+    refine : bool
+        Meet the targets exactly by Newton's method (True, default) or stop at the first-order shift.
+
+    Returns
+    -------
+    Sections
+        ``sections`` with new station positions ``x (n,)`` [m from the AP]; ``yz`` and ``lpp`` unchanged.
     """
     draft = float(draft)
     if not (np.isfinite(draft) and max(0.0, float(sections.keel)) < draft <= float(sections.depth)):

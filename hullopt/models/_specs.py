@@ -118,6 +118,10 @@ def check_params_used(params: dict[str, str], spec: str, allowed: list[str]) -> 
     allowed : list of str
         The reader's parameters, listed in the message.
 
+    Returns
+    -------
+    None
+
     Raises
     ------
     HullError
