@@ -45,7 +45,28 @@ def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "", dept
     against the draft T [m] (the vertical axis of every panel, as drawn by hand), grouped in eight panels
     by unit (Δ [t] with ∇ [m³] on the top axis at density ``rho`` [kg/m³]; areas [m²]; TPC [t/cm];
     MCT 1 cm [t·m/cm]; LCB, LCF [m from AP]; KB, KM_T [m]; BM_L [m]; C_B, C_P, C_M, C_WP). Drafts at or
-    above ``depth`` [m] (the deck) are left out; ``design_draft`` [m] is marked as the DWL."""
+    above ``depth`` [m] (the deck) are left out; ``design_draft`` [m] is marked as the DWL.
+
+    Parameters
+    ----------
+    table : Hydrostatics
+        Hydrostatics at k drafts (:func:`~hullopt.hydro.hydrostatics` over a draft array), fields (k,) SI.
+    path : str or os.PathLike
+        The figure file; its suffix picks the format (PNG, SVG, PDF).
+    name : str
+        The hull's name for the title.
+    depth : float or None
+        Depth to the deck [m]; drafts at or above it are left out. None: keep every draft.
+    design_draft : float or None
+        Design draft [m], marked as the DWL; None: no mark.
+    rho : float
+        Water density [kg/m³] for the ∇ axis.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     plt, fig, axes = _figure(2, 4, figsize=(15, 8), sharey=True)
     t = np.asarray(table.draft, dtype=float)
     keep = t < depth - 1e-9 if depth is not None else np.ones(t.shape, bool)
@@ -79,7 +100,25 @@ def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "", dept
 
 def plot_gz(curve, path: str | os.PathLike, criteria=None, name: str = "") -> Path:
     """The GZ curve of a :class:`~hullopt.hydro.StabilityCurve`, the GM₀ tangent (GZ = GM₀·φ, drawn to
-    1 rad) and, with ``criteria``, the maximum, the angle of vanishing stability and the 30°/40° marks."""
+    1 rad) and, with ``criteria``, the maximum, the angle of vanishing stability and the 30°/40° marks.
+
+    Parameters
+    ----------
+    curve : StabilityCurve
+        The GZ curve (:class:`~hullopt.hydro.StabilityCurve`: heel [rad], GZ [m], GM₀ [m]).
+    path : str or os.PathLike
+        The figure file; its suffix picks the format (PNG, SVG, PDF).
+    criteria : Criteria or None
+        :class:`~hullopt.hydro.Criteria` of the curve (GZ max [m], its angle and the vanishing angle [rad]);
+        None: no marks.
+    name : str
+        The hull's name for the title.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     plt, fig, ax = _figure(figsize=(8, 5))
     deg = np.rad2deg(np.asarray(curve.heel))
     gz = np.asarray(curve.gz)
@@ -108,7 +147,26 @@ def plot_gz(curve, path: str | os.PathLike, criteria=None, name: str = "") -> Pa
 def plot_cross_curves(displacements, heels, kn, path: str | os.PathLike, name: str = "") -> Path:
     """Cross curves of stability: KN [m] against displacement [t] (``displacements (k,)``), one line per heel
     [rad] (``heels (h,)``, ``kn (k, h)``), each in its own colour and labelled at its end, the legend outside
-    the axes."""
+    the axes.
+
+    Parameters
+    ----------
+    displacements : (k,) array_like
+        Displacements Δ [t].
+    heels : (h,) array_like
+        Heel angles [rad] (labelled in degrees).
+    kn : (k, h) array_like
+        KN [m] at each displacement and heel.
+    path : str or os.PathLike
+        The figure file; its suffix picks the format (PNG, SVG, PDF).
+    name : str
+        The hull's name for the title.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     plt, fig, ax = _figure(figsize=(9, 5.5))
     d = np.asarray(displacements)
     kn = np.asarray(kn)

@@ -72,7 +72,30 @@ def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_butt
     """Cut the lines plan from ``sections``: stations 0…10, waterlines (default ``n_waterlines`` equally
     spaced from the keel to the lowest deck edge) and buttocks (default ``n_buttocks`` equally spaced
     inside the largest half-breadth); with ``draft`` [m above the baseline] the design waterline (DWL) in
-    all three views."""
+    all three views.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    name : str
+        The hull's name for the title block.
+    n_waterlines : int
+        Number of default waterlines (when ``waterlines`` is None).
+    n_buttocks : int
+        Number of default buttocks (when ``buttocks`` is None).
+    waterlines : (w,) array_like or None
+        Waterline heights [m above the baseline]; None: the default.
+    buttocks : (b,) array_like or None
+        Buttock offsets [m from the centreline]; None: the default.
+    draft : float or None
+        Design draft [m above the baseline] for the DWL; None: no DWL.
+
+    Returns
+    -------
+    LinesPlan
+        The polylines of the sheer, half-breadth and body plans [m], with the extent and the particulars.
+    """
     x = np.asarray(sections.x, dtype=float)
     yz = np.asarray(sections.yz, dtype=float)
     lpp = float(sections.lpp)
@@ -220,7 +243,20 @@ def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
     the sheer and half-breadth plans and above the body plan's sections; waterline heights [m] at the right of
     the sheer and body plans; the DWL (when the plan has a draft) dash-dotted; a title block with the name,
     Lpp, B, T and the scales 1:N at which the plans and the body plan are drawn on this sheet (the sheet's
-    size as saved: no cropping)."""
+    size as saved: no cropping).
+
+    Parameters
+    ----------
+    plan : LinesPlan
+        The lines plan (:func:`lines_plan`).
+    path : str or os.PathLike
+        The figure file; its suffix picks the format (PNG, SVG, PDF).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -277,7 +313,20 @@ def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
 
 def write_lines_dxf(plan: LinesPlan, path: str | os.PathLike) -> Path:
     """Write the three views to a DXF (model space, metres): sheer plan at the origin, half-breadth plan
-    below it (y downward), body plan to the right; one layer per kind of line."""
+    below it (y downward), body plan to the right; one layer per kind of line.
+
+    Parameters
+    ----------
+    plan : LinesPlan
+        The lines plan (:func:`lines_plan`).
+    path : str or os.PathLike
+        The DXF file to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     import io
 
     import ezdxf
@@ -305,7 +354,25 @@ def write_lines_dxf(plan: LinesPlan, path: str | os.PathLike) -> Path:
 
 
 def save_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
-    """Save the lines plan by the file's extension: .png, .svg, .pdf (matplotlib) or .dxf (ezdxf)."""
+    """Save the lines plan by the file's extension: .png, .svg, .pdf (matplotlib) or .dxf (ezdxf).
+
+    Parameters
+    ----------
+    plan : LinesPlan
+        The lines plan (:func:`lines_plan`).
+    path : str or os.PathLike
+        The file; its suffix picks the format (one of ``LINES_FORMATS``).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    HullError
+        For an unknown suffix.
+    """
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in LINES_FORMATS:
