@@ -86,7 +86,18 @@ _STATION_NAMES = {"AP": Fraction(0), "FP": Fraction(10)}
 
 
 def parse_station(label: str) -> Fraction:
-    """``'AP'`` → 0, ``'9 3/4'`` → 39/4, ``'1/2'`` → 1/2, ``'FP'`` → 10 (station numbers, Lpp/10 apart)."""
+    """``'AP'`` → 0, ``'9 3/4'`` → 39/4, ``'1/2'`` → 1/2, ``'FP'`` → 10 (station numbers, Lpp/10 apart).
+
+    Parameters
+    ----------
+    label : str
+        A station label: ``AP``, ``FP``, a whole number, a fraction ``a/b`` or a mixed number ``n a/b``.
+
+    Returns
+    -------
+    Fraction
+        The station number (0 at the AP, 10 at the FP).
+    """
     s = label.strip().upper()
     if s in _STATION_NAMES:
         return _STATION_NAMES[s]
@@ -107,7 +118,19 @@ def _number(text: str, where: str) -> float:
 
 
 def read_offsets(path: str | Path) -> OffsetTable:
-    """Read an offset table in the wide or the stations layout (see the module docstring)."""
+    """Read an offset table in the wide or the stations layout (see the module docstring).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file (comma or tab separated).
+
+    Returns
+    -------
+    OffsetTable
+        ``x (s,)`` [m from the AP], ``z (w,)`` [m above the baseline], ``y (s, w)`` [m], ``lpp`` [m],
+        ``knuckles``, ``source`` (the path); :class:`HullError` naming the line if the file is not a valid table.
+    """
     path = Path(path)
     try:
         text = path.read_text()
@@ -216,7 +239,23 @@ class OffsetSurface(eqx.Module):
 def offset_surface(table: OffsetTable, n_stations: int = 121, n_points: int = 81) -> OffsetSurface:
     """Precompute the spline maps of ``table`` onto ``n_stations`` stations (equally spaced over the table's
     length, odd for Simpson's rule) and ``n_points`` heights per section (equally spaced, plus the table's own
-    waterlines)."""
+    waterlines).
+
+    Parameters
+    ----------
+    table : OffsetTable
+        Stations ``x (s,)``, waterlines ``z (w,)``, half-breadths ``y (s, w)`` [m].
+    n_stations : int
+        Stations of the result (121 by default; made odd by adding 1).
+    n_points : int
+        Equally spaced heights per section before the table's waterlines are added (81 by default).
+
+    Returns
+    -------
+    OffsetSurface
+        The map ``y (s, w) → Sections`` with ``x (n,)``, ``yz (n, m+1, 2)`` [m] (keel point first),
+        ``n = n_stations`` (odd), ``m`` = the heights.
+    """
     n_stations += 1 - n_stations % 2
     x_fine = np.linspace(table.x[0], table.x[-1], n_stations)
     # The table's own waterlines stay on the fine grid, so the surface passes through every offset (a nearly
@@ -246,5 +285,18 @@ def _split_spline_matrix(knots: np.ndarray, at: np.ndarray, j: int) -> np.ndarra
 
 
 def offsets_to_sections(table: OffsetTable, n_stations: int = 121, n_points: int = 81) -> Sections:
-    """Sections of the spline surface through ``table`` (see :class:`OffsetSurface`)."""
+    """Sections of the spline surface through ``table`` (see :class:`OffsetSurface`).
+
+    Parameters
+    ----------
+    table : OffsetTable
+        Stations ``x (s,)``, waterlines ``z (w,)``, half-breadths ``y (s, w)`` [m].
+    n_stations, n_points : int
+        As for :func:`offset_surface` (121 and 81 by default).
+
+    Returns
+    -------
+    Sections
+        ``x (n,)`` [m from the AP], ``yz (n, m+1, 2)`` [m], ``lpp`` [m] from the table.
+    """
     return offset_surface(table, n_stations, n_points)(jnp.asarray(table.y))
