@@ -62,6 +62,29 @@ def fit(
     ``residuals`` returns a vector normalised to order one (e.g. relative errors); ``tol`` (scalar or one per
     residual) is what counts as met. Levenberg–Marquardt from ``p0`` finds a solution near the start (the
     smallest change of the parent), which is what a designer expects of an auto-fit.
+
+    Parameters
+    ----------
+    residuals : callable
+        ``residuals(p, args)`` → (r,) float, normalised to order one.
+    p0 : pytree of Array
+        Starting parameters, strictly inside the bounds.
+    lower, upper : pytree of Array
+        Box bounds, the structure of ``p0``.
+    args : pytree or None
+        Passed through to ``residuals``; the solution is differentiable in it.
+    tol : float or (r,) float
+        What counts as met, per residual.
+    rtol, atol : float
+        Levenberg–Marquardt's relative and absolute step tolerances.
+    max_steps : int
+        Largest number of steps.
+
+    Returns
+    -------
+    SolveResult
+        ``params`` (the structure of ``p0``), ``residuals`` (r,), ``objective`` (Σ r²), ``max_violation``,
+        ``met``, ``solver_ok``, ``steps``; ``history`` None.
     """
     u0 = to_unbounded(p0, lower, upper)
 
@@ -107,7 +130,41 @@ def minimise_constrained(
     ``max_violation`` and ``met`` count both kinds (an inequality's violation is ``max(g, 0) /
     inequality_tol``). ``history``: the augmented Lagrangian at the end of each round; ``objective_history`` and
     ``violation_history``: the objective and the largest ``|c| / tol`` there (what a convergence plot shows: the
-    Lagrangian itself rises as μ grows)."""
+    Lagrangian itself rises as μ grows).
+
+    Parameters
+    ----------
+    objective : callable
+        ``objective(p, args)`` → scalar, scaled to order one.
+    constraints : callable
+        ``constraints(p, args)`` → (c,) float equality residuals, normalised to order one (c may be 0).
+    p0 : pytree of Array
+        Starting parameters, strictly inside the bounds.
+    lower, upper : pytree of Array
+        Box bounds, the structure of ``p0``.
+    args : pytree or None
+        Passed through to the callables; the solution is differentiable in it.
+    tol : float or (c,) float
+        What counts as met for the equalities.
+    inequalities : callable or None
+        ``inequalities(p, args)`` → (g,) float, ≤ 0 when satisfied; None: none.
+    inequality_tol : float or (g,) float
+        What counts as met for the inequalities.
+    outer : int
+        Number of augmented-Lagrangian rounds.
+    mu0, growth : float
+        Initial penalty μ and its factor per round.
+    rtol, atol : float
+        BFGS's relative and absolute tolerances.
+    max_steps : int
+        Largest number of BFGS steps per round.
+
+    Returns
+    -------
+    SolveResult
+        ``params``, ``residuals`` (c,), ``objective``, ``max_violation``, ``met``, ``solver_ok`` (of the last
+        round), ``steps`` (all rounds), and ``history``, ``objective_history``, ``violation_history`` (outer,).
+    """
     u0 = to_unbounded(p0, lower, upper)
     n_c = jnp.shape(constraints(p0, args))[0]
     ineq = inequalities if inequalities is not None else (lambda p, args: jnp.zeros(0))
@@ -153,7 +210,32 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
 
     It also stops, as converged, when the cost has fallen by less than 1e-4 (relative) in each of ``stall``
     steps: what is left is the slow polishing of a tiny regularisation, which the solver's own step test may
-    take hundreds of steps to end. Not differentiable in ``args`` (use :func:`fit` for that)."""
+    take hundreds of steps to end. Not differentiable in ``args`` (use :func:`fit` for that).
+
+    Parameters
+    ----------
+    residuals : callable
+        ``residuals(p, args)`` → (r,) float, normalised to order one.
+    p0 : pytree of Array
+        Starting parameters, strictly inside the bounds.
+    lower, upper : pytree of Array
+        Box bounds, the structure of ``p0``.
+    args : pytree or None
+        Passed through to ``residuals``.
+    tol : float or (r,) float
+        What counts as met, per residual.
+    rtol, atol : float
+        Levenberg–Marquardt's relative and absolute step tolerances.
+    max_steps : int
+        Largest number of steps.
+    stall : int
+        Steps of < 1e-4 relative progress after which the loop stops as converged.
+
+    Returns
+    -------
+    SolveResult
+        As :func:`fit`, with ``history`` (max_steps + 1,) the cost Σ r² after each step.
+    """
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
     tags = frozenset()
 
