@@ -233,6 +233,33 @@ def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float 
     :mod:`._feature_frame`).
     Returns a dict of numpy arrays: ``x``, ``keel (n, 2)``, ``deck (n, 2)``, ``ends (n, S+1, 2)``,
     ``apex (n, S, 2)``, ``aux (n, S, 2, J, 2)``, ``real (n, S)`` (segment found in the parent, not padding), ``lpp``.
+
+    Parameters
+    ----------
+    x : array_like, (n,) float
+        Station positions [m from the AP].
+    yz : array_like, (n, m, 2) float
+        Half-sections ``(y, z)`` [m], keel to deck edge.
+    lpp : float
+        Length between perpendiculars [m].
+    flat_tol : float, optional
+        Flatness band [m]; ``None``: 1e-3 B.
+    lobe_tol : float, optional
+        Least lobe sagitta [m]; ``None``: 3e-4 B.
+    smoothing : float
+        Smoothing spline's λ per cubed arc length (0, the default: by generalised cross-validation).
+    level : int
+        Levels of auxiliary apexes, ``J = 2**level − 1`` per half-segment (2 by default).
+    dense : int
+        Points at which each part's smoothing spline is sampled (600 by default).
+    cut_tol : float, optional
+        Largest area [m²] a flat's chord may cut off; ``None``: 1e-5 B².
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        ``x (n,)``, ``keel (n, 2)``, ``deck (n, 2)``, ``ends (n, S+1, 2)`` [m]; ``apex (n, S, 2)`` and
+        ``aux (n, S, 2, J, 2)`` (chord-frame ratios, dimensionless); ``real (n, S)`` bool; ``lpp`` (float, m).
     """
     x = np.asarray(x, dtype=np.float64)
     yz = np.asarray(yz, dtype=np.float64)

@@ -41,7 +41,28 @@ from ._features import PARENTS_DIR, FeatureHull, feature_hull, save_features
 
 def extract_parent(sections: Sections, name: str = "hull", design_draft: float | None = None, level: int = 2,
                    q: int = 2, **kw) -> FeatureHull:
-    """Contour lines and feature curves of ``sections`` (see :func:`extract_features` for ``kw``)."""
+    """Contour lines and feature curves of ``sections`` (see :func:`extract_features` for ``kw``).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    name : str
+        The parent's name ("hull" by default).
+    design_draft : float, optional
+        Design draft [m above the baseline]; ``None``: unknown.
+    level : int
+        Levels of auxiliary apexes (2 by default).
+    q : int
+        Samples per knot interval when the frames are rebuilt (2 by default).
+    **kw
+        ``flat_tol``, ``lobe_tol``, ``smoothing``, ``dense``, ``cut_tol`` of :func:`extract_features`.
+
+    Returns
+    -------
+    FeatureHull
+        The parent's contour lines and feature curves (lengths in m).
+    """
     f = extract_features(np.asarray(sections.x), np.asarray(sections.yz), float(sections.lpp), level=level, **kw)
     return feature_hull(f, name, design_draft, q)
 
@@ -114,6 +135,28 @@ def generate_hull(lpp: float, breadth: float, depth: float, draft: float, parall
     vertical flat of side to the deck: at full breadth the flat of bottom shrinks to meet the target area;
     where it is gone the breadth does (so the contour lines — flat of bottom, flat of side, deck side — follow
     from the Cp curve). The frames are then read as feature curves like any parent's.
+
+    Parameters
+    ----------
+    lpp, breadth, depth, draft : float
+        Length between perpendiculars, breadth, depth and design draft [m], positive, ``draft < depth``.
+    parallel : tuple of float
+        Aft and forward ends of the parallel midbody, fractions of Lpp from the AP, ``0 < a ≤ b < 1``.
+    entrance, run : float
+        Exponents of the sectional-area curve forward and aft of the midbody (2.2 and 1.8 by default).
+    bilge_radius : float
+        Midship bilge radius [m], below the draft and half the breadth (3 by default).
+    n : int
+        Equally spaced stations from the AP to the FP (61 by default).
+    m : int
+        Points per generated half-section (64 by default).
+    **extract_kw
+        Passed to :func:`extract_parent` (``smoothing`` 1e-9 by default).
+
+    Returns
+    -------
+    FeatureHull
+        Named "generated", ``design_draft = draft``; lengths in m.
     """
     for k, v in dict(lpp=lpp, breadth=breadth, depth=depth, draft=draft, bilge_radius=bilge_radius).items():
         if not (math.isfinite(v) and v > 0):
