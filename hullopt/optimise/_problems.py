@@ -61,7 +61,29 @@ class Targets(eqx.Module):
 
 
 def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, kg: float | None = None) -> Targets:
-    """Targets from ``{name: value}``; raises ``ValueError`` naming an unknown or unphysical target."""
+    """Targets from ``{name: value}``; raises ``ValueError`` naming an unknown or unphysical target.
+
+    Parameters
+    ----------
+    values : dict of str to float
+        Target name (a key of ``TARGETS``) → value in SI (volume [m³], displacement [kg], kb, bwl, lwl, gm [m];
+        lcb_pct, lcf_pct [% Lpp from midship, forward +]; coefficients and bf dimensionless).
+    tol : dict of str to float or None
+        Tolerances in the normalised units of the module's table, by target name; None or a missing name: the
+        default.
+    kg : float or None
+        Height of the centre of gravity above the baseline [m]; needed for a ``gm`` target.
+
+    Returns
+    -------
+    Targets
+        ``names`` (t,) in the order of ``values``, ``values`` and ``tol`` (t,) float, ``kg``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown or unphysical target, a ``gm`` target without ``kg``, or a tolerance for no target.
+    """
     tol = tol or {}
     for k, v in values.items():
         if k not in TARGETS:
@@ -84,7 +106,25 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
 
 
 def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=None) -> Array:
-    """The particulars ``names`` of a hull with hydrostatics ``h`` at its draft."""
+    """The particulars ``names`` of a hull with hydrostatics ``h`` at its draft.
+
+    Parameters
+    ----------
+    h : Hydrostatics
+        Hydrostatics of the hull at one draft (scalar fields).
+    sections : Sections
+        The hull (for ``bf``).
+    names : tuple of str
+        Target names (keys of ``TARGETS``).
+    kg : float or Array or None
+        KG [m] above the baseline; needed for ``gm``.
+
+    Returns
+    -------
+    Array
+        (len(names),) float values in the units of :class:`~hullopt.hydro.Hydrostatics` (SI; % Lpp for
+        lcb_pct, lcf_pct); GM_T [m] for ``gm``, Bf in head seas for ``bf``.
+    """
     out = []
     for k in names:
         if k == "gm":
@@ -99,7 +139,20 @@ def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=Non
 def target_errors(values, targets: Targets) -> Array:
     """The error of each target given its achieved ``values`` (:func:`achieved`), in the normalised units of the
     module's table (relative or absolute): what the solvers drive to zero and the run report shows; a target
-    is met when ``|error| ≤ targets.tol``."""
+    is met when ``|error| ≤ targets.tol``.
+
+    Parameters
+    ----------
+    values : (t,) array_like
+        Achieved values of ``targets.names``, in SI as :func:`achieved` returns them.
+    targets : Targets
+        The targets (:func:`make_targets`).
+
+    Returns
+    -------
+    Array
+        (t,) float errors: relative (dimensionless) or absolute (the target's unit) per the module's table.
+    """
     a = jnp.asarray(values)
     rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
     # safe_div: a zero target (LCB amidships) must not poison the gradient
@@ -107,7 +160,22 @@ def target_errors(values, targets: Targets) -> Array:
 
 
 def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
-    """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``)."""
+    """Normalised residuals of ``targets`` (order one; compare with ``targets.tol``).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+    targets : Targets
+        The targets (:func:`make_targets`).
+
+    Returns
+    -------
+    Array
+        (t,) float errors as :func:`target_errors` returns them.
+    """
     return target_errors(achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg), targets)
 
 
@@ -256,7 +324,21 @@ class Design(eqx.Module):
 
 def with_objective_scale(design: Design, params) -> Design:
     """The design with ``objective_scale`` (and ``fairness_scale``) set to their values for ``params``
-    (the parent), so that both terms start at one."""
+    (the parent), so that both terms start at one.
+
+    Parameters
+    ----------
+    design : Design
+        The design problem.
+    params : pytree of Array
+        The parent's parameters.
+
+    Returns
+    -------
+    Design
+        A copy with ``objective_scale``, ``fairness_scale`` and the limits' parent values set (``design`` itself
+        when it has no objective, fairness or limits).
+    """
     from ..fairing import unfairness
 
     if design.objective is None and not design.fairness and design.limits is None:
@@ -272,7 +354,18 @@ def with_objective_scale(design: Design, params) -> Design:
 
 
 def non_dominated(points: Array) -> Array:
-    """Mask of the Pareto-optimal rows of ``points (k, 2)`` (both objectives minimised; NaN rows excluded)."""
+    """Mask of the Pareto-optimal rows of ``points (k, 2)`` (both objectives minimised; NaN rows excluded).
+
+    Parameters
+    ----------
+    points : (k, 2) array_like
+        Objective values of k candidates, each minimised.
+
+    Returns
+    -------
+    Array
+        (k,) bool: the row is finite and no other row is at least as good in both and better in one.
+    """
     p = jnp.asarray(points)
     ok = jnp.all(jnp.isfinite(p), axis=1)
     le = jnp.all(p[:, None, :] <= p[None, :, :], axis=-1)
