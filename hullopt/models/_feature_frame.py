@@ -118,6 +118,26 @@ def rebuild_frames(
     ``ends[:, 0]`` is the end of the flat of bottom (the keel point where there is none), ``ends[:, S]``
     the start of the flat of side (the deck edge where there is none), the others the inflection points.
     ``m = 3 + 2·(J+1)·q·S`` points per station.
+
+    Parameters
+    ----------
+    keel : array_like, (n, 2) float
+        Keel points ``(y, z)`` [m] (on the centreline).
+    ends : array_like, (n, S+1, 2) float
+        Segment ends ``(y, z)`` [m].
+    apex : array_like, (n, S, 2) float
+        Apexes ``(β, η)`` in each segment's chord frame (chord lengths, dimensionless).
+    aux : array_like, (n, S, 2, J, 2) float
+        Auxiliary apexes' ratios ``(ρ, σ)`` per half (dimensionless).
+    deck : array_like, (n, 2) float
+        Deck edges ``(y, z)`` [m].
+    q : int
+        Samples per knot interval of each half's spline.
+
+    Returns
+    -------
+    Array, (n, 3 + 2(J+1)qS, 2) float
+        The half-section polylines ``(y, z)`` [m].
     """
     n = ends.shape[0]
     pts = segment_points(ends[:, :-1], ends[:, 1:], apex, aux, q)  # (n, S, P, 2)
