@@ -135,22 +135,32 @@ def read_mesh(
     open along its top (no deck); both at once. Seams between CAD patches that do not share vertices, and
     slivers narrower than 0.2 % of the largest extent, are not holes.
 
-    Args:
-        path: the mesh file (any format trimesh reads, also ``.gz``) or an IGES/STEP file.
-        transform: scale, axes and shift into our axes (x forward from the AP, y to port, z up).
-        half: ``"auto"`` — a half hull if every vertex has y ≥ 0 (within 1e-4 of the largest extent; a
-            starboard half, y ≤ 0, is mirrored) and the mesh is open (or has faces) in the centre plane;
-            ``"yes"`` — treat it as a half hull (its port side, y ≥ 0, is used); ``"no"`` — a whole hull: an
-            opening in the centre plane is a hole.
-        tolerance: for IGES/STEP only (see :func:`~hullopt.models._cad.read_cad`).
+    Parameters
+    ----------
+    path : str or Path
+        The mesh file (any format trimesh reads, also ``.gz``) or an IGES/STEP file.
+    transform : MeshTransform
+        Scale, axes and shift into our axes (x forward from the AP, y to port, z up); identity by default.
+    half : str
+        ``"auto"`` (default) — a half hull if every vertex has y ≥ 0 (within 1e-4 of the largest extent; a
+        starboard half, y ≤ 0, is mirrored) and the mesh is open (or has faces) in the centre plane;
+        ``"yes"`` — treat it as a half hull (its port side, y ≥ 0, is used); ``"no"`` — a whole hull: an
+        opening in the centre plane is a hole.
+    tolerance : float, optional
+        Largest triangle edge [m, at the file's scale], for IGES/STEP only (see
+        :func:`~hullopt.models._cad.read_cad`); ``None``: its default.
 
-    Returns:
-        The :class:`trimesh.Trimesh` in our axes, faces turned outward, with a :class:`MeshOpenings` in
+    Returns
+    -------
+    trimesh.Trimesh
+        The mesh in our axes [m], faces turned outward, with a :class:`MeshOpenings` in
         ``mesh.metadata["hullopt"]`` (faces lying in the centre plane of a half hull are dropped).
 
-    Raises:
-        HullError: unreadable or empty, a bad ``half``, or a hole anywhere else: the message names the file
-            and gives each hole's x, y and z range [m, our axes].
+    Raises
+    ------
+    HullError
+        Unreadable or empty, a bad ``half``, or a hole anywhere else: the message names the file and gives
+        each hole's x, y and z range [m, our axes].
     """
     import trimesh
 
@@ -310,7 +320,20 @@ def _near_other_edges(p: np.ndarray, ids: np.ndarray, which: np.ndarray, gap: fl
 
 def station_positions(x_min: float, x_max: float, n: int) -> np.ndarray:
     """``n`` stations (odd) just inside ``[x_min, x_max]``: half equally spaced, half cosine-clustered
-    toward the ends, where the hull changes fastest (stem, bulb, transom)."""
+    toward the ends, where the hull changes fastest (stem, bulb, transom).
+
+    Parameters
+    ----------
+    x_min, x_max : float
+        The mesh's aft and forward ends [m from the AP].
+    n : int
+        Number of stations (made odd by adding 1).
+
+    Returns
+    -------
+    numpy.ndarray, (n,) float
+        Station positions [m from the AP], increasing, ``1e-5 (x_max − x_min)`` inside each end.
+    """
     n += 1 - n % 2
     u = np.linspace(0.0, 1.0, n)
     u = 0.5 * u + 0.25 * (1.0 - np.cos(np.pi * u))
@@ -323,22 +346,32 @@ def slice_mesh(
 ) -> Sections:
     """Slice a hull mesh in our axes into ``n_stations`` half-sections of ``n_points`` points.
 
-    Args:
-        mesh: a closed hull, a half hull open at the centre plane, or either open along its top, in our
-            axes [m] (as :func:`read_mesh` returns it).
-        lpp: length between perpendiculars [m]; the FP is at x = lpp.
-        n_stations: stations (made odd), spread over the mesh's length by :func:`station_positions`.
-        n_points: points per half-section.
-        half: whether the mesh is a half hull (its negative y, rounding in a CAD export, is clipped to 0);
-            ``None``: as :func:`read_mesh` found it (``mesh.metadata["hullopt"]``), else a whole hull.
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A closed hull, a half hull open at the centre plane, or either open along its top, in our axes [m]
+        (as :func:`read_mesh` returns it).
+    lpp : float
+        Length between perpendiculars [m]; the FP is at x = lpp.
+    n_stations : int
+        Stations (made odd), spread over the mesh's length by :func:`station_positions` (201 by default).
+    n_points : int
+        Points per half-section (96 by default).
+    half : bool, optional
+        Whether the mesh is a half hull (its negative y, rounding in a CAD export, is clipped to 0);
+        ``None``: as :func:`read_mesh` found it (``mesh.metadata["hullopt"]``), else a whole hull.
 
-    Returns:
-        :class:`~hullopt.geometry.Sections`: x (n,) [m], yz (n, m, 2) [m], from the keel on y = 0 to the
-        deck edge (a closed hull) or the top edge (an open top); zeros at a station that cuts nothing.
+    Returns
+    -------
+    Sections
+        ``x (n,)`` [m from the AP], ``yz (n, n_points, 2)`` [m], from the keel on y = 0 to the deck edge
+        (a closed hull) or the top edge (an open top); zeros at a station that cuts nothing; ``lpp`` [m].
 
-    Raises:
-        HullError: a section with a part that does not reach the centreline (twin skegs, an asymmetric
-            appendage), two open top edges, or too few points for its parts.
+    Raises
+    ------
+    HullError
+        A section with a part that does not reach the centreline (twin skegs, an asymmetric appendage), two
+        open top edges, or too few points for its parts.
     """
     if half is None:
         half = getattr(mesh.metadata.get("hullopt"), "half", False)
