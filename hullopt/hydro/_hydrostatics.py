@@ -200,8 +200,8 @@ def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:
     Returns
     -------
     Array, scalar
-        The draft [m above the baseline], between the keel and the deck (the nearer bound if the volume is
-        out of reach; no error is raised).
+        The draft [m above the baseline], between the keel and the deck (the solve does not raise: a volume
+        out of reach is not reported).
     """
     lo, hi = sections.keel, sections.depth
 

@@ -127,7 +127,7 @@ def heeled_integrals(sections: Sections, heel, level, trim=0.0) -> HeeledIntegra
     heel : float or Array, scalar
         Heel φ [rad], starboard down positive.
     level : float or Array, scalar
-        Waterplane height at midship [m] in the heeled frame (z' up from the baseline's rotation about x).
+        Waterplane height z' at midship [m] in the heeled frame (the body frame turned by ``heel`` about x).
     trim : float or Array, scalar
         Trim slope ``s = tan θ``, bow down positive (0 by default).
 
@@ -179,7 +179,8 @@ def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array
     Returns
     -------
     Array, scalar
-        Waterplane height [m] in the heeled frame (the nearer bound where the volume is out of reach).
+        Waterplane height [m] at midship in the heeled frame (the solve does not raise: a volume out of
+        reach is not reported).
     """
     dtype = sections.yz.dtype
     heel = jnp.asarray(heel, dtype=dtype)
