@@ -172,6 +172,8 @@ def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0
         Strips along the wet length on which the sectional coefficients are computed (half-sections
         interpolated between the hull's stations; odd, for Simpson's rule); None: the hull's own stations.
         Strip theory needs 20–30 strips, so a mesh hull's 201 stations cost 8× more for nothing.
+    rho, g : float
+        Water density [kg/m³] and gravity [m/s²].
 
     Returns
     -------
