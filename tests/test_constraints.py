@@ -63,7 +63,8 @@ def test_objective_constraints_take_the_objectives_options():
     raw.update(kind="fit", objective=None)
     with pytest.raises(ValueError, match="a fit holds targets only"):
         RunConfig.model_validate({k: v for k, v in raw.items() if v is not None})
-    assert RunConfig.model_validate(_raw()).solver.fairness > 0  # fairness on by default
+    cfg = RunConfig.model_validate(_raw())
+    assert cfg.solver.fairness_for(cfg.kind) > 0 and cfg.solver.fairness_for("fit") == 0  # on by default but for fits
 
 
 def test_inequalities_meet_the_kkt_point_by_hand():

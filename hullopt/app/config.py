@@ -29,7 +29,9 @@ from ..optimise import OBJECTIVES, TARGETS, Objective, make_targets
 
 
 FAIRNESS = 0.05
-"""The default weight of the fairness penalty (``[solver] fairness``): see the README's "Fairness"."""
+"""The default weight of the fairness penalty (``[solver] fairness``) of minimise and Pareto runs, where an
+objective pulls the shape (a fit's default is 0: it already deforms the least needed); see the README's
+"Fairness"."""
 
 
 class _Strict(BaseModel):
@@ -188,7 +190,14 @@ class ConstraintsConfig(_Strict):
 class SolverConfig(_Strict):
     max_steps: int = Field(default=200, ge=1)
     smoothness: float = Field(default=1e-6, ge=0)
-    fairness: float = Field(default=FAIRNESS, ge=0, description="weight of the unfairness penalty U/U_parent")
+    fairness: float | None = Field(default=None, ge=0, description="weight of the unfairness penalty U/U_parent "
+                                   "(default: FAIRNESS for minimise and pareto runs, 0 for fits)")
+
+    def fairness_for(self, kind: str) -> float:
+        """The fairness weight of a run of ``kind``: as given, else :data:`FAIRNESS` (0 for a fit)."""
+        if self.fairness is not None:
+            return self.fairness
+        return 0.0 if kind == "fit" else FAIRNESS
     outer: int = Field(default=8, ge=1, le=50)
 
 

@@ -113,7 +113,7 @@ def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
         raise HullError(f"targets: {e}") from None
     design = Design(model=model, draft=np.asarray(float(draft)), targets=targets,
                     objective=objective_from(cfg.objective) if cfg.objective else None,
-                    smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness,
+                    smoothness=cfg.solver.smoothness, param_scale=half, fairness=cfg.solver.fairness_for(cfg.kind),
                     limits=None if cfg.kind == "fit" else limits_from(cfg))
     return Problem(design, p0, lower, half, cfg.hull.parent)
 
