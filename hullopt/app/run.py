@@ -394,8 +394,9 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
         who = "" if one else f"design {i}: "
         for k, g in groups.items():
             g = float(np.asarray(g)[i])
+            extra = cfg.constraints.model_extra or {}
             what = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline"}.get(
-                k, f"{k} {cfg.constraints.model_extra[k]}" if cfg.constraints.model_extra else k)
+                k, f"{k} {extra[k]}" if k in extra else k)
             if g > tol:
                 warnings.append(f"{who}constraint violated: {what} (by {g:.3g} of its bound)")
             elif g >= -tol and k not in ("max_half_breadth", "bulge"):  # those are on their bound at the parent

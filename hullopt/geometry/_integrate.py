@@ -92,7 +92,7 @@ def _centre_waterline_distance(yz: Array, level: Array) -> Array:
     return safe_sqrt(jnp.where(jnp.isfinite(d2), d2, 0.0))
 
 
-def waterline_ends(x: Array, yz: Array, half_breadth: Array, level: Array) -> tuple[Array, Array]:
+def waterline_ends(x: ArrayLike, yz: ArrayLike, half_breadth: ArrayLike, level: ArrayLike) -> tuple[Array, Array]:
     """The aft and forward ends [m from the AP] of the waterline ``z = level``: where it meets the stern and
     stem profiles, between the last station with a waterline (``half_breadth > 0``) and its dry neighbour.
 

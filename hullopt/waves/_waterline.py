@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from ..geometry import Sections, safe_div, section_integrals
 
@@ -31,10 +31,10 @@ class Waterline(eqx.Module):
         station segments, then the forward closing segment (0, −y_{n−1}).
     """
 
-    x: Float[Array, " n"]
-    y: Float[Array, " n"]
-    dx: Float[Array, " n+1"]
-    dy: Float[Array, " n+1"]
+    x: Float[ArrayLike, " n"]
+    y: Float[ArrayLike, " n"]
+    dx: Float[ArrayLike, " n+1"]
+    dy: Float[ArrayLike, " n+1"]
 
     @property
     def beam(self) -> Float[Array, ""]:

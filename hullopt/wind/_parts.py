@@ -29,16 +29,16 @@ class Parts(eqx.Module):
 
     Attributes
     ----------
-    side : (p, k, 2) float
+    side : (p, ks, 2) float
         Lateral projections ``(x, z)`` [m]: x from the AP, z from the baseline; counter-clockwise.
-    front : (p, k, 2) float
+    front : (p, kf, 2) float
         Frontal projections ``(y, z)`` [m]: y to port, z from the baseline; counter-clockwise.
     names, kinds, groups : tuple of str (static)
         Part names, kinds (see :data:`KINDS`) and mast-group labels (masts with one label count once in M).
     """
 
-    side: Float[Array, "p k 2"]
-    front: Float[Array, "p k 2"]
+    side: Float[Array, "p ks 2"]
+    front: Float[Array, "p kf 2"]
     names: tuple[str, ...] = eqx.field(static=True)
     kinds: tuple[str, ...] = eqx.field(static=True)
     groups: tuple[str, ...] = eqx.field(static=True)
@@ -218,8 +218,8 @@ class Projections(eqx.Module):
 
     hull_side: Float[Array, "v 2"]
     hull_front: Float[Array, "w 2"]
-    part_side: Float[Array, "p k 2"]
-    part_front: Float[Array, "p k 2"]
+    part_side: Float[Array, "p ks 2"]
+    part_front: Float[Array, "p kf 2"]
     present: Bool[Array, " n"]
     draft: Float[Array, ""]
     parts: Parts
