@@ -11,7 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.app.config import RunConfig, parse_bound
+from hullopt.app.config import FAIRNESS, RunConfig, SolverConfig, parse_bound
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
@@ -63,8 +63,9 @@ def test_objective_constraints_take_the_objectives_options():
     raw.update(kind="fit", objective=None)
     with pytest.raises(ValueError, match="a fit holds targets only"):
         RunConfig.model_validate({k: v for k, v in raw.items() if v is not None})
-    cfg = RunConfig.model_validate(_raw())
-    assert cfg.solver.fairness_for(cfg.kind) > 0 and cfg.solver.fairness_for("fit") == 0  # on by default but for fits
+    solver = SolverConfig()  # fairness on by default, but for fits
+    assert solver.fairness_for("minimise") == solver.fairness_for("pareto") == FAIRNESS > 0
+    assert solver.fairness_for("fit") == 0 and SolverConfig(fairness=0.2).fairness_for("fit") == 0.2
 
 
 def test_inequalities_meet_the_kkt_point_by_hand():
