@@ -7,11 +7,12 @@ STAMP := $(VENV)/.installed-stamp
 
 .PHONY: demo test bench clean
 
-$(STAMP): pyproject.toml
+# constraints.txt pins the jax the suite passes on (pyproject.toml allows only a tested range)
+$(STAMP): pyproject.toml constraints.txt
 	@test -n "$(PYTHON)" || { echo "error: Python >= 3.11 not found"; exit 1; }
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install -q --upgrade pip
-	$(VENV)/bin/python -m pip install -q -e '.[test]'
+	$(VENV)/bin/python -m pip install -q -c constraints.txt -e '.[test]'
 	@touch $(STAMP)
 
 demo: $(STAMP)
@@ -21,9 +22,12 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest -n 2 --dist loadfile
 
+# ship-model-lib pins plotly ~=5.13 (ours >= 5.20) for a module the benchmarks don't use: no deps.
+# BENCH_ARGS=--quick: shorter runs where a script offers them (benchmarks/run.py).
 bench: $(STAMP)
-	$(VENV)/bin/python -m pip install -q -e '.[test,bench]'
-	$(VENV)/bin/python benchmarks/run.py
+	$(VENV)/bin/python -m pip install -q -c constraints.txt -e '.[test,bench]'
+	$(VENV)/bin/python -m pip install -q --no-deps 'ship-model-lib==1.0.2'
+	$(VENV)/bin/python benchmarks/run.py $(BENCH_ARGS)
 
 clean:
 	rm -rf $(VENV) build *.egg-info
