@@ -1,4 +1,8 @@
-"""Shared helpers for benchmarks: timing, machine info, atomic result files."""
+"""Shared helpers for benchmarks: timing, machine info (with the jax device), goals, atomic result files.
+
+The benchmarks run on jax's default backend: a GPU when jax with CUDA is installed (``pip install -e '.[gpu]'``)
+and one is present, else the CPU (``JAX_PLATFORMS=cpu`` forces it); each result records the device.
+"""
 
 from __future__ import annotations
 
@@ -6,25 +10,56 @@ import json
 import os
 import platform
 import statistics
+import sys
 import time
 from pathlib import Path
 
 RESULTS = Path(__file__).parent / "results"
+# 1-minute load average when the benchmark started (importing this module), before its own work loads the
+# machine: other jobs' load, which makes timings upper bounds (os.getloadavg: Unix only).
+LOAD_AT_START = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
 
 
 HULLS = Path(__file__).resolve().parents[1] / "examples" / "hulls"  # real hulls (see SOURCES.md there)
 
 
-def machine() -> dict:
+def quick() -> bool:
+    """True for a short run: ``--quick`` on the script's command line or ``HULLOPT_BENCH_QUICK=1`` (run.py
+    sets it for every script when given ``--quick``)."""
+    return "--quick" in sys.argv[1:] or os.environ.get("HULLOPT_BENCH_QUICK", "") not in ("", "0")
+
+
+def device() -> dict:
+    """The device the benchmark ran on: jax's default backend and its first device (platform, kind)."""
     import jax
+
+    d = jax.devices()[0]
+    return {"backend": jax.default_backend(), "platform": d.platform, "kind": d.device_kind,
+            "count": jax.device_count()}
+
+
+def machine() -> dict:
+    """Python, jax and jaxlib versions, CPU, cores, the load average at the start, the jax device, the date."""
+    import jax
+    import jaxlib
 
     return {
         "python": platform.python_version(),
         "jax": jax.__version__,
+        "jaxlib": jaxlib.__version__,
         "cpu": platform.processor() or platform.machine(),
         "cores": os.cpu_count(),
-        "date": time.strftime("%Y-%m-%d %H:%M"),
+        "load_at_start": None if LOAD_AT_START is None else round(LOAD_AT_START, 2),
+        "device": device(),
+        "quick": quick(),
+        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
     }
+
+
+def goal(name: str, value, unit: str, target: str, met: bool | None, peer: str | None = None) -> dict:
+    """One row of the summary table (benchmarks/run.py): what is measured, its value and unit, the goal as
+    text (``"≤ 3"``), whether it is met (None: no pass/fail, a side-by-side figure) and the peer's figure."""
+    return {"name": name, "value": value, "unit": unit, "target": target, "met": met, "peer": peer}
 
 
 def timeit(fn, repeat: int = 7) -> float:
@@ -38,6 +73,8 @@ def timeit(fn, repeat: int = 7) -> float:
 
 
 def save(name: str, data: dict) -> Path:
+    """Write ``results/<name>.json``: the machine info and ``data`` (which may hold ``"goals"``: a list of
+    :func:`goal` rows for the summary table), atomically."""
     RESULTS.mkdir(exist_ok=True)
     path = RESULTS / f"{name}.json"
     tmp = path.with_suffix(".tmp")
