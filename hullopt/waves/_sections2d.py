@@ -196,7 +196,11 @@ def _influence(nodes, nu, n_gauss, infinite):
     # Rankine parts: the panel, its mirror (same strength), and their images above the free surface (opposite).
     ends_a = jnp.stack([a, _mirror(a), _image(a), _image(_mirror(a))])  # (4, N, 2)
     ends_b = jnp.stack([b, _mirror(b), _image(b), _image(_mirror(b))])
-    sgn = jnp.asarray([1.0, 1.0, -1.0, -1.0])[:, None, None]
+    # At finite frequency the wave term's logarithmic part 2 ln r₁ is moved to the images (sign +1, integrated
+    # in closed form) and only the bounded remainder W − 2 ln r₁ is left to the Gauss points; at ω → ∞ the
+    # images carry −1 and there is no wave term.
+    img = -1.0 if infinite else 1.0
+    sgn = jnp.asarray([1.0, 1.0, img, img])[:, None, None]
     v, gy, gz, _ = _log_panel(p[None], ends_a[:, None], ends_b[:, None])  # (4, N, N)
     dnr = gy * normal[None, :, None, 0] + gz * normal[None, :, None, 1]
     pot = jnp.sum(sgn * v, axis=0).astype(complex)
@@ -209,6 +213,9 @@ def _influence(nodes, nu, n_gauss, infinite):
         dy = p[None, :, :, None, 0] - q[:, None, :, :, 0]  # (2, N, N, G)
         ysum = p[None, :, :, None, 1] + q[:, None, :, :, 1]
         val, wy, wz = _wave_term(dy, ysum, nu)
+        r1sq = dy * dy + ysum * ysum  # > 0: field points are panel midpoints, below the free surface
+        val = val - jnp.log(r1sq).astype(complex)
+        wy, wz = wy - (2.0 * dy / r1sq).astype(complex), wz - (2.0 * ysum / r1sq).astype(complex)
         wts = wg[None, None, None, :] * length[None, None, :, None]
         wts = wts.astype(complex)
         nyc, nzc = normal[None, :, None, None, 0].astype(complex), normal[None, :, None, None, 1].astype(complex)
