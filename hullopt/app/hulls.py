@@ -5,27 +5,36 @@
   (``?design=K`` picks design K of a sweep).
 
 A run folder needs the run code (configs, problems), so it is read here, on the app floor; every other spec is
-delegated to :mod:`hullopt.models`.
+delegated to :mod:`hullopt.models`. The sections sliced from a mesh or CAD file are kept in
+``$HULLOPT_CACHE/sections`` (default ``~/.cache/hullopt/sections``), keyed by the file's content, the spec and
+the slicing code, so the next command on the same hull skips reading and slicing it.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..errors import HullError
 from ..models import LoadedHull, check_params_used, split_spec, take_param
 from ..models import load_hull as load_spec
 
-__all__ = ["LoadedHull", "load_hull"]
+__all__ = ["LoadedHull", "load_hull", "sections_cache"]
+
+
+def sections_cache() -> Path:
+    """Where the sections of mesh and CAD hulls are kept: ``$HULLOPT_CACHE/sections`` (default
+    ``~/.cache/hullopt/sections``)."""
+    return Path(os.environ.get("HULLOPT_CACHE", Path.home() / ".cache" / "hullopt")) / "sections"
 
 
 def load_hull(spec: str) -> LoadedHull:
-    """Read the hull named by ``spec``: a run folder here, any other spec by :func:`hullopt.models.load_hull`;
-    :class:`HullError` on any problem."""
+    """Read the hull named by ``spec``: a run folder here, any other spec by :func:`hullopt.models.load_hull`
+    (a mesh's sections kept in :func:`sections_cache`); :class:`HullError` on any problem."""
     base, params = split_spec(spec)
     if not base.startswith(("parent:", "builtin:")) and Path(base).is_dir():
         return _run_folder(Path(base), params, spec)
-    return load_spec(spec)
+    return load_spec(spec, cache=sections_cache())
 
 
 def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:

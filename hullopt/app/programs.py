@@ -4,9 +4,11 @@ JAX's persistent compilation cache saves the XLA compile, but every new process 
 Python program (seconds for a solve through the feature-hull model). :func:`cached_call` also keeps the
 lowered program: a ``jax.export`` serialization (StableHLO) of the jitted function, keyed by what determines
 it — the caller's key (the resolved config), the shapes of the array inputs, the source of this package and
-the versions of jax, jaxlib, equinox, optimistix and lineax. A later process deserializes it and calls it;
-its compile then comes from the compilation cache. Array inputs stay arguments (not constants), so the
-program file is small.
+the versions of jax, jaxlib, equinox, optimistix and lineax. Beside it the file keeps
+the compiled executable (``jax.experimental.serialize_executable``): a later process loads that and calls it,
+with no tracing, lowering or compiling at all (lowering the exported module alone took ~0.5–1 s of a warm
+``hullopt hydro``); when the executable cannot be loaded, the exported program is called and its compile
+comes from the compilation cache. Array inputs stay arguments (not constants), so the program file is small.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
@@ -19,6 +21,7 @@ import contextlib
 import functools
 import hashlib
 import json
+import os
 import pickle
 import re
 import time
@@ -67,25 +70,86 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         return eqx.filter_jit(fn)(*args, *static)
     dynamic, fixed = eqx.partition(args, eqx.is_array)
     leaves, in_tree = jax.tree.flatten(dynamic)
-    signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest()]
+    # the executable is built for these devices and XLA's flags
+    devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
+    signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
+                 devices]
     digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]
     path = folder / f"{name}-{digest}.bin"
     try:
         kept = pickle.loads(path.read_bytes())
-        exported, skeleton = jax.export.deserialize(kept["program"]), kept["outputs"]
+        program, skeleton = kept["program"], kept["outputs"]
     except Exception:  # absent, stale or unreadable: build it again
         exported, skeleton = _export(fn, leaves, in_tree, fixed, static)
+        targets = sorted(set(re.findall(r"custom_call @(\w+)", exported.mlir_module())))
+        lowered = jax.jit(exported.call).lower(*leaves)
+        # an executable calling out to anything but LAPACK (a host callback holds an address of this process)
+        # is not kept; its compile goes through the compilation cache
+        keep = all(t.startswith("lapack_") for t in targets)
+        compiled, fresh = _compile_fresh(lowered) if keep else (lowered.compile(), False)
+        kept = {"program": exported.serialize(), "outputs": skeleton, "targets": targets,
+                "executable": _serialize(compiled) if fresh else None}
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            atomic_write_bytes(path, pickle.dumps({"program": exported.serialize(), "outputs": skeleton}))
+            atomic_write_bytes(path, pickle.dumps(kept))
             _prune(folder)
         except OSError:
             pass  # a read-only cache: run without keeping the program
     else:
         with contextlib.suppress(OSError):
             path.touch()  # in use: keep it (see _prune)
-    out_leaves = exported.call(*leaves)
+        compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
+        if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
+            compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile()
+    out_leaves = compiled(*leaves)
     return jax.tree.unflatten(jax.tree.structure(skeleton), out_leaves)
+
+
+def _compile_fresh(lowered) -> tuple:
+    """``(lowered.compile(), fresh)``: compiled here, not loaded from the persistent compilation cache, when
+    ``fresh`` (XLA:CPU cannot serialize again an executable it loaded from there: the copy lacks its fused
+    kernels). The cache is bypassed through jax's private switch, which the key's jax version pins; where that
+    fails, an ordinary compile (not fresh)."""
+    try:
+        from jax._src import compilation_cache as cc
+
+        with cc._cache_initialized_mutex:
+            saved = cc._cache_checked, cc._cache_used
+            cc._cache_checked, cc._cache_used = True, False
+    except Exception:
+        return lowered.compile(), False
+    try:
+        return lowered.compile(), True
+    finally:
+        with cc._cache_initialized_mutex:
+            cc._cache_checked, cc._cache_used = saved
+
+
+def _serialize(compiled) -> tuple | None:
+    """A compiled executable as bytes and its argument and result trees; None where the backend cannot
+    serialize it."""
+    from jax.experimental.serialize_executable import serialize
+
+    try:
+        return serialize(compiled)
+    except Exception:  # the exported program is enough
+        return None
+
+
+def _deserialize(kept: tuple | None, targets: list[str]):
+    """The executable kept by :func:`_serialize`, loaded; None when there is none or it does not load."""
+    if kept is None:
+        return None
+    from jax.experimental.serialize_executable import deserialize_and_load
+
+    try:
+        if targets:  # LAPACK's kernels are bound when jax first lowers one; a loaded executable needs them bound
+            from jax._src.lib import lapack
+
+            lapack._lapack.initialize()
+        return deserialize_and_load(*kept)
+    except Exception:
+        return None
 
 
 def _prune(folder: Path, days: float = 30.0) -> None:

@@ -14,10 +14,25 @@ take the same strings, and add run folders: :func:`hullopt.app.hulls.load_hull`)
 
 Reading is static preprocessing (numpy, files); the :class:`~hullopt.geometry.Sections` it returns are what
 the differentiable code takes.
+
+Slicing a mesh takes seconds (reading the file, checking where it is open, cutting every station); given a
+``cache`` folder, :func:`load_hull` keeps a mesh's sections there as ``<key digest>.npz``, keyed by the SHA-256
+of the file's content (not its path), the spec's parameters (scale, axes, shift, lpp, n, m, tol, half), the
+source of the modules that read and slice it and the versions of the libraries they read with (trimesh, numpy;
+gmsh for CAD). A later call with the same file and spec reads them back (no trimesh, no slicing); a changed file,
+spec or reading code misses. Files are written atomically and a missing, corrupt or foreign one is sliced again;
+a read-only folder is only read; kept sections unused for 30 days are deleted when new ones are written.
+The library keeps nothing unless asked; the CLI passes ``$HULLOPT_CACHE/sections``.
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import hashlib
+import io
+import json
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import parse_qsl
@@ -25,7 +40,7 @@ from urllib.parse import parse_qsl
 import numpy as np
 
 from ..errors import HullError
-from ..geometry import Sections, read_stl_header
+from ..geometry import Sections, atomic_write_bytes, read_stl_header
 from ._builtins import BUILTINS
 from ._cad import is_cad
 from ._meshes import MeshTransform, read_mesh, slice_mesh
@@ -133,7 +148,7 @@ def check_params_used(params: dict[str, str], spec: str, allowed: list[str]) -> 
         )
 
 
-def load_hull(spec: str) -> LoadedHull:
+def load_hull(spec: str, cache: str | Path | None = None) -> LoadedHull:
     """Read the hull named by a hull spec.
 
     Parameters
@@ -141,6 +156,10 @@ def load_hull(spec: str) -> LoadedHull:
     spec : str
         ``builtin:NAME?…``, ``parent:NAME|FILE.json[?q=]``, an offsets ``.csv`` or a mesh or CAD file with its
         ``?scale=&lpp=&axes=&shift=&n=&m=&half=&tol=`` parameters (see the module docstring; lengths in m).
+    cache : str or Path, optional
+        A folder where the sections sliced from a mesh or CAD file are kept and read back, keyed by the file's
+        content, the spec's parameters and the slicing code (see the module docstring); created if missing.
+        ``None`` (default): nothing is kept. Other specs ignore it.
 
     Returns
     -------
@@ -169,7 +188,7 @@ def load_hull(spec: str) -> LoadedHull:
         raise HullError(f"hull {spec!r}: no such file or run folder {base!r} (nor builtin:NAME, parent:NAME){hint}")
     if path.suffix.lower() == ".csv":
         return _offset_table(path, params, spec)
-    return _mesh(path, params, spec)
+    return _mesh(path, params, spec, cache)
 
 
 def _builtin(name: str, params: dict[str, str], spec: str) -> LoadedHull:
@@ -191,8 +210,9 @@ def _offset_table(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
     return LoadedHull(offsets_to_sections(table, **res), path.name)
 
 
-def _mesh(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
-    """A mesh or CAD surface, brought into our axes and sliced (closed, open-topped or a half hull)."""
+def _mesh(path: Path, params: dict[str, str], spec: str, cache: str | Path | None = None) -> LoadedHull:
+    """A mesh or CAD surface, brought into our axes and sliced (closed, open-topped or a half hull); kept in
+    and read back from ``cache`` when given."""
     shift = take_param(params, "shift", spec, str, "0,0,0")
     try:
         shift_xyz = tuple(float(v) for v in shift.split(","))
@@ -213,6 +233,15 @@ def _mesh(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
         raise HullError(f"hull {spec!r}: tol must be a positive length in m (largest triangle edge of a CAD surface)")
     half = take_param(params, "half", spec, str, "auto")  # auto|yes|no: a half hull open at the centre plane
     check_params_used(params, spec, ["scale", "axes", "shift", "lpp", "n", "m", "tol", "half"])
+    kept = None
+    if cache is not None:
+        kept = _KeptSections(Path(cache), path, {
+            "scale": transform.scale, "axes": transform.axes, "shift": list(transform.shift), "lpp": lpp, "n": n,
+            "m": m, "tol": tol, "half": half,
+        })
+        hit = kept.read()
+        if hit is not None:
+            return hit
     mesh = read_mesh(path, transform, half=half, tolerance=tol)
     # Lpp and draft of a hull hullopt wrote (in its own axes: used when the file is read as it was written)
     as_written = transform.axes.replace(" ", "") == "x,y,z" and transform.shift == (0.0, 0.0, 0.0)
@@ -226,7 +255,84 @@ def _mesh(path: Path, params: dict[str, str], spec: str) -> LoadedHull:
         sections = slice_mesh(mesh, lpp, n, m)
     except HullError as e:
         raise HullError(f"{path}: {e}") from None
-    return LoadedHull(sections, path.name, draft)
+    loaded = LoadedHull(sections, path.name, draft)
+    if kept is not None:
+        kept.write(loaded)
+    return loaded
+
+
+_KEPT_DAYS = 30.0  # kept sections unused this long are deleted when new ones are written
+_SLICING_CODE = ("_meshes.py", "_cad.py", "_specs.py")  # the modules that read and slice a mesh
+
+
+@functools.cache
+def _slicing_digest(cad: bool) -> str:
+    """Digest of the source that reads and slices a mesh and of the library versions it reads with."""
+    from importlib import metadata
+
+    h = hashlib.sha256()
+    here = Path(__file__).resolve().parent
+    for name in _SLICING_CODE:
+        h.update(name.encode())
+        h.update((here / name).read_bytes())
+    for lib in ("numpy", "trimesh", *(("gmsh",) if cad else ())):
+        try:
+            h.update(f"{lib}={metadata.version(lib)}".encode())
+        except metadata.PackageNotFoundError:
+            h.update(f"{lib}=none".encode())
+    return h.hexdigest()
+
+
+class _KeptSections:
+    """The sections of one mesh file and spec in a cache folder (see the module docstring)."""
+
+    def __init__(self, folder: Path, path: Path, spec_params: dict) -> None:
+        self.folder, self.path = folder, path
+        try:
+            content = hashlib.sha256(path.read_bytes()).hexdigest()
+        except OSError as e:
+            raise HullError(f"{path}: cannot read the file ({e})") from None
+        key = {"file": content, "spec": spec_params, "code": _slicing_digest(is_cad(path)), "format": 1}
+        self.key = hashlib.sha256(json.dumps(key, sort_keys=True, default=repr).encode()).hexdigest()
+        self.file = folder / f"{self.key[:32]}.npz"
+
+    def read(self) -> LoadedHull | None:
+        """The kept sections, or None when absent, unreadable or not this key's."""
+        import jax.numpy as jnp
+
+        try:
+            with np.load(io.BytesIO(self.file.read_bytes()), allow_pickle=False) as z:
+                meta = json.loads(str(z["meta"]))
+                if meta.get("key") != self.key:
+                    return None
+                x, yz, lpp = (np.array(z[k], dtype=np.float64) for k in ("x", "yz", "lpp"))
+        except (OSError, ValueError, KeyError, TypeError):
+            return None
+        if x.ndim != 1 or yz.shape != (len(x), yz.shape[1], 2) or lpp.shape != ():
+            return None
+        with contextlib.suppress(OSError):
+            self.file.touch()  # in use: keep it (see _prune)
+        draft = meta.get("design_draft")
+        sections = Sections(x=jnp.asarray(x), yz=jnp.asarray(yz), lpp=jnp.asarray(lpp))
+        return LoadedHull(sections, self.path.name, None if draft is None else float(draft))
+
+    def write(self, hull: LoadedHull) -> None:
+        """Keep ``hull``'s sections (atomically); a read-only folder keeps nothing."""
+        s = hull.sections
+        meta = {"key": self.key, "design_draft": hull.design_draft, "source": self.path.name}
+        buf = io.BytesIO()
+        np.savez(buf, x=np.asarray(s.x, np.float64), yz=np.asarray(s.yz, np.float64),
+                 lpp=np.asarray(s.lpp, np.float64), meta=np.array(json.dumps(meta)))
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            atomic_write_bytes(self.file, buf.getvalue())
+        except OSError:
+            return
+        cutoff = time.time() - _KEPT_DAYS * 86400.0
+        for old in self.folder.glob("*.npz"):
+            with contextlib.suppress(OSError):  # another process may have deleted it already
+                if old.stat().st_mtime < cutoff:
+                    old.unlink()
 
 
 def _parent(name: str, params: dict[str, str], spec: str) -> LoadedHull:

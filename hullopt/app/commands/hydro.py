@@ -1,17 +1,19 @@
-"""``hullopt hydro`` (hydrostatics at a draft, a displacement or over drafts) and ``hullopt export``."""
+"""``hullopt hydro`` (hydrostatics at a draft, a displacement or over drafts) and ``hullopt export``.
+
+The table is one kept program (:func:`~hullopt.app.programs.cached_call`): a warm ``hullopt hydro`` neither
+imports the hydrostatics nor traces or compiles them."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Annotated
 
-import equinox as eqx
 import numpy as np
 import typer
 
+from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
-from ...hydro import RHO_SEA, draft_for_volume, hydrostatic_table
 from .._app import app
 from ..hulls import LoadedHull, load_hull
 from ..output import PARTICULARS, parse_range, print_json, say, table, unit_places, write_hull_file
@@ -24,10 +26,17 @@ HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigl
 ROWS = [(key, *v) for key, v in PARTICULARS.items()]
 
 
+def keel_and_depth(hull: LoadedHull) -> tuple[float, float]:
+    """The lowest and highest points of the hull's sections [m above the baseline] (numpy: no JAX op)."""
+    z = np.asarray(hull.sections.yz)[..., 1]
+    return float(z.min()), float(z.max())
+
+
 def check_draft(hull: LoadedHull, draft: float, what: str = "--draft") -> float:
     """A draft must lie above the baseline (and the keel) and at most at the deck (there the waterplane is the
     deck edge's: the deck closes the sections); above the deck the hull is submerged."""
-    lo, hi = max(0.0, float(hull.sections.keel)), float(hull.sections.depth)
+    keel, hi = keel_and_depth(hull)
+    lo = max(0.0, keel)
     if not (np.isfinite(draft) and lo < draft <= hi):
         where = "above the deck" if np.isfinite(draft) and draft > hi else "outside the hull"
         raise HullError(f"{what} {draft:g} m is {where}: expected a draft in ({lo:g}, {hi:g}] m "
@@ -54,6 +63,8 @@ def resolve_drafts(hull, draft, displacement, drafts, rho) -> np.ndarray:
     if drafts is not None:
         return np.array([check_draft(hull, t, "--drafts value") for t in parse_range(drafts, "--drafts")])
     if displacement is not None:
+        from ...hydro import draft_for_volume, hydrostatic_table
+
         volume = parse_displacement(displacement) / rho
         full = float(hydrostatic_table(hull.sections, np.array([float(hull.sections.depth)]), rho).volume[0])
         if volume >= full:
@@ -80,7 +91,7 @@ def hydro(
         raise HullError(f"--rho {rho}: must be a positive density in kg/m³")
     h = load_hull(hull)
     ts = resolve_drafts(h, draft, displacement, drafts, rho)
-    res = eqx.filter_jit(hydrostatic_table)(h.sections, ts, rho).to_dict()
+    res = hydro_table(h.sections, ts, rho)
     records = [{k: v[i] for k, v in res.items()} for i in range(len(ts))]
     if json:
         print_json(records[0] if len(records) == 1 and drafts is None else records)
@@ -90,6 +101,27 @@ def hydro(
     table(f"Hydrostatics — {h.name} (Lpp {float(h.sections.lpp):g} m, ρ {rho:g} kg/m³)",
           ["quantity at draft T →", *(f"{t:.3f} m" for t in ts)], rows, by="row",
           places=[unit_places(unit) for _, _, unit, _ in ROWS])
+
+
+def _table(sections, drafts, rho) -> dict:
+    from ...hydro import hydrostatic_table
+
+    return dict(vars(hydrostatic_table(sections, drafts, rho)))
+
+
+def hydro_table(sections, drafts: np.ndarray, rho: float) -> dict[str, list[float]]:
+    """:func:`~hullopt.hydro.hydrostatic_table` as ``Hydrostatics.to_dict`` gives it, through a kept program
+    (the hydrostatics are imported only when the program is built)."""
+    import jax.numpy as jnp
+
+    from ..programs import cached_call
+
+    # ρ is a Python float in the program (as hydrostatic_table declares it): one program per density
+    res = cached_call("hydrostatic_table", _table, (sections, jnp.asarray(drafts, dtype=float)), (float(rho),),
+                      key="hydro v1")
+    # the fields in Hydrostatics' order (PARTICULARS lists them so; a kept dict comes back sorted by key)
+    order = [*(k for k in PARTICULARS if k in res), *(k for k in res if k not in PARTICULARS)]
+    return {k: np.asarray(res[k]).tolist() for k in order}
 
 
 @app.command()

@@ -1,5 +1,8 @@
 """``hullopt stability`` (GZ curve, cross curves, IS Code criteria), ``hullopt lines`` (lines plan, curves,
-offset tables) and ``hullopt print`` (a scaled model in watertight pieces for 3D printing)."""
+offset tables) and ``hullopt print`` (a scaled model in watertight pieces for 3D printing).
+
+``stability`` runs one kept program (:func:`~hullopt.app.programs.cached_call`) and imports the hydrostatics
+only while it computes: a warm call neither traces nor compiles, and the imports overlap the solve."""
 
 from __future__ import annotations
 
@@ -11,9 +14,9 @@ import jax.numpy as jnp
 import numpy as np
 import typer
 
+from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import export_mesh, split_for_print, to_trimesh
-from ...hydro import RHO_SEA, cross_curves, heeled_integrals, hydrostatic_table, icll_sheer, stability, with_sheer
 from .._app import app
 from ..hulls import LoadedHull, load_hull
 from ..output import (EXIT_CRITERIA, busy, fmt, parse_range, print_json, quantity, say, styled, table, unit_places,
@@ -29,6 +32,8 @@ def _sectioned(hull: LoadedHull, sheer: str):
     if s == "none":
         return hull.sections
     if s == "icll":
+        from ...hydro import icll_sheer, with_sheer
+
         return with_sheer(hull.sections, icll_sheer(hull.sections))
     raise HullError(f"--sheer {sheer!r}: expected 'none' or 'icll'")
 
@@ -42,11 +47,39 @@ def _check_out(path: Path, formats: tuple[str, ...], what: str) -> Path:
 
 
 def _volume(sections, displacement: str, rho: float, what: str = "--displacement") -> float:
+    from ...hydro import heeled_integrals
+
     volume = parse_displacement(displacement) / rho
     full = float(heeled_integrals(sections, 0.0, float(sections.depth) + 1.0).volume)
     if volume >= full:
         raise HullError(f"{what} {displacement}: more than the hull displaces at its deck ({rho * full / 1e3:,.0f} t)")
     return volume
+
+
+def _stability_program(sections, volume, kg, heels, lcg, fsc, flooding_angle, free_trim: bool):
+    """:func:`~hullopt.hydro.stability`'s curve and criteria as dicts of their fields (a kept program's outputs
+    then need no hydro class to be read back) and the volume the hull displaces at its deck [m³] (as
+    :func:`_volume`)."""
+    from ...hydro import heeled_integrals, stability
+
+    full = heeled_integrals(sections, 0.0, jnp.max(sections.yz[..., 1]) + 1.0).volume
+    res = stability(sections, volume, kg, heels, lcg, fsc, free_trim, flooding_angle)
+    return dict(vars(res.curve)), dict(vars(res.criteria)), full
+
+
+def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: float | None, fsc: float,
+                    free_trim: bool, flooding_angle: float | None):
+    """Dispatch :func:`_stability_program` through a kept program (no tracing or compiling when warm; angles in
+    radians, lengths in m) and return at once: ``(curve fields, criteria fields, volume at the deck)``, arrays
+    still being computed."""
+    from ..programs import cached_call
+
+    def arr(v):  # arrays, not Python floats: a float would be baked into the program
+        return None if v is None else jnp.asarray(v, dtype=float)
+
+    args = (sections, arr(volume), arr(kg), arr(heels), arr(lcg), arr(fsc), arr(flooding_angle))
+    key = {"lcg": lcg is not None, "flooding_angle": flooding_angle is not None, "v": 2}
+    return cached_call("stability", _stability_program, args, (free_trim,), key=key)
 
 
 @app.command("stability")
@@ -90,16 +123,19 @@ def stability_cmd(
     with busy("reading the hull", quiet=json) as stage:
         h = load_hull(hull)
         sections = _sectioned(h, sheer)
-        volume = _volume(sections, displacement, rho)
-        if lcg is not None and not (float(sections.x[0]) <= lcg <= float(sections.x[-1])):
-            raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(sections.x[0]):g} … "
-                            f"{float(sections.x[-1]):g} m)")
-        theta_f = None if flooding_angle is None else jnp.deg2rad(jnp.asarray(flooding_angle))
-        arr = jnp.asarray  # arrays, not Python floats: filter_jit would compile once per value
+        x = np.asarray(sections.x)
+        if lcg is not None and not (float(x[0]) <= lcg <= float(x[-1])):
+            raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(x[0]):g} … {float(x[-1]):g} m)")
+        volume = parse_displacement(displacement) / rho
         stage(f"GZ curve: equilibrium at {len(deg)} heels")
-        res = eqx.filter_jit(stability)(sections, arr(volume), arr(kg), jnp.deg2rad(arr(deg)),
-                                        None if lcg is None else arr(lcg), arr(fsc), not fixed_trim, theta_f)
-        c, crit = res.curve, res.criteria
+        curve, criteria, full = _stability_call(sections, volume, kg, np.deg2rad(deg), lcg, fsc, not fixed_trim,
+                                                None if flooding_angle is None else np.deg2rad(flooding_angle))
+        from ...hydro import Criteria, StabilityCurve  # imported while the program computes
+
+        c, crit = StabilityCurve(**curve), Criteria(**criteria)
+        if volume >= float(full):  # the curve solved for it is thrown away
+            raise HullError(f"--displacement {displacement}: more than the hull displaces at its deck "
+                            f"({rho * float(full) / 1e3:,.0f} t)")
         out = {
             "hull": h.name, "displacement": rho * volume, "volume": volume, "kg": kg, "lcg": float(c.lcg),
             "fsc": fsc, "sheer": sheer, "free_trim": not fixed_trim, "heel_deg": deg, "gz": c.gz, "kn": c.kn,
@@ -112,6 +148,8 @@ def stability_cmd(
             disp_t = parse_range(cross, "--cross")
             stage(f"cross curves: {len(disp_t)} displacements × {len(deg)} heels")
             vols = np.array([_volume(sections, f"{float(d)}", rho, "--cross value") for d in disp_t])
+            from ...hydro import cross_curves
+
             kn = eqx.filter_jit(cross_curves)(sections, jnp.asarray(vols), jnp.deg2rad(jnp.asarray(deg)),
                                               not fixed_trim)
             out["cross_curves"] = {"displacement": disp_t * 1e3, "heel_deg": deg, "kn": kn}
@@ -203,6 +241,8 @@ def lines(
         drafts = np.linspace(lo, float(h.sections.depth), 22)[1:-1]  # 20 drafts, the deck left out
         for t in drafts:
             check_draft(h, float(t), "draft")
+        from ...hydro import hydrostatic_table
+
         plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name,
                                 depth=float(h.sections.depth), design_draft=h.design_draft)
         say(f"wrote {curves}")
