@@ -16,7 +16,8 @@ Quality of each result: Cb/LCB errors, unfairness (:func:`hullopt.fairing.unfair
 parent, the largest change of half-breadth against the parent at the parent's stations (below the deck),
 and whether the stations stay in order (the smallest ratio of new to old station spacing).
 
-Run: ``cd benchmarks && ../.venv/bin/python bench_fit.py``; results in results/fit.json.
+Run: ``cd benchmarks && ../.venv/bin/python bench_fit.py [--quick]`` (``--quick``: the large case only); results in
+results/fit.json.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ jax.config.update("jax_enable_x64", True)
 import equinox as eqx  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import save, timeit  # noqa: E402
+from _common import quick, save, timeit  # noqa: E402
 from jax.flatten_util import ravel_pytree  # noqa: E402
 from scipy.optimize import minimize  # noqa: E402
 
@@ -216,7 +217,8 @@ def main() -> None:
         jax.config.update("jax_compilation_cache_dir", cache)
         jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
         jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
-        out = {name: run_case(name, ov) for name, ov in CASES.items()}
+        cases = {"large": CASES["large"]} if quick() else CASES  # --quick: the built-in example's case only
+        out = {name: run_case(name, ov) for name, ov in cases.items()}
     for name, res in out.items():
         print(f"\n{name}")
         table(name, res)
