@@ -335,6 +335,14 @@ def _measure_all(measures: dict, d: Design, p0, designs) -> tuple:
     return out_p, vals, groups, parent, sections
 
 
+def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
+    """:func:`_measure_all` and the sectional-area curves [m²] at the design draft of the parent ``(n,)`` and of
+    each design ``(k, n)``, as one program."""
+    p, vals, groups, parent, sections = _measure_all(measures, d, p0, designs)
+    areas = jax.vmap(lambda s: sectional_areas(s, d.draft))(sections)
+    return p, vals, groups, parent, sections, sectional_areas(parent, d.draft), areas
+
+
 def _sac_roughness(x, a) -> float:
     """Σ (A'')² Δx of a sectional-area curve ``a (n,)`` [m²] at stations ``x (n,)`` [m], second divided
     differences (m⁻²·m: compared between parent and design only)."""
@@ -374,10 +382,11 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
     measures = report_measures(cfg, d)
     measures["unfairness"] = _unfairness
     stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
-    p, vals, groups, parent, sections = jax.device_get(
-        eqx.filter_jit(_measure_all)(measures, d, prob.p0, stacked))
-    draft = float(d.draft)
-    areas = [np.asarray(sectional_areas(s, draft)) for s in (parent, *_unstack(sections))]
+    # one kept program (no tracing when warm), keyed like the run's: the config and the parent's content
+    key = [cfg.model_dump(mode="json"), _file_digest(cfg.hull.parent)]
+    p, vals, groups, parent, sections, areas_p, areas_d = jax.device_get(
+        cached_call("assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key))
+    areas = [np.asarray(areas_p), *np.asarray(areas_d)]
     sac = [_sac_roughness(s.x, a) for s, a in zip((parent, *_unstack(sections)), areas)]
     sec = [_section_roughness(s.yz) for s in (parent, *_unstack(sections))]
     one = len(designs) == 1
