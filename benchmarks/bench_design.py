@@ -8,8 +8,8 @@
    parameters (modes of the frame-spacing distribution).
 5. ``hullopt run configs/fit_cb_lcb.toml`` (the built-in example) cold and warm (persistent compilation cache).
 
-Run: ``cd benchmarks && ../.venv/bin/python bench_design.py [--quick]`` (``--quick``: without the cost sweeps of item 4);
-results in results/design.json.
+Run: ``cd benchmarks && ../.venv/bin/python bench_design.py [--quick]`` (``--quick``: without the cost sweeps of
+item 4); results in results/design.json.
 """
 
 from __future__ import annotations

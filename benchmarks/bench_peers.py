@@ -166,7 +166,8 @@ def main() -> None:
              "ship_model_lib_vs_J1_Y1": float(np.max(np.abs(theirs_alpha / alpha_jy - 1)))}
     print(f"α_T(1.5kT): ours vs scipy I₁,K₁ {alpha['ours_vs_ittc']:.1e}; ship_model_lib equals J₁,Y₁ (ordinary "
           f"Bessel functions, not the standard's I₁,K₁) to {alpha['ship_model_lib_vs_J1_Y1']:.1e}: "
-          f"α_T {alpha_std.min():.3f}…{alpha_std.max():.3f} by the standard, {alpha_jy.min():.3f}…{alpha_jy.max():.3f} theirs")
+          f"α_T {alpha_std.min():.3f}…{alpha_std.max():.3f} by the standard, "
+          f"{alpha_jy.min():.3f}…{alpha_jy.max():.3f} theirs")
 
     # sea-state means
     def ours_mean_fn(method, omega_max, spreading_s, heading=0.0):

@@ -9,6 +9,7 @@ Usage (from anywhere)::
     python benchmarks/run.py --quick            # HULLOPT_BENCH_QUICK=1: shorter runs where a script offers them
     python benchmarks/run.py --only hydro,peers # just these scripts (bench_hydro.py, bench_peers.py), then the summary
     python benchmarks/run.py --summary          # only rewrite results/summary.md from the stored results
+    python benchmarks/run.py --summary --readme # … and paste it into README.md's "Goals at a glance"
 
 A script that fails is reported and the others still run; its stored result (if any) is then marked as older
 than this run. The exit code is 1 if any script failed.
@@ -202,11 +203,27 @@ def summary(started: str | None = None, failed: dict | None = None, run_machine:
     return "\n".join(lines) + "\n"
 
 
+README = HERE / "README.md"
+BEGIN = "<!-- goals-at-a-glance: paste results/summary.md below this line -->"
+END = "<!-- end of goals-at-a-glance -->"
+
+
+def paste_into_readme(text: str) -> None:
+    """Replace what lies between README.md's goals-at-a-glance markers by ``text``."""
+    readme = README.read_text()
+    if BEGIN not in readme or END not in readme:
+        raise SystemExit(f"{README}: the markers {BEGIN!r} … {END!r} are missing; paste results/summary.md by hand")
+    head, rest = readme.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    README.write_text(f"{head}{BEGIN}\n\n{text.strip()}\n\n{END}{tail}")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="HULLOPT_BENCH_QUICK=1 for every script: shorter runs")
     ap.add_argument("--only", default="", help="comma-separated names (hydro, peers, …): run just these scripts")
     ap.add_argument("--summary", action="store_true", help="only rewrite results/summary.md")
+    ap.add_argument("--readme", action="store_true", help="also paste the table into README.md's Goals at a glance")
     args = ap.parse_args(argv)
     sys.path.insert(0, str(HERE))
     import _common  # its LOAD_AT_START: the load before any benchmark starts
@@ -233,6 +250,8 @@ def main(argv: list[str] | None = None) -> int:
                 failed[script.stem.removeprefix("bench_")] = rc
     text = summary(None if args.summary else started, failed, run_machine)
     (RESULTS / "summary.md").write_text(text)
+    if args.readme:
+        paste_into_readme(text)
     print(text)
     return 1 if failed else 0
 
