@@ -50,3 +50,4 @@ from ._sections2d import exp1 as exp1
 from ._sections2d import heave_coefficients as heave_coefficients
 from ._sections2d import section_panels as section_panels
 from ._motions import motion_added_resistance as motion_added_resistance
+from ._motions import motion_response as motion_response

@@ -33,11 +33,12 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Complex, Float
 
 from ..constants import G, RHO_SEA
 from ..errors import HullError
-from ..geometry import Sections, longitudinal_integrals, simpson_weights
+from ..geometry import Sections, longitudinal_integrals, natural_cubic_spline, simpson_weights
 from ._sections2d import heave_potential, section_panels
 
 
@@ -144,7 +145,7 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     return we, k, eta3, eta5, r
 
 
-def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0.25, *, n_panels: int = 20,
+def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0.25, *, n_panels: int = 12,
             n_gauss: int = 2, n_strips: int | None = 25, rho: float = RHO_SEA, g: float = G) -> Motions:
     """Heave and pitch RAOs and R_AWM of a hull in regular waves by strip theory (STF 1970 + Frank close-fit).
 
@@ -166,8 +167,10 @@ def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0
     kyy : float
         Pitch radius of gyration as a fraction of Lpp.
     n_panels, n_gauss : int
-        Panels per immersed half-section and Gauss points per panel for the wave term (2 and 4 agree to
-        1e-5 in R_AWM and the RAOs on the Wigley; 2 halves the cost of the complex E1).
+        Panels per immersed half-section and Gauss points per panel for the wave term. Measured on the KCS
+        at Fn 0.26 (σ_aw at λ/L 0.5–2): 12 panels agree with 20 and 40 to 0.01 (0.2 % at the peak), and
+        n_gauss 2 with 4 to 0.02; the Wigley's RAOs against Capytaine do not change between 8 and 20 panels.
+        The cost is about proportional to n_panels² · n_gauss.
     n_strips : int or None
         Strips along the wet length on which the sectional coefficients are computed (half-sections
         interpolated between the hull's stations; odd, for Simpson's rule); None: the hull's own stations.
@@ -211,7 +214,7 @@ def _strips(sections, t, lcb, n_panels, n_strips):
     x_lo = x[jnp.maximum(jnp.argmax(wet0) - 1, 0)]  # a pointed end: from the dry station before the first wet
     x_hi = x[jnp.minimum(n - jnp.argmax(wet0[::-1]), n - 1)]
     xs = x_lo + (x_hi - x_lo) * jnp.linspace(0.0, 1.0, n_strips)
-    i = jnp.clip(jnp.searchsorted(x, xs, side="right") - 1, 0, n - 2)
+    i = jnp.clip(jnp.searchsorted(x, xs, side="right", method="compare_all") - 1, 0, n - 2)
     f = jnp.clip((xs - x[i]) / (x[i + 1] - x[i]), 0.0, 1.0)[:, None, None]
     yz = jnp.asarray(sections.yz)
     strips = Sections(x=xs, yz=(1.0 - f) * yz[i] + f * yz[i + 1], lpp=sections.lpp)
@@ -239,7 +242,7 @@ def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips
 
 
 def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kg=None,
-                            kyy=0.25, n_panels: int = 20, n_gauss: int = 2, n_strips: int | None = 25,
+                            kyy=0.25, n_panels: int = 12, n_gauss: int = 2, n_strips: int | None = 25,
                             rho: float = RHO_SEA, g: float = G) -> Array:
     """R_AWM [N] in regular waves of amplitude ``amplitude`` [m], frequencies ``omega`` (W,) [rad/s] and
     headings ``heading`` (H,) [rad] (0 head seas), shape W + H as the other methods' (``omega`` outer
@@ -276,4 +279,62 @@ def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0
     return jnp.asarray(amplitude, dtype=float) ** 2 * r.reshape(om.shape)
 
 
-__all__ = ["Motions", "motion_added_resistance", "motions"]
+# λ/L knots of the motion part's response in a sea state (:func:`motion_response`): R_AWM(λ/L) is a resonance
+# peak (λ/L ≈ 0.9–1.3 in head seas at Fn 0.2–0.35); outside 0.3–3 it is < 3 % of its peak on the Wigley and the
+# KCS in head seas (0 beyond λ/L ≈ 2.3, where GB's free-ship share falls below the fixed ship's).
+MOTION_LAMBDA_RANGE = (0.3, 3.0)
+
+
+def motion_response(sections: Sections, draft, speed, *, knots: int = 20, kg=None, kyy=0.25, n_panels: int = 12,
+                    n_gauss: int = 2, n_strips: int | None = 25, rho: float = RHO_SEA, g: float = G):
+    """R_AWM/ζ_a² as a function of frequency and heading for a sea-state mean: computed by strip theory at
+    ``knots`` wavelengths equally spaced in ln(λ/L) over :data:`MOTION_LAMBDA_RANGE` (the ship's own scale, so
+    the cost does not depend on the spectrum's quadrature) and interpolated by a natural cubic spline in
+    ln(λ/L); 0 outside the range, clipped at 0.
+
+    Measured against a 100-point reference curve (Wigley at Fn 0.25 and 0.35, KCS at Fn 0.26; headings 0° and
+    45°; Bretschneider and JONSWAP γ 3.3 with T_p 5–18 s): with 20 knots the mean is within 1.4 % of the
+    largest mean over T_p (median 0.07 %), where the 54 spectral nodes per heading used before were off up to
+    28 % (KCS, T_p 12 s: the nodes follow the spectrum, not the ship's response peak).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float
+        Draft [m above the baseline].
+    speed : float
+        Ship speed U [m/s], ahead positive.
+    knots : int
+        Number of λ/L knots (≥ 4).
+    kg, kyy, n_panels, n_gauss, n_strips, rho, g
+        As :func:`motions` takes them (KG [m], k_yy/Lpp, discretisation, ρ [kg/m³], g [m/s²]).
+
+    Returns
+    -------
+    callable
+        ``response(omega (k,), heading (h,)) -> (k, h)``: R_AWM/ζ_a² [N/m²] at wave frequencies ω [rad/s] and
+        headings α [rad] (0 head seas), the form :func:`~hullopt.waves.spectral_mean` takes.
+    """
+    if not isinstance(knots, int) or knots < 4:
+        raise HullError(f"knots: expected an integer >= 4, got {knots!r}")
+    lo, hi = np.log(MOTION_LAMBDA_RANGE[0]), np.log(MOTION_LAMBDA_RANGE[1])
+    t_knots = np.linspace(lo, hi, knots)
+    lpp = sections.lpp
+    omega_knots = jnp.sqrt(2.0 * jnp.pi * g / (jnp.asarray(np.exp(t_knots)) * lpp))
+
+    def response(omega, heading):
+        omega = jnp.asarray(omega, dtype=float)
+        r = motion_added_resistance(sections, draft, speed, omega_knots, heading, 1.0, kg=kg, kyy=kyy,
+                                    n_panels=n_panels, n_gauss=n_gauss, n_strips=n_strips, rho=rho, g=g)
+        spline = natural_cubic_spline(jnp.asarray(t_knots), r)
+        t = jnp.log(2.0 * jnp.pi * g / (jnp.maximum(omega, 1e-9) ** 2 * lpp))
+        inside = (t >= lo) & (t <= hi)
+        v = spline(jnp.clip(t, lo, hi))
+        inside = inside.reshape(inside.shape + (1,) * (v.ndim - inside.ndim))
+        return jnp.where(inside, jnp.maximum(v, 0.0), 0.0)
+
+    return response
+
+
+__all__ = ["MOTION_LAMBDA_RANGE", "Motions", "motion_added_resistance", "motion_response", "motions"]
