@@ -8,7 +8,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
 from ._safe import safe_div, safe_sqrt
-from ._sections import Sections, section_integrals
+from ._sections import Sections, closed_half_polygon, polygon_integrals, section_integrals
 
 
 def simpson_weights(x: Float[ArrayLike, " n"]) -> Float[Array, " n"]:
@@ -127,6 +127,71 @@ def waterline_ends(x: ArrayLike, yz: ArrayLike, half_breadth: ArrayLike, level: 
     return jnp.where(any_wet, end(first, -1), 0.0), jnp.where(any_wet, end(last, 1), 0.0)
 
 
+def transom_area(x: ArrayLike, yz: ArrayLike, level: ArrayLike, rake: float = 1.0) -> Array:
+    """The immersed transom area A_T [m²] (Holtrop and Mennen's): the projection on the transverse plane of
+    the hull's aft end face below the waterline ``z = level``: vertical, raked or curved.
+
+    A vertical transom at the aftmost station is that station's immersed area (both sides). A raked or
+    curved face (steeper than 45° by default) is cut by the stations aft of its lower edge: each of them
+    starts at the face, so their bottoms (each section's lowest point) drop by more than ``rake`` × the
+    station spacing going forward. The face's lower edge is where the line through the last two such bottoms
+    before the run's end meets the bottom profile (the line through the next two bottoms after it), and A_T
+    is the hull's section just forward of the face between that edge and the waterline: the largest of the
+    three stations from the run's end (a lower edge curved in plan, as the DTMB 5415's, ends further
+    forward off the centre plane than on it). Exact for a box with a raked or curved (circular-arc) transom
+    (``B·T``) and for a vertical one; 0 where the aft end is dry or there is no steep face there. A rounded
+    knuckle at the lower edge, finer than the station spacing, is taken as a sharp corner (on the DTMB 5415,
+    +14 % at 201 stations, −3 % at 401, against the mesh's aft faces steeper than 45°).
+
+    Parameters
+    ----------
+    x : array_like, (n,) float
+        Station positions [m from the AP], increasing.
+    yz : array_like, (n, m, 2) float
+        Half-sections ``(y, z)`` [m], keel to deck.
+    level : float or Array, scalar
+        Waterline height [m above the baseline].
+    rake : float
+        The least slope ``dz/dx`` of the bottom profile that counts as the transom face (1: 45°).
+
+    Returns
+    -------
+    Array, scalar
+        A_T [m²], both sides.
+    """
+    x, yz = jnp.asarray(x), jnp.asarray(yz)
+    level = jnp.asarray(level, dtype=yz.dtype)
+    n = x.shape[0]
+    poly = closed_half_polygon(yz)
+
+    end = 2.0 * polygon_integrals(poly[0], level).area  # a vertical transom at the aftmost station
+    if n < 2:
+        return end
+    bottom = jnp.min(yz[..., 1], axis=-1)  # (n,) each section's lowest point
+    dx = jnp.diff(x)
+    run = jnp.cumprod(bottom[:-1] - bottom[1:] > rake * dx)  # (n−1,) intervals on the face, from the aft end
+    k = jnp.sum(run)  # the run's last station: the face's lower edge lies between it and the next
+    take = lambda v, i: v[jnp.clip(i, 0, n - 1)]  # noqa: E731
+    # the face through the run's last two stations before k, the bottom through the two after it (station k
+    # itself may lie on either), and the face's lower edge where they meet, between stations k − 1 and k + 1
+    f0, f1 = jnp.maximum(k - 2, 0), jnp.maximum(k - 1, 1)
+    b0, b1 = jnp.minimum(k + 1, n - 2), jnp.minimum(k + 2, n - 1)
+    xf0, xf1, xb0, xb1 = take(x, f0), take(x, f1), take(x, b0), take(x, b1)
+    zf0, zf1, zb0, zb1 = take(bottom, f0), take(bottom, f1), take(bottom, b0), take(bottom, b1)
+    s_face = safe_div(zf0 - zf1, xf1 - xf0, xf1 > xf0)  # the face's drop per metre forward (> rake)
+    s_bottom = jnp.where(k + 2 <= n - 1, safe_div(zb0 - zb1, xb1 - xb0, xb1 > xb0), 0.0)  # the bottom's, small
+    x_edge = xf1 + safe_div(zf1 - zb0 - s_bottom * (xb0 - xf1), s_face - s_bottom, s_face > s_bottom)
+    x_edge = jnp.clip(x_edge, take(x, k - 1), take(x, k + 1))
+    z_edge = zb0 + s_bottom * (xb0 - x_edge)  # on the bottom profile (exact where the bottom is straight)
+    # the face's projection: the hull's section between the edge and the waterline just forward of the face,
+    # the largest of the next stations' (a lower edge curved in plan ends further forward off the centre)
+    near = jnp.clip(k + jnp.arange(3), 0, n - 1)
+    wet, below_edge = (polygon_integrals(poly[near], z).area for z in (level, jnp.minimum(z_edge, level)))
+    above = wet - below_edge
+    face = 2.0 * jnp.max(above)
+    return jnp.where((k >= 1) & (k + 1 <= n - 1), face, end)
+
+
 class LongitudinalIntegrals(eqx.Module):
     """The hull's integrals along the length at one draft (both sides; x from the AP), exact per section
     and by Simpson's rule along x — the rules of :func:`hullopt.hydro.hydrostatics`.
@@ -137,8 +202,8 @@ class LongitudinalIntegrals(eqx.Module):
     longitudinal (about the LCF) second moments ``i_t``, ``i_l`` [m⁴], ``bwl`` = 2·max half-breadth; the
     waterline's ends ``x_aft``, ``x_fwd`` [m from the AP] where it meets the stern and stem profiles
     (:func:`waterline_ends`) and ``lwl`` = ``x_fwd − x_aft`` [m]; ``a_transom`` [m²], the immersed transom
-    area (Holtrop's A_T): the immersed area of the aft end station where the waterline reaches it (a
-    transom at the aftmost station), else 0.
+    area (Holtrop's A_T, :func:`transom_area`): the transverse projection of the aft end face below the
+    waterline, vertical (the aft end station's immersed area), raked or curved; 0 where there is none.
     """
 
     area: Float[Array, " n"]
@@ -193,5 +258,5 @@ def longitudinal_integrals(sections: Sections, draft) -> LongitudinalIntegrals:
     return LongitudinalIntegrals(
         area=area, moment_z=moment_z, half_breadth=bw, volume=volume, lcb=lcb, kb=kb, awp=awp, lcf=lcf,
         i_t=(2.0 / 3.0) * (w @ bw**3), i_l=2.0 * (w @ (x**2 * bw)) - awp * lcf**2, bwl=2.0 * jnp.max(bw),
-        lwl=x_fwd - x_aft, x_aft=x_aft, x_fwd=x_fwd, a_transom=jnp.where(bw[0] > 0.0, area[0], 0.0),
+        lwl=x_fwd - x_aft, x_aft=x_aft, x_fwd=x_fwd, a_transom=transom_area(x, sections.yz, t),
     )
