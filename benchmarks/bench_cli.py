@@ -22,6 +22,7 @@ Run: ``.venv/bin/python benchmarks/bench_cli.py`` (or ``python benchmarks/run.py
 from __future__ import annotations
 
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -57,11 +58,18 @@ print(curve.points()[-1])
 """
 
 
-def timed(cmd: list[str], env: dict | None = None, ok=(0,), cwd: Path = REPO) -> tuple[float, str]:
-    """Wall time [s] of one whole process, and its stdout."""
+CPU: dict[str, list[float]] = {}  # CPU seconds (user + system) of each timed process, by label
+
+
+def timed(cmd: list[str], env: dict | None = None, ok=(0,), cwd: Path = REPO, label: str = "") -> tuple[float, str]:
+    """Wall time [s] of one whole process, and its stdout; its CPU time (user + system, all its threads; less
+    sensitive to other jobs' load than the wall time) is appended to ``CPU[label]``."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=cwd)
     dt = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU.setdefault(label, []).append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
     if p.returncode not in ok:
         raise RuntimeError(f"{' '.join(cmd)} exited {p.returncode}: {p.stderr[-2000:]}")
     return dt, p.stdout
@@ -88,7 +96,7 @@ def main() -> None:
     res: dict = {}
     for name, cmd, ok in (("hydro", hydro, (0,)), ("stability", stab, (0, 4)), ("run", run, (0, 3))):
         env = dict(os.environ, HULLOPT_CACHE=str(tmp / f"cache-{name}"), PYTHONPATH=str(snapshot))
-        cold, out = timed(cmd, env, ok, snapshot)
+        cold, out = timed(cmd, env, ok, snapshot, f"{name} cold")
         res[name] = {"command": " ".join(cmd[1:]).replace(str(REPO) + "/", ""), "cold_s": cold, "warm_s": []}
         if name == "stability":
             lcg = json.loads(out)["lcg"]
@@ -100,20 +108,23 @@ def main() -> None:
         if peer is not None:
             res[name]["navaltoolbox_s"] = []
         for _ in range(repeat):
-            res[name]["warm_s"].append(timed(cmd, env, ok, snapshot)[0])
+            res[name]["warm_s"].append(timed(cmd, env, ok, snapshot, f"{name} warm")[0])
             if peer is not None:
-                res[name]["navaltoolbox_s"].append(timed(peer)[0])
+                res[name]["navaltoolbox_s"].append(timed(peer, label=f"{name} navaltoolbox")[0])
         loads.append(os.getloadavg()[0])
     goals = []
     print(f"whole processes, medians of {repeat} (1-min load {min(loads):.1f}…{max(loads):.1f}):")
     for name, r in res.items():
         r["warm_median_s"] = statistics.median(r["warm_s"])
-        line = f"  {name:<10} hullopt cold {r['cold_s']:6.2f} s, warm {r['warm_median_s']:6.2f} s"
+        r["cpu_s"] = {k.split(" ", 1)[1]: v for k, v in CPU.items() if k.startswith(f"{name} ")}
+        cpu = {k: statistics.median(v) for k, v in r["cpu_s"].items()}
+        line = (f"  {name:<10} hullopt cold {r['cold_s']:6.2f} s, warm {r['warm_median_s']:6.2f} s "
+                f"(CPU {cpu['warm']:.2f} s)")
         if "navaltoolbox_s" in r:
             r["navaltoolbox_median_s"] = statistics.median(r["navaltoolbox_s"])
             r["warm_over_navaltoolbox"] = r["warm_median_s"] / r["navaltoolbox_median_s"]
-            line += f"; NavalToolbox process {r['navaltoolbox_median_s']:6.2f} s (hullopt warm / NTB " \
-                    f"{r['warm_over_navaltoolbox']:.2f})"
+            line += f"; NavalToolbox process {r['navaltoolbox_median_s']:6.2f} s (CPU {cpu['navaltoolbox']:.2f} s; " \
+                    f"hullopt warm / NTB {r['warm_over_navaltoolbox']:.2f})"
             peer = f"{r['navaltoolbox_median_s']:.2f} s (NavalToolbox process)"
             goals.append(goal(f"`hullopt {name}` DTC, one-off process, warm", r["warm_median_s"], "s",
                               "< NavalToolbox process", r["warm_median_s"] < r["navaltoolbox_median_s"], peer))
