@@ -92,7 +92,7 @@ def _edge(v: Array, e) -> Array:
     return jax.lax.dynamic_slice_in_dim(v, e, 1, axis=-1)
 
 
-@jax.custom_vjp
+@jax.custom_jvp
 def _polyline_distance2(py: Array, pz: Array, qy: Array, qz: Array, real: Array) -> Array:
     """Squared distance ``(k, m_p)`` from each point ``(py, pz)`` of ``k`` half-sections to the nearest surface
     edge of the polyline ``(qy, qz) (k, m_q)`` of the same row; ``real (k, m_q − 1)`` marks the edges that are
@@ -100,9 +100,9 @@ def _polyline_distance2(py: Array, pz: Array, qy: Array, qz: Array, real: Array)
 
     Every point against every edge (``O(m_p m_q)``), in a loop over the edges whose body is elementwise over
     all points and rows: no gather, no sort, no argmin, which on a CPU under ``vmap`` cost far more than this
-    arithmetic (the nearest-vertex search with ``argmin`` and gathers it replaces was 10–100× slower). The
-    gradient (:func:`_polyline_distance2_bwd`) is that of the distance to the nearest edge, likewise without
-    a scatter.
+    arithmetic (the nearest-vertex search with ``argmin`` and gathers it replaces was 10–100× slower). Its
+    derivative (:func:`_polyline_distance2_jvp`) is that of the distance to the nearest edge, likewise
+    without a gather, in forward and (transposed) reverse mode.
     """
     def step(e, best):
         d, _ = _segment_distance2(py, pz, _edge(qy, e), _edge(qz, e), _edge(qy, e + 1), _edge(qz, e + 1))
@@ -111,9 +111,16 @@ def _polyline_distance2(py: Array, pz: Array, qy: Array, qz: Array, real: Array)
     return jax.lax.fori_loop(0, qy.shape[-1] - 1, step, jnp.full(py.shape, jnp.inf, py.dtype))
 
 
-def _polyline_distance2_fwd(py, pz, qy, qz, real):
-    """The distance and, for the gradient, each point's nearest edge, its foot on it and the foot's parameter."""
-    def step(e, c):
+@_polyline_distance2.defjvp
+def _polyline_distance2_jvp(primals, tangents):
+    """``d(d²) = 2 (p − f)·(dp − df)`` with the foot ``f = q_e + s (q_{e+1} − q_e)`` on the nearest edge ``e``
+    and ``df = (1 − s) dq_e + s dq_{e+1}`` (``s`` held: it is optimal inside the edge and fixed at its ends);
+    the feet found and ``df`` assembled in loops over the edges (selects: no gather, and the transpose no
+    scatter). Points with no edge get 0."""
+    py, pz, qy, qz, real = primals
+    dpy, dpz, dqy, dqz, _ = tangents
+
+    def nearest(e, c):
         best, fy, fz, s_best, e_best = c
         y0, z0, y1, z1 = _edge(qy, e), _edge(qz, e), _edge(qy, e + 1), _edge(qz, e + 1)
         d, s = _segment_distance2(py, pz, y0, z0, y1, z1)
@@ -123,32 +130,17 @@ def _polyline_distance2_fwd(py, pz, qy, qz, real):
 
     zero = jnp.zeros_like(py)
     init = (jnp.full(py.shape, jnp.inf, py.dtype), zero, zero, zero, jnp.full(py.shape, -1, jnp.int32))
-    best, fy, fz, s, e_best = jax.lax.fori_loop(0, qy.shape[-1] - 1, step, init)
-    return best, (py, pz, fy, fz, s, e_best, jnp.zeros_like(qy))
+    best, fy, fz, s, e_best = jax.lax.fori_loop(0, qy.shape[-1] - 1, nearest, init)
 
-
-def _polyline_distance2_bwd(res, g):
-    """``∂d²/∂p = 2 (p − f)`` and ``∂d²/∂q_e = −2 (1 − s)(p − f)``, ``∂d²/∂q_{e+1} = −2 s (p − f)`` for the
-    foot ``f = q_e + s (q_{e+1} − q_e)`` on the nearest edge ``e``; the edges' parts summed per edge in a loop
-    (masked row sums: no scatter). Points with no edge (``e = −1``) get none."""
-    py, pz, fy, fz, s, e_best, q0 = res
-    g = jnp.where(e_best >= 0, g, 0.0)
-    gy, gz = 2.0 * (py - fy) * g, 2.0 * (pz - fz) * g
-
-    def step(e, dq):
-        dqy, dqz = dq
+    def foot(e, df):
         on = e_best == e
-        part = lambda v, w: jnp.sum(jnp.where(on, v * w, 0.0), axis=-1, keepdims=True)  # noqa: E731
-        for i, w in ((e, 1.0 - s), (e + 1, s)):
-            dqy = jax.lax.dynamic_update_slice_in_dim(dqy, _edge(dqy, i) - part(gy, w), i, axis=-1)
-            dqz = jax.lax.dynamic_update_slice_in_dim(dqz, _edge(dqz, i) - part(gz, w), i, axis=-1)
-        return dqy, dqz
+        dy = (1.0 - s) * _edge(dqy, e) + s * _edge(dqy, e + 1)
+        dz = (1.0 - s) * _edge(dqz, e) + s * _edge(dqz, e + 1)
+        return jnp.where(on, dy, df[0]), jnp.where(on, dz, df[1])
 
-    dqy, dqz = jax.lax.fori_loop(0, q0.shape[-1] - 1, step, (q0, q0))
-    return gy, gz, dqy, dqz, None
-
-
-_polyline_distance2.defvjp(_polyline_distance2_fwd, _polyline_distance2_bwd)
+    dfy, dfz = jax.lax.fori_loop(0, qy.shape[-1] - 1, foot, (jnp.zeros_like(dpy), jnp.zeros_like(dpz)))
+    ry, rz = jnp.where(e_best >= 0, py - fy, 0.0), jnp.where(e_best >= 0, pz - fz, 0.0)
+    return best, 2.0 * (ry * (dpy - dfy) + rz * (dpz - dfz))
 
 
 def _girth_weights(y: Array, z: Array, level: Array) -> tuple[Array, Array]:
@@ -205,8 +197,8 @@ def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
 
     Cost: ``O(n m²)`` elementwise arithmetic (every point against every edge of the neighbouring section, in
     a loop over the edges; no gather, sort or argmin), vectorised over stations and points and under
-    ``vmap``; its gradient likewise (a custom VJP: the distance to the nearest edge). Differentiable in the
-    offsets, the station positions and the draft.
+    ``vmap``; its derivatives likewise (a custom JVP: the distance to the nearest edge, forward and reverse).
+    Differentiable in the offsets, the station positions and the draft.
 
     Parameters
     ----------
