@@ -89,8 +89,6 @@ def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_pa
     assert not [w for w in r["warnings"] if "violated" in w or "rougher" in w], r["warnings"]
 
 
-@pytest.mark.xfail(strict=False, reason="issue 16: with Michell + friction as the objective and the default "
-                   "constraints, 3 of the 4 designs miss their targets (max violation 1.5-4.5 tolerances)")
 def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
     """configs/pareto_bow.toml's sweep (Michell + friction against R_AW, motion + reflection) on the Wigley: the
     DTC's takes far longer than a test may (tests/data/pareto_wigley.toml, the reduced copy)."""
