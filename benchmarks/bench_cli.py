@@ -97,7 +97,8 @@ def main() -> None:
     for name, cmd, ok in (("hydro", hydro, (0,)), ("stability", stab, (0, 4)), ("run", run, (0, 3))):
         env = dict(os.environ, HULLOPT_CACHE=str(tmp / f"cache-{name}"), PYTHONPATH=str(snapshot))
         cold, out = timed(cmd, env, ok, snapshot, f"{name} cold")
-        res[name] = {"command": " ".join(cmd[1:]).replace(str(REPO) + "/", ""), "cold_s": cold, "warm_s": []}
+        shown = " ".join(cmd[1:]).replace(str(REPO) + "/", "").replace(str(tmp), "TMP")  # no local paths
+        res[name] = {"command": shown, "cold_s": cold, "warm_s": []}
         if name == "stability":
             lcg = json.loads(out)["lcg"]
             peer = [sys.executable, "-c", NTB_GZ, str(stl), f"{VOLUME}", f"{lcg}", f"{KG}"]
