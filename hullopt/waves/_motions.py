@@ -207,8 +207,6 @@ def _strips(sections, t, lcb, n_panels, n_strips):
     if n_strips is None:
         nodes, wet = section_panels(sections, t, n_panels)
         return x, simpson_weights(x), x - lcb, nodes, wet
-    if not isinstance(n_strips, int) or n_strips < 5 or n_strips % 2 == 0:
-        raise HullError(f"n_strips: expected an odd integer >= 5 (or None for the hull's stations), got {n_strips!r}")
     _, wet0 = section_panels(sections, t, 2)  # which stations are immersed (cheap: no solve)
     n = x.shape[0]
     x_lo = x[jnp.maximum(jnp.argmax(wet0) - 1, 0)]  # a pointed end: from the dry station before the first wet
@@ -224,6 +222,8 @@ def _strips(sections, t, lcb, n_panels, n_strips):
 
 def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips=None):
     """The hull's frequency-independent parts, and ``(omega, heading) -> (ω_e, k, η3, η5, R_AWM)``."""
+    if n_strips is not None and (not isinstance(n_strips, int) or n_strips < 5 or n_strips % 2 == 0):
+        raise HullError(f"n_strips: expected an odd integer >= 5 (or None for the hull's stations), got {n_strips!r}")
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     li = longitudinal_integrals(sections, t)
     kg_ = t if kg is None else jnp.asarray(kg, dtype=float)
