@@ -77,14 +77,22 @@ def grid_triangles(n: int, m: int) -> np.ndarray:
     return np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
 
 
-def _segment_distance2(py: Array, pz: Array, y0: Array, z0: Array, y1: Array, z1: Array) -> tuple[Array, Array]:
-    """Squared distance from points ``(py, pz)`` to segments ``(y0, z0) → (y1, z1)`` (broadcast, elementwise;
-    a point segment is fine) and the parameter ``s ∈ [0, 1]`` of the nearest point along the segment."""
-    ey, ez, wy, wz = y1 - y0, z1 - z0, py - y0, pz - z0
-    ee = ey * ey + ez * ez
-    s = jnp.clip(safe_div(wy * ey + wz * ez, ee, ee > 0.0), 0.0, 1.0)
+def _segment_distance2(py: Array, pz: Array, y0: Array, z0: Array, ey: Array, ez: Array, inv: Array
+                       ) -> tuple[Array, Array]:
+    """Squared distance from points ``(py, pz)`` to segments from ``(y0, z0)`` along ``(ey, ez)`` (broadcast,
+    elementwise; ``inv`` = 1/|e|², 0 for a point segment) and the parameter ``s ∈ [0, 1]`` of the nearest
+    point along the segment."""
+    wy, wz = py - y0, pz - z0
+    s = jnp.clip((wy * ey + wz * ez) * inv, 0.0, 1.0)
     ry, rz = wy - s * ey, wz - s * ez
     return ry * ry + rz * rz, s
+
+
+def _edges(qy: Array, qz: Array) -> tuple[Array, Array, Array]:
+    """The edge vectors ``(ey, ez)`` of polylines ``(k, m)`` and ``1/|e|²`` (0 for a point edge), ``(k, m−1)``."""
+    ey, ez = jnp.diff(qy, axis=-1), jnp.diff(qz, axis=-1)
+    ee = ey * ey + ez * ez
+    return ey, ez, safe_div(1.0, ee, ee > 0.0)
 
 
 def _edge(v: Array, e) -> Array:
@@ -104,11 +112,13 @@ def _polyline_distance2(py: Array, pz: Array, qy: Array, qz: Array, real: Array)
     derivative (:func:`_polyline_distance2_jvp`) is that of the distance to the nearest edge, likewise
     without a gather, in forward and (transposed) reverse mode.
     """
+    ey, ez, inv = _edges(qy, qz)
+
     def step(e, best):
-        d, _ = _segment_distance2(py, pz, _edge(qy, e), _edge(qz, e), _edge(qy, e + 1), _edge(qz, e + 1))
+        d, _ = _segment_distance2(py, pz, _edge(qy, e), _edge(qz, e), _edge(ey, e), _edge(ez, e), _edge(inv, e))
         return jnp.minimum(best, jnp.where(_edge(real, e), d, jnp.inf))
 
-    return jax.lax.fori_loop(0, qy.shape[-1] - 1, step, jnp.full(py.shape, jnp.inf, py.dtype))
+    return jax.lax.fori_loop(0, qy.shape[-1] - 1, step, jnp.full(py.shape, jnp.inf, py.dtype), unroll=3)
 
 
 @_polyline_distance2.defjvp
@@ -120,13 +130,15 @@ def _polyline_distance2_jvp(primals, tangents):
     py, pz, qy, qz, real = primals
     dpy, dpz, dqy, dqz, _ = tangents
 
+    ey, ez, inv = _edges(qy, qz)
+
     def nearest(e, c):
         best, fy, fz, s_best, e_best = c
-        y0, z0, y1, z1 = _edge(qy, e), _edge(qz, e), _edge(qy, e + 1), _edge(qz, e + 1)
-        d, s = _segment_distance2(py, pz, y0, z0, y1, z1)
+        y0, z0, dy, dz = _edge(qy, e), _edge(qz, e), _edge(ey, e), _edge(ez, e)
+        d, s = _segment_distance2(py, pz, y0, z0, dy, dz, _edge(inv, e))
         better = _edge(real, e) & (d < best)
-        return (jnp.where(better, d, best), jnp.where(better, y0 + s * (y1 - y0), fy),
-                jnp.where(better, z0 + s * (z1 - z0), fz), jnp.where(better, s, s_best), jnp.where(better, e, e_best))
+        return (jnp.where(better, d, best), jnp.where(better, y0 + s * dy, fy), jnp.where(better, z0 + s * dz, fz),
+                jnp.where(better, s, s_best), jnp.where(better, e, e_best))
 
     zero = jnp.zeros_like(py)
     init = (jnp.full(py.shape, jnp.inf, py.dtype), zero, zero, zero, jnp.full(py.shape, -1, jnp.int32))
