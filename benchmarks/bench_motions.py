@@ -1,9 +1,11 @@
 """Strip-theory motions benchmarks (issue 16 item 7) and the KCS σ_aw side by side with SNNM and STAWAVE-2.
 
-1. ``motions`` (heave, pitch, R_AWM) of a Wigley (41 stations, 20 panels per section) at 30 frequencies:
+1. ``motions`` (heave, pitch, R_AWM) of a Wigley (41 stations, 25 strips × 12 panels) at 30 frequencies:
    value, and value + gradient of Σ R_AWM w.r.t. a beam scale, jitted and warm; compile times.
-2. vmap over designs (beam scale) × 30 frequencies: time per design in a batch of ``N_DESIGNS``.
-3. KCS at Fn 0.26, head seas: σ_aw = R_AW/(ρgζ²B²/L) by NMRI (strip-theory motion part + Bf reflection), SNNM
+2. The design objective's motion part: ``mean_added_resistance`` (NMRI, H_s 3 m, T_p 9 s, 15 kn, head seas)
+   ``.motion`` of the same Wigley, value and value + gradient, warm and compile (20 λ/L knots).
+3. vmap over designs (beam scale) × 30 frequencies: time per design in a batch of ``N_DESIGNS``.
+4. KCS at Fn 0.26, head seas: σ_aw = R_AW/(ρgζ²B²/L) by NMRI (strip-theory motion part + Bf reflection), SNNM
    and STAWAVE-2 at the same λ/L.
 
 Run: ``cd benchmarks && ../.venv/bin/python bench_motions.py [N_DESIGNS]``; results in results/motions.json.
@@ -24,7 +26,7 @@ from _common import HULLS, save, timeit  # noqa: E402
 
 from hullopt.geometry import Sections  # noqa: E402
 from hullopt.models import wigley  # noqa: E402
-from hullopt.waves import method_resistance, motions, omega_from_wavelength  # noqa: E402
+from hullopt.waves import mean_added_resistance, method_resistance, motions, omega_from_wavelength  # noqa: E402
 
 G, RHO = 9.80665, 1025.0
 
@@ -53,6 +55,20 @@ def main() -> None:
     compile_grad = time.perf_counter() - t0
     t_grad = timeit(lambda: jax.block_until_ready(fg(1.0)), 5)
 
+    def objective(scale):
+        return mean_added_resistance("nmri", _scaled(hull, scale), 6.25, 7.7, 3.0, 9.0).motion
+
+    fo = jax.jit(objective)
+    t0 = time.perf_counter()
+    jax.block_until_ready(fo(1.0))
+    compile_obj = time.perf_counter() - t0
+    t_obj = timeit(lambda: jax.block_until_ready(fo(1.0)), 5)
+    fog = jax.jit(jax.value_and_grad(objective))
+    t0 = time.perf_counter()
+    jax.block_until_ready(fog(1.0))
+    compile_obj_grad = time.perf_counter() - t0
+    t_obj_grad = timeit(lambda: jax.block_until_ready(fog(1.0)), 5)
+
     fv = jax.jit(jax.vmap(value))
     scales = jnp.linspace(0.9, 1.1, n_designs)
     jax.block_until_ready(fv(scales))
@@ -76,6 +92,11 @@ def main() -> None:
             "value_s": t_value, "value_and_grad_s": t_grad, "ratio": t_grad / t_value,
             "compile_value_s": compile_value, "compile_value_and_grad_s": compile_grad,
             "vmap_designs": n_designs, "vmap_batch_s": t_batch, "vmap_per_design_s": t_batch / n_designs,
+        },
+        "objective_motion_part_wigley_hs3_tp9_15kn": {
+            "value_s": t_obj, "value_and_grad_s": t_obj_grad, "ratio": t_obj_grad / t_obj,
+            "compile_value_s": compile_obj, "compile_value_and_grad_s": compile_obj_grad,
+            "value_n": float(fo(1.0)),
         },
         "kcs_fn026_head_seas_sigma_aw": {"lambda_over_l": lam.tolist(), **sigma},
     }

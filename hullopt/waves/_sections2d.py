@@ -25,9 +25,11 @@ closed form; the wave part by Gauss–Legendre quadrature (``n_gauss`` points pe
 
 Irregular frequencies: the source formulation fails at the eigenfrequencies of the interior (sloshing)
 problem with φ = 0 on the inner waterline; for a rectangle of beam B and draft T the first is
-ν = (π/B) coth(πT/B), for a semicircle νR ≈ 2.8. Ship strips meet them only at high frequency
-(ω²B/2g ≳ 1.5, i.e. λ/L ≲ 0.25 for B/L ≈ 0.15–0.2) where heave and pitch responses and R_AWM are negligible,
-so nothing is done about them here: the strip theory uses these coefficients for λ/L ≳ 0.3, and
+ν = (π/B) coth(πT/B), for a semicircle νR ≈ 2.8. At zero speed ship strips meet them only at high frequency
+(ω²B/2g ≳ 1.5, i.e. λ/L ≲ 0.25 for B/L ≈ 0.15–0.2); at speed the encounter frequency is higher: the KCS at
+Fn 0.26 has ω_e²B/2g ≈ 7 already at λ/L 0.3, and R_AWM shows spikes there (11× its peak at λ/L 0.20, bumps of
+a few % of the peak at λ/L 0.3–0.7). Nothing removes them here (no lid, no modified Green function): the
+sea-state mean takes R_AWM from λ/L ≥ 0.3 only (:func:`hullopt.waves.motion_response`), and
 ``heave_coefficients`` documents the range in which they are validated (see tests/test_sections2d.py).
 """
 
