@@ -354,7 +354,7 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
     --------
     The coarse Wigley (L 100, B 10, T 6.25 m) at 15 kn in head seas, H_s 3 m, T_p 9 s, by NMRI's reflection
     part alone: a measured 13.45 kN (hullopt 0.1.0; the response is linear in ζ², so the mean scales as H_s²).
-    With the strip-theory motion part (the default; a minute to compile) the mean is 79.5 kN, 66.1 kN of
+    With the strip-theory motion part (the default; 20–30 s to compile) the mean is 79.4 kN, 66.0 kN of
     it from the motions:
 
     >>> import jax; jax.config.update("jax_enable_x64", True)
