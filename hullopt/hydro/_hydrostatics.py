@@ -9,7 +9,6 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 from jaxtyping import Array, Float
 
 from ..constants import RHO_SEA
@@ -203,6 +202,8 @@ def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:
         The draft [m above the baseline], between the keel and the deck (the solve does not raise: a volume
         out of reach is not reported).
     """
+    import optimistix as optx  # here, not at import time (0.25 s of a one-off CLI call)
+
     lo, hi = sections.keel, sections.depth
 
     def residual(t, target):

@@ -27,7 +27,6 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import optimistix as optx
 from jaxtyping import Array, Bool, Float
 
 from ..geometry import Sections, polygon_integrals, safe_div, simpson_weights
@@ -160,7 +159,7 @@ def _level_bounds(sections: Sections, heel) -> tuple[Array, Array]:
     return jnp.min(z), jnp.max(z)
 
 
-def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array:
+def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12, atol: float | None = None) -> Array:
     """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad]
     displaces ``volume`` [m³]. Bisection between the lowest and highest point of the hull (robust when the
     deck or the bilge leaves the water), differentiable by the implicit function theorem.
@@ -174,7 +173,10 @@ def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array
     volume : float or Array, scalar
         Displaced volume [m³], positive.
     rtol : float
-        Relative tolerance of the bisection (1e-12 by default).
+        Relative tolerance of the bisection on the level (1e-12 by default).
+    atol : float or None
+        Absolute tolerance of the bisection: on the level [m] and on the volume's relative error (both must
+        be met); None (default): 1e-12 × the hull's heeled height.
 
     Returns
     -------
@@ -182,6 +184,8 @@ def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array
         Waterplane height [m] at midship in the heeled frame (the solve does not raise: a volume out of
         reach is not reported).
     """
+    import optimistix as optx  # here, not at import time (0.25 s of a one-off CLI call)
+
     dtype = sections.yz.dtype
     heel = jnp.asarray(heel, dtype=dtype)
     lo, hi = _level_bounds(sections, heel)
@@ -190,7 +194,7 @@ def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12) -> Array
         sec, phi, target = args
         return heeled_integrals(sec, phi, h).volume / target - 1.0
 
-    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo), flip=False)
+    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo) if atol is None else atol, flip=False)
     sol = optx.root_find(
         residual, solver, 0.5 * (lo + hi), args=(sections, heel, jnp.asarray(volume, dtype=dtype)),
         options={"lower": lo, "upper": hi}, max_steps=256, throw=False,
@@ -211,8 +215,8 @@ class Equilibrium(eqx.Module):
 def heeled_equilibrium(sections: Sections, heel, volume, lcg, kg, free_trim: bool = True) -> Equilibrium:
     """Sink (and, with ``free_trim``, trim) the hull heeled by ``heel`` [rad] until it displaces ``volume``
     [m³] and, with free trim, B lies on the vertical through G = (lcg, 0, kg) in the longitudinal plane:
-    ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim), then Newton on
-    (level, trim) from there; both differentiable by the implicit function theorem.
+    ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim; with free trim only to a volume
+    within 1e-6, Newton's start), then Newton on (level, trim) from there to 1e-11; both differentiable by the implicit function theorem.
 
     Parameters
     ----------
@@ -234,12 +238,17 @@ def heeled_equilibrium(sections: Sections, heel, volume, lcg, kg, free_trim: boo
     Equilibrium
         ``level`` [m] and ``trim`` (tan θ) as scalars, the :class:`HeeledIntegrals` there, ``converged`` (bool).
     """
+    import optimistix as optx  # here, not at import time (0.25 s of a one-off CLI call)
+
     dtype = sections.yz.dtype
     heel, volume, lcg, kg = (jnp.asarray(v, dtype=dtype) for v in (heel, volume, lcg, kg))
-    level0 = heeled_level(sections, heel, volume)
     if not free_trim:
+        level0 = heeled_level(sections, heel, volume)
         hi = heeled_integrals(sections, heel, level0)
         return Equilibrium(level0, jnp.zeros_like(level0), hi, jnp.abs(hi.volume / volume - 1.0) < 1e-8)
+    # Newton's start: a coarse bisection (volume to 1e-6) — about half the bisection steps of a full one; Newton
+    # then converges as from the exact level (its result and its implicit gradient do not depend on the start)
+    level0 = heeled_level(sections, heel, volume, rtol=1e-4, atol=1e-4)
     lpp = sections.lpp
 
     def residual(y, args):
@@ -405,7 +414,9 @@ class Stability(eqx.Module):
 def stability(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim: bool = True,
               flooding_angle=None, n_grid: int = 91, tau: float = 0.01) -> Stability:
     """:func:`gz_curve` at ``heels`` [rad] and :func:`~hullopt.hydro.criteria_from_gz` (IS Code 2008
-    §2.2), from one ``vmap`` over the requested heels and the criteria's heels. ``flooding_angle`` θf
+    §2.2), from one ``vmap`` over the requested heels and the criteria's heels. Requested heels that all lie on
+    the criteria's uniform grid (within 1e-12 rad; e.g. 0…90° in 5° steps with the default grid) are not solved
+    again: the curve takes the grid's equilibria. ``flooding_angle`` θf
     [rad] or None; ``n_grid`` heels on [0, 90°] for the maximum; ``tau`` [m] the soft-max temperature.
 
     Parameters
@@ -440,8 +451,27 @@ def stability(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_tri
     heels = jnp.asarray(heels, dtype=sections.yz.dtype)
     k = heels.shape[0]
     extra = criteria_heels(flooding_angle, n_grid).astype(heels.dtype)
-    c = gz_curve(sections, volume, kg, jnp.concatenate([heels, extra]), lcg, fsc, free_trim)
-    crit = criteria_from_gz(c.gz[k:], c.gm0, flooding_angle, n_grid, tau=tau)
-    curve = eqx.tree_at(lambda t: (t.heel, t.gz, t.kn, t.level, t.trim, t.converged), c,
-                        tuple(getattr(c, f)[:k] for f in ("heel", "gz", "kn", "level", "trim", "converged")))
-    return Stability(curve, crit)
+    n_gauss = extra.shape[0] - n_grid
+    step = 0.5 * jnp.pi / (n_grid - 1)
+    idx = jnp.clip(jnp.round(heels / step), 0, n_grid - 1).astype(int)  # the nearest heel of the uniform grid
+    on_grid = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= 1e-12)
+    fields = ("heel", "gz", "kn", "level", "trim", "converged")
+
+    def solve(at: Array, take: Array) -> Stability:
+        """GZ at the heels ``at``; the curve is ``at[take]`` (shown at the requested heels)."""
+        c = gz_curve(sections, volume, kg, at, lcg, fsc, free_trim)
+        crit = criteria_from_gz(c.gz[at.shape[0] - extra.shape[0]:], c.gm0, flooding_angle, n_grid, tau=tau)
+        curve = eqx.tree_at(lambda t: tuple(getattr(t, f) for f in fields), c,
+                            (heels, *(getattr(c, f)[take] for f in fields[1:])))
+        return Stability(curve, crit)
+
+    def shared() -> Stability:  # every requested heel on the grid: one heel set (the default 0:90:19 does)
+        return solve(extra, n_gauss + idx)
+
+    def apart() -> Stability:
+        return solve(jnp.concatenate([heels, extra]), jnp.arange(k))
+
+    try:  # heels known while tracing: one branch compiled
+        return shared() if bool(on_grid) else apart()
+    except jax.errors.ConcretizationTypeError:  # heels traced (e.g. a kept program's argument): chosen when run
+        return jax.lax.cond(on_grid, shared, apart)
