@@ -102,3 +102,84 @@ def test_section_limits_by_hand():
     assert float(jnp.max(g["bulge"])) == pytest.approx((1.5 - 1.0) / 2.0)  # 0.5 m of new bulge / y_ref
     allowed = Limits().at_parent(design, 2.0).groups(design, 2.0)["bulge"]  # the parent's bulge is allowed
     assert float(jnp.max(allowed)) <= 0.0
+
+
+def _ribbed(a):
+    """Eleven rectangular sections (depth 3 m, x 0…10 m) of half-breadth 1 + a·sin(πx/5) [m]: at draft 2 m
+    the sectional area is A = 4(1 + a·w) m², so A'' (second differences, h = 1 m) is 4a·Δ²w."""
+    from hullopt.geometry import Sections
+
+    x = jnp.linspace(0.0, 10.0, 11)
+    b = 1.0 + a * jnp.sin(jnp.pi * x / 5.0)
+    yz = jnp.stack([jnp.stack([jnp.zeros_like(b), jnp.zeros_like(b)], -1), jnp.stack([b, jnp.zeros_like(b)], -1),
+                    jnp.stack([b, jnp.full_like(b, 3.0)], -1)], axis=1)
+    return Sections(x, yz, 10.0)
+
+
+def test_roughness_constraints_are_parsed_and_reach_the_limits():
+    from hullopt.app import run
+
+    cfg = RunConfig.model_validate(_raw(sac_roughness="<= 2 * parent", section_roughness="<= 2 * parent",
+                                        unfairness="<= 1.5 * parent"))
+    assert cfg.constraints.bounds()["sac_roughness"] == (1, 2.0, True)
+    lim = run.limits_from(cfg)
+    assert lim.names == ("sac_roughness", "section_roughness", "unfairness")
+    assert lim.measures[:2] == (run.sac_roughness, run.section_roughness)
+    shipped = RunConfig.model_validate(tomllib.loads((CONFIGS / "min_added_resistance.toml").read_text()))
+    assert {"sac_roughness", "section_roughness"} <= set(shipped.constraints.bounds())
+
+
+def test_sac_roughness_by_hand_and_against_the_report():
+    """Σ (A'')² Δx of the ribbed hull against the second differences of 4a·sin(πx/5) written out, and the
+    report's numpy measure on the same hull."""
+    from hullopt.app.run import _sac_roughness, sac_roughness
+    from hullopt.hydro import sectional_areas
+
+    s = _ribbed(0.3)
+    w = np.sin(np.pi * np.arange(11) / 5.0)
+    by_hand = np.sum((4 * 0.3 * (w[2:] - 2 * w[1:-1] + w[:-2])) ** 2)
+    assert float(sac_roughness(s, 2.0)) == pytest.approx(by_hand, rel=1e-12)
+    assert float(sac_roughness(s, 2.0)) == pytest.approx(_sac_roughness(s.x, sectional_areas(s, 2.0)), rel=1e-12)
+
+
+def test_section_roughness_zero_on_arcs_positive_at_a_knuckle_and_as_the_report():
+    """Circular-arc half-sections have equal turns over equal chords (Δκ = 0); a knuckle is rough; with
+    centreline and repeated points the JAX measure equals the report's numpy one (which drops them), and its
+    gradient is finite there."""
+    from hullopt.app.run import _section_roughness, section_roughness
+    from hullopt.geometry import Sections
+
+    t = np.linspace(-np.pi / 2, 0.0, 9)
+    arc = np.stack([3.0 * np.cos(t), 3.0 + 3.0 * np.sin(t)], -1)
+    arc[0, 0] = 0.0  # the keel on the centreline
+    arcs = Sections(jnp.array([0.0, 5.0]), jnp.array([arc, arc]), 5.0)
+    assert abs(float(jax.jit(section_roughness)(arcs))) < 1e-24
+    knuckle = arc.copy()
+    knuckle[5:, 0] = knuckle[5, 0]  # straight-sided above the fifth point
+    odd = np.insert(knuckle, 3, knuckle[3], axis=0)[:-1]  # a repeated point, the same count of offsets
+    odd = np.concatenate([[[0.0, 0.0]], odd[:-1]])  # and a second centreline point
+    rough = Sections(jnp.array([0.0, 5.0]), jnp.array([knuckle, odd]), 5.0)
+    value = float(jax.jit(section_roughness)(rough))
+    assert value > 1e-3 and value == pytest.approx(_section_roughness(rough.yz), rel=1e-12)
+    g = jax.jit(jax.grad(lambda yz: section_roughness(Sections(rough.x, yz, 5.0))))(rough.yz)
+    assert bool(jnp.all(jnp.isfinite(g)))
+
+
+def test_sac_roughness_constraint_binds_in_the_solver():
+    """min (a − 1)² with the SAC no rougher than twice the parent's (a₀ = 0.5): roughness ∝ a², so the
+    bound is a² ≤ 2·0.25, the solution a = 1/√2 on it (the free minimum a = 1 is twice as rough again)."""
+    from hullopt.app.run import sac_roughness
+    from hullopt.optimise import Limits, minimise_constrained
+
+    lim = Limits(names=("sac_roughness",), measures=(sac_roughness,), sense=np.ones(1), values=np.full(1, 2.0),
+                 relative=(True,), max_half_breadth=None, bulge=False).at_parent(_ribbed(0.5), 2.0)
+
+    def solve():
+        return minimise_constrained(lambda p, a: (p[0] - 1.0) ** 2, lambda p, a: jnp.zeros(1), jnp.array([0.5]),
+                                    jnp.zeros(1), 2.0 * jnp.ones(1), tol=1e-6,
+                                    inequalities=lambda p, a: lim(_ribbed(p[0]), 2.0),
+                                    inequality_tol=1e-6, outer=8, max_steps=100)
+
+    r = jax.jit(solve)()
+    assert bool(r.met) and float(r.params[0]) == pytest.approx(2**-0.5, abs=1e-6)
+    assert float(lim.groups(_ribbed(r.params[0]), 2.0)["sac_roughness"]) == pytest.approx(0.0, abs=1e-6)

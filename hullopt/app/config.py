@@ -148,10 +148,17 @@ def parse_bound(name: str, text) -> tuple[int, float, bool]:
 
 def measure_names() -> tuple[str, ...]:
     """What a ``[constraints]`` key may name: the objectives (:data:`~hullopt.optimise.OBJECTIVES`), the
-    upright hydrostatics' fields (``hullopt hydro --json``) and ``bf``."""
+    upright hydrostatics' fields (``hullopt hydro --json``), ``bf`` and the fairness measures
+    (:data:`FAIRNESS_MEASURES`, as ``"<= 2 * parent"``)."""
     from ..hydro import Hydrostatics
 
-    return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf")
+    return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf", *FAIRNESS_MEASURES)
+
+
+FAIRNESS_MEASURES = ("unfairness", "sac_roughness", "section_roughness")
+"""Fairness measures a ``[constraints]`` key may name (built in :data:`hullopt.app.run.ROUGHNESS_MEASURES`):
+the unfairness U (:func:`hullopt.fairing.unfairness`), the roughness of the sectional-area curve and of the
+sections (those the report compares and warns of)."""
 
 
 class ConstraintsConfig(_Strict):

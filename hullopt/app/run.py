@@ -22,7 +22,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn
 
 from ..drawing import write_offsets_wide
 from ..errors import HullError
-from ..geometry import Sections
+from ..geometry import Sections, safe_norm
 from ..hydro import Hydrostatics, hydrostatics, sectional_areas
 from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model, save_features
 from ..optimise import (
@@ -120,7 +120,10 @@ def build_problem(cfg: RunConfig, parent: FeatureHull | None = None) -> Problem:
 
 def constraint_measure(cfg: RunConfig, name: str):
     """The measure a ``[constraints]`` key names: an objective (with the options of
-    :meth:`~hullopt.app.config.RunConfig.constraint_options`) or a :class:`~hullopt.optimise.Particular`."""
+    :meth:`~hullopt.app.config.RunConfig.constraint_options`), a fairness measure (:data:`ROUGHNESS_MEASURES`)
+    or a :class:`~hullopt.optimise.Particular`."""
+    if name in ROUGHNESS_MEASURES:
+        return ROUGHNESS_MEASURES[name]
     return objective_from(cfg.constraint_options(name)) if name in OBJECTIVES else Particular(name)
 
 
@@ -371,6 +374,46 @@ def _section_roughness(yz) -> float:
     return float(np.mean(total))
 
 
+def sac_roughness(sections: Sections, draft) -> Array:
+    """:func:`_sac_roughness` in JAX, as a constraint measure: Σ (A'')² Δx [m²] of the sectional-area curve
+    at ``draft`` [m] (second divided differences over the stations; compared with the parent's only)."""
+    x, a = sections.x, sectional_areas(sections, draft)
+    h0, h1 = jnp.diff(x)[:-1], jnp.diff(x)[1:]
+    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
+    return jnp.sum(d2**2 * 0.5 * (h0 + h1))
+
+
+def _compact(keep, *arrays):
+    """The rows of ``arrays`` where ``keep``, moved to the front in order (the rest after them), and how
+    many there are: a fixed-shape stand-in for ``array[keep]``."""
+    order = jnp.argsort(~keep, stable=True)
+    return (*(v[order] for v in arrays), jnp.sum(keep))
+
+
+def section_roughness(sections: Sections, draft=None) -> Array:
+    """:func:`_section_roughness` in JAX, as a constraint measure: the mean over stations of Σ (Δκ)²/Δs
+    [m⁻³] of each half-section polyline, its centreline points (``y ≤ 1e-9`` m) and repeated points left out
+    as there (the draft unused). A knuckle or a wavy section raises it; compared with the parent's only.
+    Finite gradients: the left-out entries are replaced before any division or angle."""
+
+    def one(p):
+        p, k = _compact(jax.lax.stop_gradient(p[:, 0] > 1e-9), p)
+        d = jnp.diff(p, axis=0)
+        ds = safe_norm(d)
+        idx = jnp.arange(d.shape[0])
+        d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > 1e-9)), d, ds)
+        ok = idx < s
+        ds = jnp.where(ok, ds, 1.0)
+        t = jnp.where(ok[:, None], d / ds[:, None], jnp.array([1.0, 0.0]))
+        cross = t[:-1, 0] * t[1:, 1] - t[:-1, 1] * t[1:, 0]
+        turn = jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1))
+        kappa = turn / (0.5 * (ds[:-1] + ds[1:]))
+        terms = jnp.diff(kappa) ** 2 / ds[1:-1]
+        return jnp.sum(jnp.where(idx[:-2] + 2 < s, terms, 0.0))
+
+    return jnp.mean(jax.vmap(one)(sections.yz))
+
+
 def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str]]:
     """``(objectives, warnings)`` of a run: every measure of :func:`report_measures` of the parent and the
     design(s) as ``{name: {"parent", "design" (or "designs", a list for a sweep), "unit"}}`` (SI: N, m, m²,
@@ -422,6 +465,12 @@ def _unfairness(sections: Sections, draft) -> Array:
     from ..fairing import unfairness
 
     return unfairness(sections)
+
+
+ROUGHNESS_MEASURES = {"unfairness": _unfairness, "sac_roughness": sac_roughness,
+                      "section_roughness": section_roughness}
+"""The fairness measures a ``[constraints]`` key may name (``name = "<= 2 * parent"``), by function: the
+unfairness U (:func:`hullopt.fairing.unfairness`), the sectional-area curve's and the sections' roughness."""
 
 
 def _unstack(tree) -> list:
