@@ -9,16 +9,17 @@ through :class:`Particulars` (Lpp, B_wl, T, C_B and waterline lengths), all comp
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, longitudinal_integrals
-from ._added_resistance import _outer, froude_number, nmri_added_resistance
+from ._added_resistance import BF_KINK, _outer, froude_number, nmri_added_resistance
 from ._motions import motion_added_resistance, motion_response
 from ._bessel import alpha_t
 from ._spectra import spectral_mean
-from ._waterline import entrance_lengths, waterline
+from ._waterline import bluntness_of_waterline, entrance_lengths, waterline
 
 METHODS = ("nmri", "stawave1", "stawave2", "snnm")
 
@@ -305,6 +306,62 @@ def method_resistance(method: str, sections: Sections, draft, speed, omega, head
     raise ValueError(f"method {method!r}: expected one of {METHODS}")
 
 
+def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude") -> Array:
+    """Headings [rad] (0 = head seas) where ``method``'s response has a kink or a jump in heading, for the
+    direction integral of a short-crested sea (:func:`~hullopt.waves.spectral_mean`'s ``breaks``).
+
+    STAWAVE-1/2: ±π/4 (the ±45° validity limit, a jump to 0). SNNM: ±E1 (its reflection's fullness factor
+    switches: a jump), ±E2 (kinks; a kink at θ is one at θ ± π too, so ±(π − E1), ±(π − E2) need no entry),
+    π/2 (its motion part's cap and the |cos α|^½ in T34) and 0 ≡ π (the fold in following seas). NMRI's
+    reflection: where Bf(α) crosses the C_U kink 0.1871 (and 0 with ``aft="include"``), the first two
+    crossings over 0 … π on a 64-heading grid, linearly interpolated and mirrored, their derivative stopped
+    (the response is continuous there, so where the split lies does not change the derivative).
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline] (scalar).
+    aft : {"exclude", "include"}
+        NMRI's lit range (:func:`~hullopt.waves.bluntness_of_waterline`).
+
+    Returns
+    -------
+    Array
+        Headings [rad], shape (2,) STAWAVE, (6,) SNNM, (4,) or (8,) NMRI.
+
+    Raises
+    ------
+    ValueError
+        If ``method`` is not one of :data:`METHODS`.
+    """
+    if method in ("stawave1", "stawave2"):
+        return jnp.array([0.25 * jnp.pi, -0.25 * jnp.pi])
+    if method == "snnm":
+        p = particulars(sections, draft)
+        e1 = jnp.arctan(0.99 * 0.5 * p.beam / p.l_entrance)
+        e2 = jnp.arctan(0.99 * 0.5 * p.beam / p.l_run)
+        return jnp.stack([e1, -e1, e2, -e2, jnp.full_like(e1, 0.5 * jnp.pi), jnp.zeros_like(e1)])
+    if method == "nmri":
+        grid = jnp.linspace(0.0, jnp.pi, 64)
+        bf = jax.lax.stop_gradient(bluntness_of_waterline(waterline(sections, draft), grid, aft))
+        out = []
+        for level in (BF_KINK, 0.0) if aft == "include" else (BF_KINK,):
+            d = bf - level
+            cross = (d[:-1] > 0.0) != (d[1:] > 0.0)
+            i = jnp.argsort(~cross, stable=True)[:2]  # the first two cells with a crossing
+            d0, d1 = d[i], d[i + 1]
+            ok = cross[i] & (d0 != d1)
+            t = jnp.where(ok, d0 / jnp.where(ok, d0 - d1, 1.0), 0.0)
+            root = jnp.where(ok, grid[i] + t * (grid[1] - grid[0]), 0.0)  # none: a harmless split at 0
+            out += [root, -root]
+        return jnp.concatenate(out)
+    raise ValueError(f"method {method!r}: expected one of {METHODS}")
+
+
 def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp, heading=0.0, *,
                           spectrum: str = "pm", gamma=3.3, spreading_s=None, omega_max=None, kyy=0.25,
                           rho=RHO_SEA, g=G, smooth=None, aft="exclude", order: int = 8,
@@ -330,7 +387,9 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
         Mean wave heading [rad], 0 = head seas.
     spectrum, gamma, spreading_s, omega_max, order, n_dir
         The spectrum (``"pm"``, ``"jonswap"``, …), JONSWAP γ, cos-2s spreading (None: long-crested),
-        cut-off [rad/s] and quadrature orders; see :func:`spectral_mean`.
+        cut-off [rad/s] and quadrature orders; see :func:`spectral_mean`. Short-crested, the direction
+        integral is split at the method's kinks (:func:`heading_breaks`), ``n_dir`` points shared by the
+        panels (at least 4 each; NMRI's reflection part 5·n_dir/2, its motion part one plain Gauss rule).
     kyy : float
         Pitch radius of gyration over Lpp (STAWAVE-2, SNNM, and NMRI's strip-theory motion part).
     rho, g : float
@@ -376,15 +435,20 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
 
         if motion_knots is not None:
             motion_part = motion_response(sections, draft, speed, knots=motion_knots, kg=kg, kyy=kyy, rho=rho, g=g)
-        opts = dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max, n_dir=n_dir)
-        return WaveResistance(motion=spectral_mean(motion_part, hs, tp, heading, order=order, **opts),
-                              reflection=spectral_mean(reflection, hs, tp, heading, order=order, **opts))
+        opts = dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max)
+        breaks = None if spreading_s is None else heading_breaks(method, sections, draft, aft)
+        return WaveResistance(motion=spectral_mean(motion_part, hs, tp, heading, order=order, n_dir=n_dir, **opts),
+                              reflection=spectral_mean(reflection, hs, tp, heading, order=order,
+                                                       n_dir=5 * n_dir // 2, breaks=breaks, **opts))
 
     def response(om, hd):
         r = method_resistance(method, sections, draft, speed, om, hd, 1.0, kyy=kyy, rho=rho, g=g, smooth=smooth,
                               aft=aft, kg=kg, motion=motion)
         return jnp.stack([r.motion, r.reflection], axis=-1)
 
+    breaks = None if spreading_s is None else heading_breaks(method, sections, draft, aft)
+    if method == "nmri":  # its reflection part has more structure in heading than its kinks (METHODS §2.6)
+        n_dir = 5 * n_dir // 2
     m = spectral_mean(response, hs, tp, heading, spectrum=spectrum, gamma=gamma, spreading_s=spreading_s,
-                      omega_max=omega_max, order=order, n_dir=n_dir)
+                      omega_max=omega_max, order=order, n_dir=n_dir, breaks=breaks)
     return WaveResistance(motion=m[0], reflection=m[1])
