@@ -9,7 +9,6 @@ through :class:`Particulars` (Lpp, B_wl, T, C_B and waterline lengths), all comp
 from __future__ import annotations
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
@@ -314,8 +313,8 @@ def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude")
     switches: a jump), ±E2 (kinks; a kink at θ is one at θ ± π too, so ±(π − E1), ±(π − E2) need no entry),
     π/2 (its motion part's cap and the |cos α|^½ in T34) and 0 ≡ π (the fold in following seas). NMRI's
     reflection: where Bf(α) crosses the C_U kink 0.1871 (and 0 with ``aft="include"``), the first two
-    crossings over 0 … π on a 64-heading grid, linearly interpolated and mirrored, their derivative stopped
-    (the response is continuous there, so where the split lies does not change the derivative).
+    crossings over 0 … π on a 64-heading grid, linearly interpolated and mirrored (differentiable: the
+    gradient is that of the quadrature as computed).
 
     Parameters
     ----------
@@ -347,7 +346,7 @@ def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude")
         return jnp.stack([e1, -e1, e2, -e2, jnp.full_like(e1, 0.5 * jnp.pi), jnp.zeros_like(e1)])
     if method == "nmri":
         grid = jnp.linspace(0.0, jnp.pi, 64)
-        bf = jax.lax.stop_gradient(bluntness_of_waterline(waterline(sections, draft), grid, aft))
+        bf = bluntness_of_waterline(waterline(sections, draft), grid, aft)
         out = []
         for level in (BF_KINK, 0.0) if aft == "include" else (BF_KINK,):
             d = bf - level
