@@ -165,6 +165,31 @@ def test_section_roughness_zero_on_arcs_positive_at_a_knuckle_and_as_the_report(
     assert bool(jnp.all(jnp.isfinite(g)))
 
 
+def test_section_knuckle_by_hand_and_its_gradient():
+    """Σ θ⁴ of the turning angles, by hand: an arc of equal 11.25° turns gives 6·(π/16)⁴ (its keel point on the
+    centreline left out, a repeated point too; finite gradient there), a section straight up to a 20° knuckle
+    and then vertical (the optimiser's knuckle of issue 16) gives (20°)⁴; the gradient matches central
+    differences."""
+    from hullopt.app.run import section_knuckle
+    from hullopt.geometry import Sections
+    from tests.helpers import check_grad
+
+    t = np.linspace(-np.pi / 2, 0.0, 9)
+    arc = np.stack([3.0 * np.cos(t), 3.0 + 3.0 * np.sin(t)], -1)
+    arc[0, 0] = 0.0
+    arc = np.concatenate([[[0.0, 0.0]], arc, arc[-1:]])  # a second centreline point and a repeated one
+    slope = np.deg2rad(20.0)  # the side 20° off the vertical, then vertical
+    z = np.linspace(0.0, 6.0, 10)
+    knuckle = np.concatenate([np.stack([z * np.tan(slope) + 0.1, z], -1), [[6.0 * np.tan(slope) + 0.1, 10.0]]])
+    s = Sections(jnp.array([0.0, 5.0]), jnp.array([arc, knuckle]), 5.0)
+    expected = 0.5 * (6 * (np.pi / 16) ** 4 + slope**4)  # the keel point is on the centreline: 6 turns kept
+    assert float(jax.jit(section_knuckle)(s)) == pytest.approx(expected, rel=1e-10)
+    grad = jax.jit(jax.grad(lambda yz: section_knuckle(Sections(s.x, yz, 5.0))))(s.yz)
+    assert bool(jnp.all(jnp.isfinite(grad)))  # at the left-out points too
+    one = jax.jit(lambda yz: section_knuckle(Sections(jnp.zeros(1), yz[None], 5.0)))
+    check_grad(one, knuckle, rtol=1e-6)  # the knuckled section (no point left out)
+
+
 def test_sac_roughness_constraint_binds_in_the_solver():
     """min (a − 1)² with the SAC no rougher than twice the parent's (a₀ = 0.5): roughness ∝ a², so the
     bound is a² ≤ 2·0.25, the solution a = 1/√2 on it (the free minimum a = 1 is twice as rough again)."""

@@ -155,10 +155,10 @@ def measure_names() -> tuple[str, ...]:
     return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf", *FAIRNESS_MEASURES)
 
 
-FAIRNESS_MEASURES = ("unfairness", "sac_roughness", "section_roughness")
+FAIRNESS_MEASURES = ("unfairness", "sac_roughness", "section_roughness", "section_knuckle")
 """Fairness measures a ``[constraints]`` key may name (built in :data:`hullopt.app.run.ROUGHNESS_MEASURES`):
 the unfairness U (:func:`hullopt.fairing.unfairness`), the roughness of the sectional-area curve and of the
-sections (those the report compares and warns of)."""
+sections (those the report compares and warns of) and the sections' knuckles (their sharpest turns)."""
 
 
 class ConstraintsConfig(_Strict):

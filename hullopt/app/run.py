@@ -390,26 +390,48 @@ def _compact(keep, *arrays):
     return (*(v[order] for v in arrays), jnp.sum(keep))
 
 
+def _turns(p):
+    """Turning angles [rad] between neighbouring segments of a half-section polyline ``p (m, 2)`` [m] and the
+    segment lengths [m], its centreline points (``y ≤ 1e-9`` m) and repeated points left out, as fixed-shape
+    arrays: ``(turn (m−2,), ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded: turns 0,
+    lengths 1 m). Finite gradients: the left-out entries are replaced before any division or angle."""
+    p, k = _compact(jax.lax.stop_gradient(p[:, 0] > 1e-9), p)
+    d = jnp.diff(p, axis=0)
+    ds = safe_norm(d)
+    idx = jnp.arange(d.shape[0])
+    d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > 1e-9)), d, ds)
+    ok = idx < s
+    ds = jnp.where(ok, ds, 1.0)
+    t = jnp.where(ok[:, None], d / ds[:, None], jnp.array([1.0, 0.0]))
+    cross = t[:-1, 0] * t[1:, 1] - t[:-1, 1] * t[1:, 0]
+    return jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1)), ds, s
+
+
 def section_roughness(sections: Sections, draft=None) -> Array:
     """:func:`_section_roughness` in JAX, as a constraint measure: the mean over stations of Σ (Δκ)²/Δs
-    [m⁻³] of each half-section polyline, its centreline points (``y ≤ 1e-9`` m) and repeated points left out
-    as there (the draft unused). A knuckle or a wavy section raises it; compared with the parent's only.
-    Finite gradients: the left-out entries are replaced before any division or angle."""
+    [m⁻³] of each half-section polyline, its centreline and repeated points left out as there (the draft
+    unused). A wavy section raises it; compared with the parent's only."""
 
     def one(p):
-        p, k = _compact(jax.lax.stop_gradient(p[:, 0] > 1e-9), p)
-        d = jnp.diff(p, axis=0)
-        ds = safe_norm(d)
-        idx = jnp.arange(d.shape[0])
-        d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > 1e-9)), d, ds)
-        ok = idx < s
-        ds = jnp.where(ok, ds, 1.0)
-        t = jnp.where(ok[:, None], d / ds[:, None], jnp.array([1.0, 0.0]))
-        cross = t[:-1, 0] * t[1:, 1] - t[:-1, 1] * t[1:, 0]
-        turn = jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1))
+        turn, ds, s = _turns(p)
         kappa = turn / (0.5 * (ds[:-1] + ds[1:]))
         terms = jnp.diff(kappa) ** 2 / ds[1:-1]
-        return jnp.sum(jnp.where(idx[:-2] + 2 < s, terms, 0.0))
+        return jnp.sum(jnp.where(jnp.arange(terms.shape[0]) + 2 < s, terms, 0.0))
+
+    return jnp.mean(jax.vmap(one)(sections.yz))
+
+
+def section_knuckle(sections: Sections, draft=None) -> Array:
+    """The sections' knuckles, as a constraint measure: the mean over stations of Σ θ⁴ [rad⁴], θ the turning
+    angle between neighbouring segments of each half-section polyline (centreline and repeated points left
+    out; the draft unused) — a soft maximum of the sharpest turn, which :func:`section_roughness` misses
+    where a knuckle sits beside a long segment (a section straight-sided up to just below the waterline, then
+    vertical: Σ (Δκ)²/Δs falls while the turn there triples). ``"<= 2 * parent"`` lets no turn grow by more
+    than about 2^(1/4) ≈ 1.19× the parent's sharpest. Compared with the parent's on the same offsets only."""
+
+    def one(p):
+        turn, _, s = _turns(p)
+        return jnp.sum(jnp.where(jnp.arange(turn.shape[0]) + 1 < s, turn**4, 0.0))
 
     return jnp.mean(jax.vmap(one)(sections.yz))
 
@@ -468,9 +490,10 @@ def _unfairness(sections: Sections, draft) -> Array:
 
 
 ROUGHNESS_MEASURES = {"unfairness": _unfairness, "sac_roughness": sac_roughness,
-                      "section_roughness": section_roughness}
+                      "section_roughness": section_roughness, "section_knuckle": section_knuckle}
 """The fairness measures a ``[constraints]`` key may name (``name = "<= 2 * parent"``), by function: the
-unfairness U (:func:`hullopt.fairing.unfairness`), the sectional-area curve's and the sections' roughness."""
+unfairness U (:func:`hullopt.fairing.unfairness`), the sectional-area curve's and the sections' roughness and
+the sections' knuckles."""
 
 
 def _unstack(tree) -> list:
