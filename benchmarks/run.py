@@ -113,8 +113,10 @@ def _motions(d):
     w = next((v for k, v in d.items() if k.startswith("wigley")), None)
     if w:
         rows.append(_g("motions value + gradient / value (Wigley, 30 ω)", w["ratio"], "×", "—", None))
-        rows.append(_g(f"motions vmap over {w['vmap_designs']} designs, per design", w["vmap_per_design_s"], "s",
-                       "—", None, f"alone {w['value_s']:.2f} s"))
+        chunk = f" (chunks of {w['vmap_chunk']})" if w.get("vmap_chunk", w["vmap_designs"]) < w["vmap_designs"] else ""
+        rss = f"; peak RSS {w['peak_rss_gib_after_batch']:.1f} GiB" if "peak_rss_gib_after_batch" in w else ""
+        rows.append(_g(f"motions vmap over {w['vmap_designs']} designs × 30 ω{chunk}, per design",
+                       w["vmap_per_design_s"], "s", "—", None, f"alone {w['value_s']:.2f} s{rss}"))
     k = next((v for kk, v in d.items() if kk.startswith("kcs")), None)
     if k:
         lam, tot, mot = k["lambda_over_l"], k["nmri"]["total"], k["nmri"]["motion"]
