@@ -19,6 +19,27 @@ def _figure(*args, **kw):
     return plt, *plt.subplots(*args, **kw)
 
 
+_SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def _log_labels(*axes) -> None:
+    """Label the log-scaled y axes as matplotlib's default does (decades as 10⁻⁵; between decades, where it
+    labels them, 2×10⁻⁵) in plain text with Unicode superscripts: the default's mathtext parser costs ~0.2 s
+    of a run's plots."""
+    from matplotlib.ticker import LogFormatter
+
+    class Plain(LogFormatter):
+        def _num_to_string(self, x, vmin, vmax):
+            e = int(np.floor(np.log10(x) + 1e-9))
+            c = x / 10.0**e
+            power = "10" + str(e).translate(_SUPERSCRIPTS)
+            return power if abs(c - 1.0) < 1e-6 else f"{c:.3g}" if e == 0 else f"{c:.3g}×{power}"
+
+    for ax in axes:
+        ax.yaxis.set_major_formatter(Plain(labelOnlyBase=False))
+        ax.yaxis.set_minor_formatter(Plain(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
+
+
 def _save(plt, fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=130, bbox_inches="tight")
 
@@ -93,6 +114,7 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
         plt, fig, ax = _figure(figsize=(6.5, 4))
         ok = np.isfinite(h)
         ax.semilogy(np.arange(len(h))[ok], np.maximum(h[ok], 1e-300), marker=".")
+        _log_labels(ax)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("cost: sum of squared scaled residuals [-]")
         ax.grid(alpha=0.3, which="both")
@@ -103,6 +125,7 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     it = np.arange(1, len(h) + 1)
     ok = np.isfinite(h)
     ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), "o-", ms=4, color="C0")
+    _log_labels(ax1)
     fin = np.abs(h[np.isfinite(h)])
     if fin.size and fin.min() > 0 and fin.max() / fin.min() < 10:  # within a decade: plain numbers on the ticks
         from matplotlib.ticker import FuncFormatter
@@ -114,6 +137,7 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     ax1.grid(alpha=0.3, which="both")
     ok = np.isfinite(v)
     ax2.semilogy(it[ok], np.maximum(v[ok], 1e-16), "s-", ms=4, color="C3", label="max |residual| / tolerance")
+    _log_labels(ax2)
     ax2.axhline(1.0, color="k", lw=0.8, ls="--", label="tolerance (≤ 1: targets met)")
     ax2.set_ylabel("max constraint violation [-]")
     ax2.set_xlabel(xlabel)
