@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import os
+import sys
 from pathlib import Path
 
 from ..geometry import atomic_write_bytes
@@ -36,13 +37,13 @@ def save_figure(fig, path: str | os.PathLike, **savefig_kw) -> Path:
     OSError
         For a folder that cannot be written.
     """
-    import matplotlib.pyplot as plt
-
     path = Path(path)
     try:
         buf = io.BytesIO()
         fig.savefig(buf, format=path.suffix.lstrip(".").lower() or "png", **savefig_kw)
         atomic_write_bytes(path, buf.getvalue())
     finally:
-        plt.close(fig)
+        plt = sys.modules.get("matplotlib.pyplot")  # a figure made without pyplot has nothing to close there
+        if plt is not None:
+            plt.close(fig)
     return path
