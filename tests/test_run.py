@@ -1,6 +1,8 @@
 """Config-driven runs from the command line: the three use-case configs, resume of a killed sweep, and bad
 configs failing fast with a message naming the field."""
 
+import contextlib
+import io
 import json
 import tomllib
 from pathlib import Path
@@ -11,11 +13,24 @@ import pytest
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
-def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path, monkeypatch):
-    out = tmp_path / "fit"
-    code, stdout, err = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(out), "--json")
-    assert code == 0, err
-    report = json.loads(stdout)
+@pytest.fixture(scope="module")
+def fit_run(tmp_path_factory):
+    """configs/fit_cb_lcb.toml run once for the module (a cold run: it traces, compiles and keeps its programs):
+    ``(folder, report printed by --json)``. Checked by the test of the run folder and re-run warm by the test of
+    the kept program, so the suite solves this config once rather than twice."""
+    from hullopt.app.cli import main
+
+    out = tmp_path_factory.mktemp("fit") / "fit"
+    with pytest.MonkeyPatch.context() as mp:  # the session's throw-away cache, as conftest's autouse fixture sets
+        mp.setenv("HULLOPT_CACHE", str(tmp_path_factory.getbasetemp().parent / "jax-cache"))
+        with contextlib.redirect_stdout(io.StringIO()) as stdout:  # module fixtures have no capsys
+            code = main(["run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(out), "--json"])
+    assert code == 0
+    return out, json.loads(stdout.getvalue())
+
+
+def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, monkeypatch):
+    out, report = fit_run
     assert report["converged"] and report["met"] and report["iterations"] > 0
     assert abs(report["achieved"]["cb"] - 0.48) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.5) <= 0.01
     assert set(report["achieved"]) >= {"volume", "cb", "lcb_pct", "kb", "wetted_surface"}
@@ -50,18 +65,17 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, tmp_path, m
     assert code == 0 and json.loads(stdout)["cb"] == again["cb"], err
 
 
-def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, tmp_path, monkeypatch):
-    """The second run of a config neither traces nor compiles (kept program + compilation cache)."""
+def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, tmp_path, monkeypatch):
+    """The second run of a config neither traces nor compiles (kept program + compilation cache): the module's
+    fit run again, with the export (trace and lower) forbidden."""
     from hullopt.app import programs
 
-    args = ["run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.47", "--json"]
-    code, first, err = cli(*args, "--out", str(tmp_path / "a"))
-    assert code == 0, err
+    first_out, first = fit_run
     monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("the kept program was not used"))
-    code, again, err = cli(*args, "--out", str(tmp_path / "b"))
+    code, again, err = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--json", "--out", str(tmp_path / "b"))
     assert code == 0, err
-    assert json.loads(again) == json.loads(first)
-    assert (tmp_path / "b" / "hull.stl").read_bytes() == (tmp_path / "a" / "hull.stl").read_bytes()
+    assert json.loads(again) == first
+    assert (tmp_path / "b" / "hull.stl").read_bytes() == (first_out / "hull.stl").read_bytes()
 
 
 def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
