@@ -299,12 +299,13 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
 
 
 def _import_writers() -> None:
-    """Import what writes a run folder's plots (matplotlib's Agg) and report.html (plotly), and load what
-    each loads on first use (matplotlib's font list, plotly's template and the validators of the traces the
-    page draws): done while the run's programs load, not after the solve."""
+    """Import what writes a run folder's plots (matplotlib's Agg), hull.stl (trimesh) and report.html (plotly),
+    and load what each loads on first use (matplotlib's font list, plotly's template and the validators of the
+    traces the page draws): done while the run's programs load, not after the solve."""
     import matplotlib.backends.backend_agg  # noqa: F401
     import matplotlib.figure  # noqa: F401
     import plotly.graph_objects as go
+    import trimesh  # noqa: F401  (hull.stl: geometry imports it where used)
     from matplotlib import font_manager
 
     font_manager.findfont(font_manager.FontProperties())
