@@ -12,6 +12,7 @@ import gzip
 import io
 import sys
 
+import jax
 import numpy as np
 import pytest
 
@@ -176,6 +177,7 @@ def test_kcs_iges_hull_spec_end_to_end_matches_the_closed_mesh(hulls):
 
     iges = load_hull(f"{hulls / KCS_IGES}?scale={SCALE}&lpp=230")
     closed = load_hull(f"{hulls / KCS_CLOSED}?scale={SCALE}&lpp=230")
-    v_iges, v_closed = (float(volume_at(h.sections, T_DESIGN)) for h in (iges, closed))
+    vol = jax.jit(volume_at)  # compiled: the same integrals as op by op, a few times faster here
+    v_iges, v_closed = (float(vol(h.sections, T_DESIGN)) for h in (iges, closed))
     assert v_iges == pytest.approx(v_closed, rel=3e-3)
     assert v_iges == pytest.approx(52030.0, rel=3e-3)  # published

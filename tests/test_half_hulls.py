@@ -12,6 +12,7 @@ import gzip
 import io
 import re
 
+import jax
 import numpy as np
 import pytest
 import trimesh
@@ -20,6 +21,9 @@ from hullopt.models import load_hull
 from hullopt.errors import HullError
 from hullopt.hydro import hydrostatics
 from hullopt.models import MeshTransform, read_mesh, slice_mesh
+
+# compiled once per section shape (the same function as op by op, a few times faster; drafts are traced)
+_hydro = jax.jit(hydrostatics)
 
 KVLCC2 = "kvlcc2_model_half_open_from_igs.stl.gz"
 
@@ -49,7 +53,7 @@ def test_kvlcc2_half_hull_against_its_own_surface_integral(hulls):
     T = 20.8 m: ∇ and LCB within 0.1 % of the exact integral over its own surface."""
     lpp, draft = 320.0, 20.8
     loaded = load_hull(f"{hulls / KVLCC2}?scale=58&lpp={lpp:g}")
-    h = hydrostatics(loaded.sections, draft)
+    h = _hydro(loaded.sections, draft)
     surface = _raw(hulls / KVLCC2)
     surface.apply_scale(58.0)
     vol, lcb = _half_surface_integrals(surface, draft)
@@ -81,7 +85,7 @@ RES = "n=101&m=80"
 
 @pytest.fixture(scope="module")
 def dtc_whole_hydro(hulls):
-    return hydrostatics(load_hull(f"{hulls}/DTC-scaled.stl.gz?scale=59.407&lpp=355&{RES}").sections, 14.5)
+    return _hydro(load_hull(f"{hulls}/DTC-scaled.stl.gz?scale=59.407&lpp=355&{RES}").sections, 14.5)
 
 
 @pytest.mark.parametrize("how", ["port open", "port capped", "starboard open"])
@@ -94,7 +98,7 @@ def test_closed_mesh_cut_in_half_gives_the_whole_hydrostatics(tmp_path, dtc_whol
     path = tmp_path / "half.stl"
     half.export(path)
     whole = dtc_whole_hydro
-    ours = hydrostatics(load_hull(f"{path}?lpp=355&{RES}").sections, 14.5)
+    ours = _hydro(load_hull(f"{path}?lpp=355&{RES}").sections, 14.5)
     assert float(ours.volume) == pytest.approx(float(whole.volume), rel=5e-4)
     assert float(ours.lcb) == pytest.approx(float(whole.lcb), rel=5e-4)
     assert float(ours.bmt) == pytest.approx(float(whole.bmt), rel=5e-4)
@@ -106,7 +110,7 @@ def test_wigley_open_top_with_inward_normals(hulls):
     """The OpenFOAM Wigley (L = 1 m, x = 0 amidships, keel at z = -0.0625, open top at z = 0.04, normals
     inward) brought to L = 100 m, AP at x = 0, keel at z = 0: Cb 4/9, LCB 0 at T = 6.25 m."""
     loaded = load_hull(f"{hulls}/wigley_openfoam.stl.gz?scale=100&shift=50,0,6.25&lpp=100")
-    h = hydrostatics(loaded.sections, 6.25)
+    h = _hydro(loaded.sections, 6.25)
     assert float(h.cb) == pytest.approx(4 / 9, rel=5e-3)
     assert float(h.volume) == pytest.approx(4 / 9 * 100 * 10 * 6.25, rel=5e-3)
     assert float(h.lcb_pct) == pytest.approx(0.0, abs=0.05)
@@ -186,7 +190,7 @@ def test_half_hull_with_a_separate_bulb_and_an_open_top(tmp_path):
         read = read_mesh(path)
         found[name] = read.metadata["hullopt"]
         s = slice_mesh(read, 100.0, 201, 120)
-        meshes[name] = [hydrostatics(s, t) for t in (4.0, 8.0)]
+        meshes[name] = [_hydro(s, t) for t in (4.0, 8.0)]
     assert not found["whole"].half and found["half"].half and not found["half"].open_top
     assert found["half, no deck"].half and found["half, no deck"].open_top
     for name in ("half", "half, no deck"):
@@ -207,7 +211,7 @@ def test_open_top_with_a_step_in_it(tmp_path):
         read = read_mesh(path)
         assert read.metadata["hullopt"].open_top and read.metadata["hullopt"].half == (name == "half")
         s = slice_mesh(read, 100.0, 101, 40)
-        h = hydrostatics(s, 6.0)
+        h = _hydro(s, 6.0)
         assert float(h.volume) == pytest.approx(100 * 10 * 6, rel=1e-4) and float(h.lcb) == pytest.approx(50.0)
         yz, x = np.asarray(s.yz), np.asarray(s.x)
         assert np.allclose(yz[x < 75][:, -1], [5.0, 10.0]) and np.allclose(yz[x > 85][:, -1], [5.0, 14.0])
