@@ -81,21 +81,3 @@ def test_programs_unused_for_30_days_are_pruned_when_one_is_written(folder):
     programs.cached_call("t", model, args(), (3,), key="used")  # read: marks it in use
     programs.cached_call("t", model, args(), (3,), key="new")  # written: prunes
     assert used.exists() and not stale.exists() and len(list(folder.glob("t-*.bin"))) == 2
-
-
-def test_a_program_loaded_on_a_thread_runs_on_new_inputs(folder, monkeypatch):
-    """``load_program`` (what ``hullopt run`` calls on threads): the kept executable, loaded on another
-    thread, computes the function on other inputs of the same shapes; inputs of another structure are refused."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    programs.cached_call("t", model, args(), (3,), key={"config": 1})  # built and kept
-    monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("traced again"))
-    with ThreadPoolExecutor(1) as pool:
-        call = pool.submit(programs.load_program, "t", model, args(), (3,), {"config": 1}).result()
-    new = ({"a": args()[0]["a"] ** 2 + 1.0, "b": jnp.asarray([5.0, -7.0])},)
-    out, ref = call(new), model(new[0], 3)
-    assert out.name == "k=3"
-    for x, y in zip(jax.tree.leaves(out), jax.tree.leaves(ref)):
-        np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12)
-    with pytest.raises(ValueError, match="another structure"):
-        call(({"a": new[0]["a"]},))

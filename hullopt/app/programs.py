@@ -65,34 +65,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     JSON-serialisable value that, with the array shapes, determines the program. Without a programs folder this
     is a plain ``eqx.filter_jit`` call.
     """
-    return load_program(name, fn, args, static, key)(args)
-
-
-def load_program(name: str, fn: Callable, args: tuple, static: tuple, key: object) -> Callable:
-    """The program :func:`cached_call` would run on ``args``, loaded (or built and kept) but not called: a
-    function of an ``args`` pytree of the same structure, array shapes and dtypes (its array leaves are the
-    inputs; its other leaves must be those given here, baked into the program), returning
-    ``jax.jit(fn)(*args, *static)``. Loading a kept executable (about a second for a solve's) runs in C++
-    without holding Python's GIL, so a caller can load programs on threads while it does other work (see
-    :func:`hullopt.app.run.run`)."""
     folder = programs_dir()
     if folder is None:
-        return lambda a: eqx.filter_jit(fn)(*a, *static)
-    compiled, skeleton, in_tree = _load(folder, name, fn, args, static, key)
-    out_tree = jax.tree.structure(skeleton)
-
-    def call(a):
-        leaves, tree = jax.tree.flatten(eqx.partition(a, eqx.is_array)[0])
-        if tree != in_tree:
-            raise ValueError(f"program {name!r}: called with inputs of another structure than it was loaded for")
-        return jax.tree.unflatten(out_tree, compiled(*leaves))
-
-    return call
-
-
-def _load(folder: Path, name: str, fn: Callable, args: tuple, static: tuple, key: object) -> tuple:
-    """``(compiled, skeleton, in_tree)`` of :func:`load_program`: the kept executable loaded, or the program
-    exported, compiled and kept."""
+        return eqx.filter_jit(fn)(*args, *static)
     dynamic, fixed = eqx.partition(args, eqx.is_array)
     leaves, in_tree = jax.tree.flatten(dynamic)
     # the executable is built for these devices and XLA's flags
@@ -126,7 +101,8 @@ def _load(folder: Path, name: str, fn: Callable, args: tuple, static: tuple, key
         compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
         if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
             compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile()
-    return compiled, skeleton, in_tree
+    out_leaves = compiled(*leaves)
+    return jax.tree.unflatten(jax.tree.structure(skeleton), out_leaves)
 
 
 def _compile_fresh(lowered) -> tuple:
@@ -138,9 +114,7 @@ def _compile_fresh(lowered) -> tuple:
         from jax._src import compilation_cache as cc
 
         with cc._cache_initialized_mutex:
-            if not _BYPASS["count"]:  # the first of concurrent fresh compiles (threads) saves the switch
-                _BYPASS["saved"] = cc._cache_checked, cc._cache_used
-            _BYPASS["count"] += 1
+            saved = cc._cache_checked, cc._cache_used
             cc._cache_checked, cc._cache_used = True, False
     except Exception:
         return lowered.compile(), False
@@ -148,13 +122,7 @@ def _compile_fresh(lowered) -> tuple:
         return lowered.compile(), True
     finally:
         with cc._cache_initialized_mutex:
-            _BYPASS["count"] -= 1
-            if not _BYPASS["count"]:  # ... and the last one restores it
-                cc._cache_checked, cc._cache_used = _BYPASS["saved"]
-
-
-_BYPASS: dict = {"count": 0, "saved": None}
-"""The compilation cache's switch as it was before the fresh compiles under way (:func:`_compile_fresh`)."""
+            cc._cache_checked, cc._cache_used = saved
 
 
 def _serialize(compiled) -> tuple | None:

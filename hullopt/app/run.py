@@ -10,7 +10,6 @@ constrained minimum, or a Pareto sweep in resumable chunks) and write the run fo
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -43,7 +42,7 @@ from ..optimise import (
 from .config import DesignConfig, ObjectiveConfig, RunConfig
 from .output import console, write_hull_file, write_json
 from .parents import parent_digest, run_parent
-from .programs import load_program
+from .programs import cached_call
 
 
 @dataclass
@@ -246,16 +245,9 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
         with _progress(quiet) as bar:
             name = "fit (Levenberg–Marquardt)" if cfg.kind == "fit" else "minimise (augmented Lagrangian)"
             bar.add_task(f"{name}: {prob.parent}", total=None)
-            args = (d, prob.p0, prob.lower, prob.upper)
-            # the solve's and the assessment's kept programs load on threads (in C++, without the GIL: about a
-            # second for the solve's) while this thread imports what writes the run folder
-            with ThreadPoolExecutor(2) as pool:
-                solve = pool.submit(load_program, "run", solve_and_measure, args,
-                                    (cfg.kind, cfg.solver.max_steps, cfg.solver.outer),
-                                    [raw, _file_digest(cfg.hull.parent)])
-                assess_program = pool.submit(_assess_loader(cfg, prob, [prob.p0]))
-                _import_writers()
-                res, m = jax.device_get(solve.result()(args))
+            res, m = jax.device_get(cached_call(
+                "run", solve_and_measure, (d, prob.p0, prob.lower, prob.upper),
+                (cfg.kind, cfg.solver.max_steps, cfg.solver.outer), key=[raw, _file_digest(cfg.hull.parent)]))
         met = bool(res.met)
         report = {
             "kind": cfg.kind,
@@ -288,7 +280,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
         report["objectives"], _ = assess(cfg, prob, designs)
         report["warnings"] = _bound_warnings(prob, report["designs"], "design {k}: ")
     else:
-        report["objectives"], active = assess(cfg, prob, [res.params], assess_program.result())
+        report["objectives"], active = assess(cfg, prob, [res.params])
         report["warnings"] = _bound_warnings(prob, [report]) + active
     write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
     _write_hull(m, d.draft, out)
@@ -296,20 +288,6 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     # report.html: a sweep's designs are rebuilt from the folder, a run's hulls are the ones measured here
     write_report(out, report, None if cfg.kind == "pareto" else Hulls.of(m.before, m.after, m.areas, d.draft))
     return report
-
-
-def _import_writers() -> None:
-    """Import what writes a run folder's plots (matplotlib's Agg), hull.stl (trimesh) and report.html (plotly),
-    and load what each loads on first use (matplotlib's font list, plotly's template and the validators of the
-    traces the page draws): done while the run's programs load, not after the solve."""
-    import matplotlib.backends.backend_agg  # noqa: F401
-    import matplotlib.figure  # noqa: F401
-    import plotly.graph_objects as go
-    import trimesh  # noqa: F401  (hull.stl: geometry imports it where used)
-    from matplotlib import font_manager
-
-    font_manager.findfont(font_manager.FontProperties())
-    go.Figure([go.Scatter(), go.Scatter3d(), go.Mesh3d()]).update_layout(template="plotly_white")
 
 
 # ----------------------------------------------------------------------------------------------- assessment
@@ -458,35 +436,21 @@ def section_knuckle(sections: Sections, draft=None) -> Array:
     return jnp.mean(jax.vmap(one)(sections.yz))
 
 
-def _assess_args(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, tuple]:
-    """The measures of :func:`assess` and the inputs of its program: ``(measures, design, parent parameters,
-    the designs' parameters stacked on a leading axis)``."""
-    measures = report_measures(cfg, prob.design)
-    measures["unfairness"] = _unfairness
-    stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
-    return measures, (measures, prob.design, prob.p0, stacked)
-
-
-def _assess_loader(cfg: RunConfig, prob: Problem, designs: list):
-    """A function that loads :func:`assess`'s program for ``designs`` (or any as many parameters of the same
-    shapes): one kept program (no tracing when warm), keyed like the run's, by the config and the parent's
-    content."""
-    key = [cfg.model_dump(mode="json"), _file_digest(cfg.hull.parent)]
-    args = _assess_args(cfg, prob, designs)[1]
-    return lambda: load_program("assess", _assess_program, args, (), key=key)
-
-
-def assess(cfg: RunConfig, prob: Problem, designs: list, program=None) -> tuple[dict, list[str]]:
+def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str]]:
     """``(objectives, warnings)`` of a run: every measure of :func:`report_measures` of the parent and the
     design(s) as ``{name: {"parent", "design" (or "designs", a list for a sweep), "unit"}}`` (SI: N, m, m²,
     m³, kg; ``"-"`` dimensionless), the fairness measures ``unfairness`` (:func:`hullopt.fairing.unfairness`),
     ``sac_roughness`` and ``section_roughness`` (:func:`_sac_roughness`, :func:`_section_roughness`), and
     warnings of the constraints that are active (within their tolerance of the bound) or violated and of a
-    sectional-area curve or sections more than :data:`ROUGHNESS` times as rough as the parent's. ``program``:
-    its program already loaded (:func:`_assess_loader`), else it is loaded here."""
-    measures, args = _assess_args(cfg, prob, designs)
-    program = program or _assess_loader(cfg, prob, designs)()
-    p, vals, groups, parent, sections, areas_p, areas_d = jax.device_get(program(args))
+    sectional-area curve or sections more than :data:`ROUGHNESS` times as rough as the parent's."""
+    d = prob.design
+    measures = report_measures(cfg, d)
+    measures["unfairness"] = _unfairness
+    stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
+    # one kept program (no tracing when warm), keyed like the run's: the config and the parent's content
+    key = [cfg.model_dump(mode="json"), _file_digest(cfg.hull.parent)]
+    p, vals, groups, parent, sections, areas_p, areas_d = jax.device_get(
+        cached_call("assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key))
     areas = [np.asarray(areas_p), *np.asarray(areas_d)]
     sac = [_sac_roughness(s.x, a) for s, a in zip((parent, *_unstack(sections)), areas)]
     sec = [_section_roughness(s.yz) for s in (parent, *_unstack(sections))]
