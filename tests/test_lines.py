@@ -142,6 +142,7 @@ def drawn(monkeypatch):
 def test_plot_gz_draws_the_wall_sided_curve(tmp_path, drawn):
     """A box barge 50 × 10 × 5 m at T = 2 m, KG = 3 m: the GZ line is the wall-sided formula to 20° (the bilge
     emerges at 21.8°), the GM₀ tangent reaches GM₀ = T/2 + B²/12T − KG = 2.1667 m at 1 rad."""
+    import equinox as eqx
     import jax.numpy as jnp
 
     from hullopt.hydro import stability
@@ -149,8 +150,8 @@ def test_plot_gz_draws_the_wall_sided_curve(tmp_path, drawn):
 
     b, t, kg = 10.0, 2.0, 3.0
     heels = np.linspace(0.0, 90.0, 10)
-    res = stability(box(50.0, b, 5.0), jnp.asarray(50 * b * t), jnp.asarray(kg), jnp.deg2rad(jnp.asarray(heels)),
-                    free_trim=False, n_grid=31)
+    res = eqx.filter_jit(stability)(box(50.0, b, 5.0), jnp.asarray(50 * b * t), jnp.asarray(kg),  # compiled
+                                    jnp.deg2rad(jnp.asarray(heels)), free_trim=False, n_grid=31)
     path = plot_gz(res.curve, tmp_path / "gz.svg", res.criteria, "box")
     assert path.stat().st_size > 5000 and path.read_text().startswith("<?xml")
     (ax,) = drawn[0].axes
