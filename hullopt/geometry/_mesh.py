@@ -100,6 +100,28 @@ def _edge(v: Array, e) -> Array:
     return jax.lax.dynamic_slice_in_dim(v, e, 1, axis=-1)
 
 
+def _nearest_edges(py: Array, pz: Array, qy: Array, qz: Array, real: Array, full: bool):
+    """The search of :func:`_polyline_distance2`: a loop over the edges of ``(qy, qz) (k, m_q)``, each step
+    elementwise over every point ``(py, pz) (k, m_p)`` of its row. Returns the squared distance to the nearest
+    real edge (``inf`` where none); with ``full``, also the parameter ``s`` of its foot and its index ``e``
+    (``−1`` where none)."""
+    ey, ez, inv = _edges(qy, qz)
+
+    def step(e, c):
+        d, s = _segment_distance2(py, pz, _edge(qy, e), _edge(qz, e), _edge(ey, e), _edge(ez, e), _edge(inv, e))
+        d = jnp.where(_edge(real, e), d, jnp.inf)
+        if not full:
+            return jnp.minimum(c, d)
+        best, s_best, e_best = c
+        better = d < best
+        return jnp.where(better, d, best), jnp.where(better, s, s_best), jnp.where(better, e, e_best)
+
+    inf = jnp.full(py.shape, jnp.inf, py.dtype)
+    init = (inf, jnp.zeros_like(py), jnp.full(py.shape, -1, jnp.int32)) if full else inf
+    n = qy.shape[-1] - 1
+    return jax.lax.fori_loop(0, n, step, init, unroll=max(1, min(6, n)))
+
+
 @jax.custom_jvp
 def _polyline_distance2(py: Array, pz: Array, qy: Array, qz: Array, real: Array) -> Array:
     """Squared distance ``(k, m_p)`` from each point ``(py, pz)`` of ``k`` half-sections to the nearest surface
@@ -108,51 +130,32 @@ def _polyline_distance2(py: Array, pz: Array, qy: Array, qz: Array, real: Array)
 
     Every point against every edge (``O(m_p m_q)``), in a loop over the edges whose body is elementwise over
     all points and rows: no gather, no sort, no argmin, which on a CPU under ``vmap`` cost far more than this
-    arithmetic (the nearest-vertex search with ``argmin`` and gathers it replaces was 10–100× slower). Its
-    derivative (:func:`_polyline_distance2_jvp`) is that of the distance to the nearest edge, likewise
-    without a gather, in forward and (transposed) reverse mode.
+    arithmetic. Its derivative (:func:`_polyline_distance2_jvp`) is that of the distance to the nearest edge.
     """
-    ey, ez, inv = _edges(qy, qz)
-
-    def step(e, best):
-        d, _ = _segment_distance2(py, pz, _edge(qy, e), _edge(qz, e), _edge(ey, e), _edge(ez, e), _edge(inv, e))
-        return jnp.minimum(best, jnp.where(_edge(real, e), d, jnp.inf))
-
-    return jax.lax.fori_loop(0, qy.shape[-1] - 1, step, jnp.full(py.shape, jnp.inf, py.dtype), unroll=3)
+    return _nearest_edges(py, pz, qy, qz, real, full=False)
 
 
 @_polyline_distance2.defjvp
 def _polyline_distance2_jvp(primals, tangents):
     """``d(d²) = 2 (p − f)·(dp − df)`` with the foot ``f = q_e + s (q_{e+1} − q_e)`` on the nearest edge ``e``
-    and ``df = (1 − s) dq_e + s dq_{e+1}`` (``s`` held: it is optimal inside the edge and fixed at its ends);
-    the feet found and ``df`` assembled in loops over the edges (selects: no gather, and the transpose no
-    scatter). Points with no edge get 0."""
+    and ``df = (1 − s) dq_e + s dq_{e+1}`` (``s`` held: it is optimal inside the edge and fixed at its ends).
+
+    The choice ``(e, s)`` is piecewise constant: one search loop finds it (with the distance, the primal
+    output), then the feet and their tangents are four gathers (``take_along_axis``) whose transpose in
+    reverse mode is one scatter-add each — no second loop over the edges, and no transposed loop. Points with
+    no edge get 0.
+    """
     py, pz, qy, qz, real = primals
     dpy, dpz, dqy, dqz, _ = tangents
+    best, s, e = jax.lax.optimization_barrier(_nearest_edges(py, pz, qy, qz, real, full=True))
+    has = e >= 0
+    e = jnp.maximum(e, 0)
 
-    ey, ez, inv = _edges(qy, qz)
+    def foot(v):  # (1 − s) v_e + s v_{e+1} at each point, v (k, m_q)
+        return (1.0 - s) * jnp.take_along_axis(v, e, -1) + s * jnp.take_along_axis(v, e + 1, -1)
 
-    def nearest(e, c):
-        best, fy, fz, s_best, e_best = c
-        y0, z0, dy, dz = _edge(qy, e), _edge(qz, e), _edge(ey, e), _edge(ez, e)
-        d, s = _segment_distance2(py, pz, y0, z0, dy, dz, _edge(inv, e))
-        better = _edge(real, e) & (d < best)
-        return (jnp.where(better, d, best), jnp.where(better, y0 + s * dy, fy), jnp.where(better, z0 + s * dz, fz),
-                jnp.where(better, s, s_best), jnp.where(better, e, e_best))
-
-    zero = jnp.zeros_like(py)
-    init = (jnp.full(py.shape, jnp.inf, py.dtype), zero, zero, zero, jnp.full(py.shape, -1, jnp.int32))
-    best, fy, fz, s, e_best = jax.lax.fori_loop(0, qy.shape[-1] - 1, nearest, init)
-
-    def foot(e, df):
-        on = e_best == e
-        dy = (1.0 - s) * _edge(dqy, e) + s * _edge(dqy, e + 1)
-        dz = (1.0 - s) * _edge(dqz, e) + s * _edge(dqz, e + 1)
-        return jnp.where(on, dy, df[0]), jnp.where(on, dz, df[1])
-
-    dfy, dfz = jax.lax.fori_loop(0, qy.shape[-1] - 1, foot, (jnp.zeros_like(dpy), jnp.zeros_like(dpz)))
-    ry, rz = jnp.where(e_best >= 0, py - fy, 0.0), jnp.where(e_best >= 0, pz - fz, 0.0)
-    return best, 2.0 * (ry * (dpy - dfy) + rz * (dpz - dfz))
+    ry, rz = jnp.where(has, py - foot(qy), 0.0), jnp.where(has, pz - foot(qz), 0.0)
+    return best, 2.0 * (ry * (dpy - foot(dqy)) + rz * (dpz - foot(dqz)))
 
 
 def _girth_weights(y: Array, z: Array, level: Array) -> tuple[Array, Array]:
@@ -209,7 +212,8 @@ def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
 
     Cost: ``O(n m²)`` elementwise arithmetic (every point against every edge of the neighbouring section, in
     a loop over the edges; no gather, sort or argmin), vectorised over stations and points and under
-    ``vmap``; its derivatives likewise (a custom JVP: the distance to the nearest edge, forward and reverse).
+    ``vmap``; its derivatives (a custom JVP: the distance to the nearest edge, found by the same one loop,
+    then gathers of its feet; in reverse mode one scatter-add each, no transposed loop).
     Differentiable in the offsets, the station positions and the draft.
 
     Parameters
