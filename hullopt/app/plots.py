@@ -11,14 +11,14 @@ from ..drawing import save_figure
 
 
 def _figure(*args, figsize=None, **kw):
-    """``(None, fig, axes)``: a figure on matplotlib's Agg canvas, made without pyplot (its import and
+    """``(fig, axes)``: a figure on matplotlib's Agg canvas, made without pyplot (its import and
     figure manager cost ~0.3 s of a run; :func:`hullopt.drawing.save_figure` closes pyplot's figures only)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=figsize)
     FigureCanvasAgg(fig)
-    return None, fig, fig.subplots(*args, **kw)
+    return fig, fig.subplots(*args, **kw)
 
 
 _SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
@@ -42,7 +42,7 @@ def _log_labels(*axes) -> None:
         ax.yaxis.set_minor_formatter(Plain(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
 
 
-def _save(plt, fig, path: Path) -> Path:
+def _save(fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=130, bbox_inches="tight")
 
 
@@ -58,7 +58,7 @@ def plot_body_plans(before, after, path: Path, every: int | None = None, title: 
     """Body plan of the parent (dashed grey) and the design (blue): aft body left, fore body right, as drawn
     by naval architects, at the sections nearest the half stations (``every``: every ``every``-th section
     instead), integer station numbers written above the design's sections, the DWL at ``draft`` [m]."""
-    plt, fig, ax = _figure(figsize=(9, 6))
+    fig, ax = _figure(figsize=(9, 6))
     lpp = float(after.lpp)
     mid = 0.5 * lpp
     top = max(float(np.max(np.asarray(s.yz)[..., 1])) for s in (before, after))
@@ -86,13 +86,13 @@ def plot_body_plans(before, after, path: Path, every: int | None = None, title: 
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
     ax.set_title(title or "Body plan: parent and design (station numbers 0 = AP … 10 = FP)", loc="left",
                  fontsize=10)
-    return _save(plt, fig, path)
+    return _save(fig, path)
 
 
 def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
     """Sectional-area curves of the parent (dashed) and the design: ``areas (2, n)`` [m²] at stations
     ``x_before``, ``x_after (n,)`` [m from AP]."""
-    plt, fig, ax = _figure(figsize=(8, 4))
+    fig, ax = _figure(figsize=(8, 4))
     for x, a, label, style in ((x_before, areas[0], "parent", dict(color="0.6", ls="--")),
                                (x_after, areas[1], "design", dict(color="C0"))):
         ax.plot(np.asarray(x), np.asarray(a), label=label, **style)
@@ -100,7 +100,7 @@ def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
     ax.set_ylabel(f"sectional area at T = {float(draft):g} m [m²]")
     ax.legend()
     ax.grid(alpha=0.3)
-    return _save(plt, fig, path)
+    return _save(fig, path)
 
 
 def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "") -> Path:
@@ -113,7 +113,7 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     """
     h = np.asarray(history, dtype=float)
     if violation is None:
-        plt, fig, ax = _figure(figsize=(6.5, 4))
+        fig, ax = _figure(figsize=(6.5, 4))
         ok = np.isfinite(h)
         ax.semilogy(np.arange(len(h))[ok], np.maximum(h[ok], 1e-300), marker=".")
         _log_labels(ax)
@@ -121,9 +121,9 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
         ax.set_ylabel("cost: sum of squared scaled residuals [-]")
         ax.grid(alpha=0.3, which="both")
         ax.set_title(title or "Convergence of the fit", loc="left", fontsize=10)
-        return _save(plt, fig, path)
+        return _save(fig, path)
     v = np.asarray(violation, dtype=float)
-    plt, fig, (ax1, ax2) = _figure(2, 1, figsize=(6.5, 5.5), sharex=True)
+    fig, (ax1, ax2) = _figure(2, 1, figsize=(6.5, 5.5), sharex=True)
     it = np.arange(1, len(h) + 1)
     ok = np.isfinite(h)
     ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), "o-", ms=4, color="C0")
@@ -149,7 +149,7 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     ax2.grid(alpha=0.3, which="both")
     ax2.legend(fontsize=8, loc="upper right")
     ax1.set_title(title or "Convergence: objective and constraint violation", loc="left", fontsize=10)
-    return _save(plt, fig, path)
+    return _save(fig, path)
 
 
 def _axis(name: str) -> tuple[str, float]:
@@ -171,7 +171,7 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path
     """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in
     kN, each design labelled with its Bf target to 3 decimals (a label once per position); designs that miss
     their targets as crosses, dominated ones grey."""
-    plt, fig, ax = _figure(figsize=(7.5, 5))
+    fig, ax = _figure(figsize=(7.5, 5))
     (xlabel, sx), (ylabel, sy) = _axis(xname), _axis(yname)
     pts = np.array([[d["measure"] * sx, d["objective"] * sy] for d in designs]).reshape(-1, 2)
     front = np.array([d.get("pareto", False) for d in designs], dtype=bool)
@@ -198,4 +198,4 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path
     span = f", Bf {min(bf):.3f} … {max(bf):.3f}" if bf else ""
     ax.set_title(f"Pareto front: {yname.replace('_', ' ')} vs {xname.replace('_', ' ')}{span}\n"
                  f"(each design labelled with its bluntness target Bf)", loc="left", fontsize=10)
-    return _save(plt, fig, path)
+    return _save(fig, path)

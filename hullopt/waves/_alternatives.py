@@ -424,6 +424,10 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
     (0.0, 13.45)
     """
 
+    opts = dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max, order=order,
+                breaks=None if spreading_s is None else heading_breaks(method, sections, draft, aft))
+    # NMRI's reflection part has more structure in heading than its kinks (METHODS §2.6)
+    n_refl = 5 * n_dir // 2 if method == "nmri" else n_dir
     if method == "nmri" and motion:
         def reflection(om, hd):
             return method_resistance(method, sections, draft, speed, om, hd, 1.0, rho=rho, g=g, smooth=smooth,
@@ -434,20 +438,14 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
 
         if motion_knots is not None:
             motion_part = motion_response(sections, draft, speed, knots=motion_knots, kg=kg, kyy=kyy, rho=rho, g=g)
-        opts = dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max)
-        breaks = None if spreading_s is None else heading_breaks(method, sections, draft, aft)
-        return WaveResistance(motion=spectral_mean(motion_part, hs, tp, heading, order=order, n_dir=n_dir, **opts),
-                              reflection=spectral_mean(reflection, hs, tp, heading, order=order,
-                                                       n_dir=5 * n_dir // 2, breaks=breaks, **opts))
+        motion_opts = opts | {"breaks": None}  # one plain Gauss rule (smooth in heading)
+        return WaveResistance(motion=spectral_mean(motion_part, hs, tp, heading, n_dir=n_dir, **motion_opts),
+                              reflection=spectral_mean(reflection, hs, tp, heading, n_dir=n_refl, **opts))
 
     def response(om, hd):
         r = method_resistance(method, sections, draft, speed, om, hd, 1.0, kyy=kyy, rho=rho, g=g, smooth=smooth,
                               aft=aft, kg=kg, motion=motion)
         return jnp.stack([r.motion, r.reflection], axis=-1)
 
-    breaks = None if spreading_s is None else heading_breaks(method, sections, draft, aft)
-    if method == "nmri":  # its reflection part has more structure in heading than its kinks (METHODS §2.6)
-        n_dir = 5 * n_dir // 2
-    m = spectral_mean(response, hs, tp, heading, spectrum=spectrum, gamma=gamma, spreading_s=spreading_s,
-                      omega_max=omega_max, order=order, n_dir=n_dir, breaks=breaks)
+    m = spectral_mean(response, hs, tp, heading, n_dir=n_refl, **opts)
     return WaveResistance(motion=m[0], reflection=m[1])
