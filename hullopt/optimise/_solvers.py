@@ -24,6 +24,19 @@ from jaxtyping import Array, Bool, Float, Int, PyTree
 from ._bounds import from_unbounded, to_unbounded
 
 
+def bfgs(rtol: float, atol: float) -> optx.BFGS:
+    """optimistix's BFGS whose Armijo backtracking cuts the step tenfold, not in half.
+
+    BFGS takes its first step along the raw gradient (the identity as inverse Hessian). Our augmented
+    Lagrangians scale the constraints by their tolerances, so that gradient is O(10³): halving from a unit step
+    spent ~20 steps of a round before one was accepted, and short rounds left a design at the parent. Cutting
+    tenfold reaches the right scale in 3–4 steps; on the small Wigley bow sweep (Bf* 0.028, 5 rounds of 100
+    steps) it met in 428 steps where halving had not met in 1200, and it solves the toy problems of the tests
+    in 40–60 % fewer steps. Later steps are Newton-like and take the unit step, so they are unaffected."""
+    return eqx.tree_at(lambda s: s.search, optx.BFGS(rtol=rtol, atol=atol),
+                       optx.BacktrackingArmijo(decrease_factor=0.1))
+
+
 class SolveResult(eqx.Module):
     """Outcome of a solve. ``params`` is the solution (a pytree like the start), ``residuals`` the constraint
     (or target) residuals, ``max_violation`` the largest ``|residual| / tol`` — so ``met`` (≤ 1) means every
@@ -124,8 +137,8 @@ def minimise_constrained(
     met) within the bounds.
 
     Augmented Lagrangian, Powell–Hestenes–Rockafellar for the inequalities (Nocedal & Wright 2006, eq.
-    17.65): ``f + λ·c + μ/2 |c|² + Σ (max(0, ν + μ g)² − ν²)/(2μ)``, ``outer`` rounds of BFGS with
-    ``λ ← λ + μ c``, ``ν ← max(0, ν + μ g)`` and ``μ ← growth · μ`` between them (a fixed number of
+    17.65): ``f + λ·c + μ/2 |c|² + Σ (max(0, ν + μ g)² − ν²)/(2μ)``, ``outer`` rounds of BFGS
+    (:func:`bfgs`) with ``λ ← λ + μ c``, ``ν ← max(0, ν + μ g)`` and ``μ ← growth · μ`` between them (a fixed number of
     rounds, so the whole solve is one ``vmap``-able computation). ``residuals`` are the equality residuals ``c``;
     ``max_violation`` and ``met`` count both kinds (an inequality's violation is ``max(g, 0) /
     inequality_tol``). ``history``: the augmented Lagrangian at the end of each round; ``objective_history`` and
@@ -181,7 +194,7 @@ def minimise_constrained(
         phr = jnp.sum(jnp.maximum(nu + mu * ineq(p, args), 0.0) ** 2 - nu**2) / (2.0 * mu) if n_g else 0.0
         return objective(p, args) + lam @ c + 0.5 * mu * c @ c + phr
 
-    solver = optx.BFGS(rtol=rtol, atol=atol)
+    solver = bfgs(rtol, atol)
 
     def round_(carry, _):
         u, lam, nu, mu, steps, ok = carry
