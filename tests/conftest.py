@@ -12,6 +12,8 @@ import pytest
 # passes for a float, as PEP 484 has it (lengths are annotated float; callers write 100).
 jaxtyping.install_import_hook("hullopt", "beartype.beartype(conf=beartype.BeartypeConf(is_pep484_tower=True))")
 
+import hullopt.app.cli  # noqa: E402,F401  XLA's flags as the CLI sets them, before jax starts its backend
+
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_dtype_promotion", "strict")
 

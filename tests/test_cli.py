@@ -106,3 +106,21 @@ def test_help_lists_every_command():
     from hullopt.app.commands import COMMANDS
 
     assert all(f" {name} " in out.stdout for name in COMMANDS)
+
+
+def test_xla_scheduler_workaround_is_set_and_leaves_the_users_choice():
+    """The CLI turns off XLA:CPU's concurrency-optimised scheduler (it wedged the report's vmapped program of a
+    sweep), before jax's backend starts; a user's own setting of that flag wins."""
+    import os
+
+    from hullopt.app.cli import XLA_SCHEDULER_OFF, xla_flags
+
+    assert XLA_SCHEDULER_OFF in os.environ["XLA_FLAGS"]
+    assert xla_flags("") == XLA_SCHEDULER_OFF
+    assert xla_flags("--xla_force_host_platform_device_count=2") == \
+        f"--xla_force_host_platform_device_count=2 {XLA_SCHEDULER_OFF}"
+    mine = "--xla_cpu_enable_concurrency_optimized_scheduler=true"
+    assert xla_flags(mine) == mine
+    import jax
+
+    assert jax.devices()  # the backend started with these flags (no XLA error on an unknown flag)
