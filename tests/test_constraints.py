@@ -165,6 +165,23 @@ def test_section_roughness_zero_on_arcs_positive_at_a_knuckle_and_as_the_report(
     assert bool(jnp.all(jnp.isfinite(g)))
 
 
+def test_section_measures_ignore_a_sub_millimetre_stub():
+    """Feature points that coincide at the parent drift apart under a deformation; a stub of 0.5 mm turning
+    any way is one point to the section measures (it multiplied the KCS's roughness 1e8-fold), not a knuckle."""
+    from hullopt.app.run import MERGE, _section_roughness, section_knuckle, section_roughness
+    from hullopt.geometry import Sections
+
+    t = np.linspace(-np.pi / 2, 0.0, 12)
+    clean = np.stack([3.0 * np.cos(t) + 0.5, 3.0 + 3.0 * np.sin(t)], -1)
+    clean[4:, 0] += 0.1 * (clean[4:, 1] - clean[4, 1])  # a mild knuckle: the measures are not zero
+    stub = np.insert(clean, 7, clean[6] + 0.5 * MERGE * np.array([-0.6, 0.8]), axis=0)
+    s_stub, s_clean = (Sections(jnp.zeros(1), jnp.asarray(p)[None], 5.0) for p in (stub, clean))
+    for measure in (section_roughness, section_knuckle):
+        assert float(measure(s_stub)) == pytest.approx(float(measure(s_clean)), rel=1e-2)
+    assert _section_roughness(stub[None]) == pytest.approx(_section_roughness(clean[None]), rel=1e-2)
+    assert float(section_roughness(s_clean)) > 1e-3
+
+
 def test_section_knuckle_by_hand_and_its_gradient():
     """Σ θ⁴ of the turning angles, by hand: an arc of equal 11.25° turns gives 6·(π/16)⁴ (its keel point on the
     centreline left out, a repeated point too; finite gradient there), a section straight up to a 20° knuckle

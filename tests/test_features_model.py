@@ -18,8 +18,8 @@ import pytest
 from hullopt.errors import HullError
 from hullopt.geometry import longitudinal_integrals, section_integrals
 from hullopt.hydro import hydrostatics, volume_at
-from hullopt.models import (ApexMove, ContourEdit, Distribution, check_design, feature_model, load_parent,
-                            parent_names)
+from hullopt.models import (ApexMove, ContourEdit, Distribution, check_design, feature_hull, feature_model,
+                            load_parent, parent_names)
 from hullopt.models._feature_frame import segment_points
 from hullopt.models._feature_library import RECIPES, extract_parent, recipe_sections
 from hullopt.waves import bluntness
@@ -234,6 +234,21 @@ def test_gradient_waterline_bluntness(dtc_derivatives, dtc_model):
     g = unravel(jnp.asarray(ad[2]))
     assert np.all(np.abs(np.asarray(g.apex[0])) > 1e-4) and np.all(np.asarray(g.apex[1]) == 0)
     assert np.all(np.abs(np.asarray(g.distribution)) > 1e-4) and abs(float(g.contour[1])) > 1e-4  # deck_y
+
+
+def test_a_named_curve_slides_with_the_inflection_curve_on_it():
+    """Where a hull has no flat of side, its start is the deck edge (here at every station of a Wigley made
+    so): sliding the deck slides it too, so the sections stay closed (sliding the deck alone opened a gap of
+    ~1e-9 m per 1e-8 of amplitude there, and a segment that short turns any way: the KCS's section
+    roughness grew 1e8-fold)."""
+    f = load_parent("wigley").to_dict()
+    f["ends"] = np.asarray(f["ends"])
+    f["ends"][:, -1] = f["deck"]
+    h = feature_hull(f)
+    model = feature_model(h, distributions=[Distribution(10.0, 90.0, "deck", 2)])
+    slid = model.features(eqx.tree_at(lambda t: t.distribution, model.zeros(), jnp.array([[0.2, -0.1]])))
+    assert float(jnp.max(jnp.abs(slid.deck - h.deck))) > 1e-2  # the deck slid
+    np.testing.assert_array_equal(np.asarray(slid.ends[:, -1]), np.asarray(slid.deck))
 
 
 def test_bad_designs():

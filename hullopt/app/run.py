@@ -355,6 +355,13 @@ def _sac_roughness(x, a) -> float:
     return float(np.sum(d2**2 * 0.5 * (h0 + h1)))
 
 
+# Section offsets closer than this [m] are one point in the section measures: feature points that coincide
+# at the parent (a collapsed segment, the deck edge where there is no flat of side) drift apart by 1e-9 m
+# under a deformation, and a segment that short turns any way — a 1e-8 step from the KCS parent multiplied its
+# section roughness 1e8-fold. No hull's offsets resolve a millimetre.
+MERGE = 1e-3
+
+
 def _section_roughness(yz) -> float:
     """The sections' variation of curvature, mean over stations of Σ (Δκ)²/Δs [m⁻³] of each half-section
     polyline (its centreline and repeated points left out): compared between parent and design only."""
@@ -363,7 +370,7 @@ def _section_roughness(yz) -> float:
         p = p[p[:, 0] > 1e-9]
         d = np.diff(p, axis=0)
         ds = np.hypot(d[:, 0], d[:, 1])
-        d, ds = d[ds > 1e-9], ds[ds > 1e-9]
+        d, ds = d[ds > MERGE], ds[ds > MERGE]
         if len(ds) < 3:
             total.append(0.0)
             continue
@@ -392,14 +399,14 @@ def _compact(keep, *arrays):
 
 def _turns(p):
     """Turning angles [rad] between neighbouring segments of a half-section polyline ``p (m, 2)`` [m] and the
-    segment lengths [m], its centreline points (``y ≤ 1e-9`` m) and repeated points left out, as fixed-shape
+    segment lengths [m], its centreline points (``y ≤ 1e-9`` m) and segments under :data:`MERGE` left out, as fixed-shape
     arrays: ``(turn (m−2,), ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded: turns 0,
     lengths 1 m). Finite gradients: the left-out entries are replaced before any division or angle."""
     p, k = _compact(jax.lax.stop_gradient(p[:, 0] > 1e-9), p)
     d = jnp.diff(p, axis=0)
     ds = safe_norm(d)
     idx = jnp.arange(d.shape[0])
-    d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > 1e-9)), d, ds)
+    d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > MERGE)), d, ds)
     ok = idx < s
     ds = jnp.where(ok, ds, 1.0)
     t = jnp.where(ok[:, None], d / ds[:, None], jnp.array([1.0, 0.0]))

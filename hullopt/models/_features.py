@@ -465,6 +465,15 @@ def _dist_columns(h: FeatureHull, curves) -> np.ndarray:
                 f"distribution: unknown feature curve {name!r}; expected 'all', 'keel', 'deck', 'apex:<s>', "
                 f"'aux:<s>' or 'inflection:<k>' with s < {h.n_segments}, k ≤ {h.n_segments}"
             ) from None
+    # an inflection curve that coincides with the keel or the deck edge somewhere (no flat of bottom or side
+    # there) slides with it: one without the other would open a gap in those sections
+    ends = np.asarray(h.ends)
+    for line in ("keel", "deck"):
+        on = np.asarray(getattr(h, line))
+        for k in np.flatnonzero(np.any(np.all(ends == on[:, None], -1), 0)):
+            group = np.concatenate([cols[line].reshape(-1), cols["ends"][k].reshape(-1)])
+            if c[group].any():
+                c[group] = 1
     return c
 
 
