@@ -283,7 +283,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
         report["objectives"], active = assess(cfg, prob, [res.params])
         report["warnings"] = _bound_warnings(prob, [report]) + active
     write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
-    _write_hull(m, d.draft, out)
+    if cfg.kind != "pareto":  # a sweep's hulls are its designs' (designs/<k>/), not one final hull
+        _write_hull(m, d.draft, out)
     write_json(out / "report.json", report)
     # report.html: a sweep's designs are rebuilt from the folder, a run's hulls are the ones measured here
     write_report(out, report, None if cfg.kind == "pareto" else Hulls.of(m.before, m.after, m.areas, d.draft))
@@ -525,15 +526,13 @@ def _bound_warnings(prob: Problem, rows: list[dict], who: str = "") -> list[str]
 
 
 def _write_designs(prob: Problem, rows: list[dict], out: Path) -> list:
-    """Each design of a sweep in ``designs/<k>/``: ``hull.stl`` and ``offsets.csv`` (as a run's); returns
-    their parameters."""
+    """Each design of a sweep in ``designs/<k>/`` as a run's hull: ``hull.stl``, ``offsets.csv`` and the
+    body-plan and sectional-area plots against the parent; returns their parameters."""
     params = [params_from_dict(r["params"], prob.p0) for r in rows]
-    model = eqx.filter_jit(prob.design.model)
+    d = prob.design
+    m = eqx.filter_jit(measure)
     for k, p in enumerate(params):
-        s = jax.device_get(model(p))
-        folder = out / "designs" / str(k)
-        write_hull_file(s, folder / "hull.stl", float(prob.design.draft))
-        write_offsets_wide(s, folder / "offsets.csv", name=f"design {k} of the sweep", dense=True)
+        _write_hull(jax.device_get(m(d, prob.p0, p)), d.draft, out / "designs" / str(k))
     return params
 
 
