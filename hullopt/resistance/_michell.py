@@ -100,13 +100,16 @@ def _depth_weights(levels, draft, c):
 
 def half_breadths(sections: Sections, draft, n_levels: int = 33):
     """Half-breadths Y (n, K) [m] of the sections at ``n_levels`` equally spaced heights from the keel to
-    ``draft`` (the lowest just above the keel, where a flat bottom's crossing rule would give 0), and the
-    heights (K,) [m]."""
+    ``draft``, and the heights (K,) [m]. At the keel itself Y is extrapolated linearly from the two levels
+    above (second order, like the rest): a flat bottom's crossing rule is ambiguous there, and a deformed
+    KCS dips 1e-8 to 1e-3 m below its flat bottom here and there, so a probe just above the keel switched
+    between 0 and the flat's 12.5 m (R_W jumped 1.5 % between designs 1e-10 apart; every solve stalled)."""
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     keel = sections.keel
     levels = keel + (t - keel) * jnp.linspace(0.0, 1.0, n_levels)
-    probe = levels.at[0].add(1e-9 * (t - keel))
-    return level_widths(closed_half_polygon(sections.yz), probe), levels
+    y = level_widths(closed_half_polygon(sections.yz), levels[1:])
+    y0 = 2.0 * y[:, :1] - y[:, 1:2] if n_levels > 2 else y[:, :1]
+    return jnp.concatenate([y0, y], axis=1), levels
 
 
 def michell_integrand(sections: Sections, draft, k0, lam, n_levels: int = 33) -> Array:
