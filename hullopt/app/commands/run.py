@@ -69,7 +69,7 @@ def _summary(report: dict, folder: Path) -> None:
         return
     if report["kind"] == "pareto":
         o = report["objective"]
-        rows = [[f"{d['bf_target']:.3f}", displayed(o["measure"], d["measure"])[0],
+        rows = [[f"{d['bf_target']:.4g}", displayed(o["measure"], d["measure"])[0],
                  displayed(o["name"], d["objective"])[0], "yes" if d["met"] else "NO", "★" if d["pareto"] else ""]
                 for d in report["designs"]]
         table(f"Pareto sweep: {len(rows)} designs, {report['pareto_count']} non-dominated (★); "
@@ -86,7 +86,9 @@ def _summary(report: dict, folder: Path) -> None:
         _changes(report)
     for w in _warnings(report):
         warn(w)
-    say(f"results in {folder}/: report.html (open it in a browser), report.json, hull.stl, offsets.csv, plots")
+    hulls = "pareto.png, designs/<k>/ (hull.stl, offsets.csv, body plan, sectional-area curve)" \
+        if report["kind"] == "pareto" else "hull.stl, offsets.csv, plots"
+    say(f"results in {folder}/: report.html (open it in a browser), report.json, {hulls}")
 
 
 def _targets(targets: dict) -> None:
