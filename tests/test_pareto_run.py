@@ -12,7 +12,7 @@ CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
     """configs/pareto_bow.toml's sweep (Michell + friction against R_AW, motion + reflection) on the Wigley: the
-    DTC's takes far longer than a test may (tests/data/pareto_wigley.toml, the reduced copy)."""
+    KCS's takes far longer than a test may (tests/data/pareto_wigley.toml, the reduced copy)."""
     out = tmp_path / "p"
     args = ["run", str(CONFIGS.parent / "tests" / "data" / "pareto_wigley.toml"), "--set", "sweep.count=4",
             "--set", "sweep.chunk=2", "--out", str(out), "--json"]

@@ -15,7 +15,7 @@ import pytest
 
 from hullopt.app.cli import main
 
-CONFIG = Path(__file__).resolve().parent / "data" / "sweep_small.toml"  # configs/pareto_bow.toml is the DTC's
+CONFIG = Path(__file__).resolve().parent / "data" / "sweep_small.toml"  # configs/pareto_bow.toml is the KCS's
 SMALL = ["--set", "sweep.count=4", "--set", "sweep.chunk=2", "--set", "solver.outer=2", "--set", "solver.max_steps=40"]
 
 

@@ -277,8 +277,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     report["parent"] = _particulars(m.parent)
     if cfg.kind == "pareto":
         designs = _write_designs(prob, report["designs"], out)
-        report["objectives"], _ = assess(cfg, prob, designs)
-        report["warnings"] = _bound_warnings(prob, report["designs"], "design {k}: ")
+        report["objectives"], active = assess(cfg, prob, designs)
+        report["warnings"] = _bound_warnings(prob, report["designs"], "design {k}: ") + active
     else:
         report["objectives"], active = assess(cfg, prob, [res.params])
         report["warnings"] = _bound_warnings(prob, [report]) + active
