@@ -170,14 +170,16 @@ def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):
     bf = [0.3, 0.3125, 0.325, 0.3375]  # two decimals would make 0.31/0.31 and 0.33/0.34
     designs = [dict(bf_target=b, measure=5e5 - 1e5 * i, objective=3e4 + 1e4 * i, met=True, pareto=True)
                for i, b in enumerate(bf)]
-    plot_pareto(designs, "calm_resistance", "mean_added_resistance", tmp_path / "p.png")
+    plot_pareto(designs, "calm_resistance", "mean_added_resistance", tmp_path / "p.png", parent=(4.5e5, 3.5e4, 0.32))
     (fig,) = drawn
     ax = fig.axes[0]
+    (star,) = [ln for ln in ax.get_lines() if ln.get_label() == "parent"]  # the parent, to read the front against
+    assert (star.get_xdata()[0], star.get_ydata()[0]) == (450.0, 35.0)
     assert ax.get_xlabel() == "calm resistance [kN]" and ax.get_ylabel() == "mean added resistance [kN]"
     (front,) = [ln for ln in ax.get_lines() if ln.get_label() == "Pareto front"]
     np.testing.assert_allclose(sorted(front.get_xdata()), [200.0, 300.0, 400.0, 500.0])
     labels = [t.get_text() for t in ax.texts]
-    assert sorted(labels) == ["Bf 0.300", "Bf 0.312", "Bf 0.325", "Bf 0.338"]
+    assert sorted(labels) == ["Bf 0.300", "Bf 0.312", "Bf 0.325", "Bf 0.338", "parent (Bf 0.320)"]
     assert ax.get_title(loc="left").startswith("Pareto front: mean added resistance vs calm resistance")
     assert outside(fig, ax.get_legend(), ax)
 

@@ -167,12 +167,19 @@ def _label(name: str) -> str:
     return _axis(name)[0]
 
 
-def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path) -> Path:
+def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
+                parent: tuple[float, float, float] | None = None) -> Path:
     """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in
     kN, each design labelled with its Bf target to 3 decimals (a label once per position); designs that miss
-    their targets as crosses, dominated ones grey."""
+    their targets as crosses, dominated ones grey; ``parent`` = (measure, objective, Bf) of the parent, a
+    black star, to read the designs against."""
     fig, ax = _figure(figsize=(7.5, 5))
     (xlabel, sx), (ylabel, sy) = _axis(xname), _axis(yname)
+    if parent is not None:
+        px, py = parent[0] * sx, parent[1] * sy
+        ax.plot([px], [py], "*", color="k", markersize=11, label="parent", zorder=4)
+        ax.annotate(f"parent (Bf {parent[2]:.3f})", (px, py), xytext=(5, -10), textcoords="offset points",
+                    fontsize=7, color="k")
     pts = np.array([[d["measure"] * sx, d["objective"] * sy] for d in designs]).reshape(-1, 2)
     front = np.array([d.get("pareto", False) for d in designs], dtype=bool)
     met = np.array([d["met"] for d in designs], dtype=bool)

@@ -227,7 +227,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
     (``"local"`` or ``"dask"``) and ``address`` (the Dask scheduler) apply to sweeps: a shard whose sweep is
     not complete yet returns a partial report and writes no hull files.
     """
-    from .plots import plot_convergence
+    from .plots import plot_convergence, plot_pareto
     from .report import Hulls, history_record, write_report
 
     out.mkdir(parents=True, exist_ok=True)
@@ -279,6 +279,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, shard: tuple[
         designs = _write_designs(prob, report["designs"], out)
         report["objectives"], active = assess(cfg, prob, designs)
         report["warnings"] = _bound_warnings(prob, report["designs"], "design {k}: ") + active
+        o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
+        plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds))
     else:
         report["objectives"], active = assess(cfg, prob, [res.params])
         report["warnings"] = _bound_warnings(prob, [report]) + active
@@ -400,9 +402,9 @@ def _compact(keep, *arrays):
 
 def _turns(p):
     """Turning angles [rad] between neighbouring segments of a half-section polyline ``p (m, 2)`` [m] and the
-    segment lengths [m], its centreline points (``y ≤ 1e-9`` m) and segments under :data:`MERGE` left out, as fixed-shape
-    arrays: ``(turn (m−2,), ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded: turns 0,
-    lengths 1 m). Finite gradients: the left-out entries are replaced before any division or angle."""
+    segment lengths [m], its centreline points (``y ≤ 1e-9`` m) and segments under :data:`MERGE` left out, as
+    fixed-shape arrays: ``(turn (m−2,), ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded:
+    turns 0, lengths 1 m). Finite gradients: the left-out entries are replaced before any division or angle."""
     p, k = _compact(jax.lax.stop_gradient(p[:, 0] > 1e-9), p)
     d = jnp.diff(p, axis=0)
     ds = safe_norm(d)
@@ -582,14 +584,10 @@ def _pareto(cfg: RunConfig, prob: Problem, out: Path, quiet: bool, shard=(1, 1),
     front = np.asarray(non_dominated(pts))
     for r, f in zip(designs, front):
         r["pareto"] = bool(f)
-    from .plots import plot_pareto
-
-    sw = cfg.sweep
-    plot_pareto(designs, sw.measure.kind, cfg.objective.kind, out / "pareto.png")
     met = all(r["met"] for r in designs)
     return {"kind": "pareto", "converged": met, "met": met, "iterations": sum(r["iterations"] for r in designs),
             "targets": {k: float(v) for k, v in cfg.targets.items()}, "designs": designs,
-            "objective": {"name": cfg.objective.kind, "measure": sw.measure.kind},
+            "objective": {"name": cfg.objective.kind, "measure": cfg.sweep.measure.kind},
             "pareto_count": int(front.sum())}
 
 
