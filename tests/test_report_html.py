@@ -68,7 +68,10 @@ def _sweep_report(n: int = 4) -> dict:
                          "met": k != 1, "pareto": k not in (1, n - 1), "params": {"apex_move_d": [[0.0, 0.0]]},
                          "particulars": {"cb": 0.4442, "volume": 2774.6, "wetted_surface": 1490.0 + k}}
                         for k, b in enumerate(bf)],
-            "achieved": {"cb": 0.4442}, "parent": {"cb": 0.4442, "volume": 2774.6, "wetted_surface": 1487.6}}
+            "achieved": {"cb": 0.4442}, "parent": {"cb": 0.4442, "volume": 2774.6, "wetted_surface": 1487.6},
+            "objectives": {k: {"parent": v, "designs": [v] * n, "unit": u} for k, v, u in
+                           (("calm_resistance", 1.04e5, "N"), ("mean_added_resistance", 2.2e4, "N"),
+                            ("bf", 0.0213, "-"))}}
 
 
 def _folder(tmp: Path, report: dict) -> Path:
@@ -124,6 +127,7 @@ def test_a_sweep_page_shows_the_front_with_bf_to_3_decimals_and_links_to_hulls(p
         assert f"Bf target {b:.3f}" in text  # the hover text of each design
     assert '<a href="designs/2/hull.stl">' in text and "designs/0/hull.stl" not in text
     assert "1 of 4 designs miss their targets" in text
+    assert "parent: Bf 0.021" in text  # the parent's point beside the front
     # the designs' particulars beside the parent's (designs 0, 2 on the front, 3 and 4 off it)
     assert re.search(r"<th>particular</th><th>parent</th><th>design 0</th><th>design 2</th></tr>", text)
     assert "Wetted surface S [m²]" in text

@@ -391,6 +391,12 @@ def fig_pareto(report: dict, folder: Path):
         fig.add_trace(go.Scatter(x=xs, y=ys, mode=mode, name=name, marker=marker, text=hover,
                                  customdata=[_hull_link(folder, k) or "" for k in ks],
                                  hovertemplate="%{text}<extra></extra>"))
+    objectives = report.get("objectives", {})
+    if all(isinstance(objectives.get(k), dict) for k in (mname, oname, "bf")):  # the parent, to read them against
+        x, y = (displayed(k, objectives[k]["parent"])[0] for k in (mname, oname))
+        fig.add_trace(go.Scatter(x=[x], y=[y], mode="markers", name="parent",
+                                 marker=dict(color="black", size=13, symbol="star"),
+                                 hovertemplate=f"parent: Bf {objectives['bf']['parent']:.3f}<extra></extra>"))
     fig.update_xaxes(title=label(mname))
     fig.update_yaxes(title=label(oname))
     return fig

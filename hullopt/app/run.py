@@ -486,7 +486,7 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
             elif g >= -tol and k not in ("max_half_breadth", "bulge"):  # those are on their bound at the parent
                 warnings.append(f"{who}constraint active: {what}")
         for k, r in (("sectional-area curve is", sac), ("sections are", sec)):
-            if r[i + 1] > ROUGHNESS * r[0]:
+            if r[i + 1] > ROUGHNESS * r[0] * (1.0 + tol):  # as a constraint at the bound is met
                 warnings.append(f"{who}the {k} rougher than the parent's: {r[i + 1] / r[0]:.2f}× "
                                 f"(more than {ROUGHNESS:g}×); raise [solver] fairness")
     return objectives, warnings
