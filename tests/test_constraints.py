@@ -207,6 +207,31 @@ def test_section_knuckle_by_hand_and_its_gradient():
     check_grad(one, knuckle, rtol=1e-6)  # the knuckled section (no point left out)
 
 
+def test_station_knuckles_hold_each_station_to_the_parents():
+    """A parent with one sharp turn (70°, a skeg's) and a fair station; the design adds a 25° knuckle to the
+    fair one. The mean over stations barely moves (under 2x, as on the KCS), the station bound sees it at
+    that station only; stations flatter than the floor (one 5° turn) count as the floor."""
+    from hullopt.app.run import KNUCKLE_FLOOR, section_knuckle, station_knuckles
+    from hullopt.geometry import Sections
+    from hullopt.optimise import Limits
+
+    z = np.linspace(0.0, 6.0, 13)
+    fair = np.stack([2.0 + 0.02 * z, z], -1)  # straight: no turn at all
+    skeg = fair.copy()
+    skeg[7:, 0] = skeg[6, 0] + (z[7:] - z[6]) * np.tan(np.deg2rad(70.0))  # one 70° turn at z = 3 m
+    knuckled = fair.copy()
+    knuckled[7:, 0] = knuckled[6, 0] + (z[7:] - z[6]) * np.tan(np.deg2rad(25.0))
+    x = jnp.array([0.0, 5.0])
+    parent, design = (Sections(x, jnp.array([skeg, s]), 6.0) for s in (fair, knuckled))
+    assert float(section_knuckle(design)) < 2.0 * float(section_knuckle(parent))  # blind to it
+    np.testing.assert_allclose(station_knuckles(parent), [np.deg2rad(70.0 - 1.146) ** 4, KNUCKLE_FLOOR], rtol=0.05)
+    lim = Limits(names=("station_knuckles",), measures=(station_knuckles,), sense=np.array([1.0]),
+                 values=np.array([2.0]), relative=(True,), max_half_breadth=None, bulge=False).at_parent(parent, 6.0)
+    g = np.asarray(lim.groups(design, 6.0)["station_knuckles"])
+    assert g[0] == pytest.approx(-0.5) and g[1] > 10.0  # the skeg as the parent's; the new knuckle, far over
+    assert np.all(np.asarray(lim.groups(parent, 6.0)["station_knuckles"]) == pytest.approx(-0.5))
+
+
 def test_sac_roughness_constraint_binds_in_the_solver():
     """min (a − 1)² with the SAC no rougher than twice the parent's (a₀ = 0.5): roughness ∝ a², so the
     bound is a² ≤ 2·0.25, the solution a = 1/√2 on it (the free minimum a = 1 is twice as rough again)."""

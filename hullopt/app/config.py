@@ -155,10 +155,11 @@ def measure_names() -> tuple[str, ...]:
     return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf", *FAIRNESS_MEASURES)
 
 
-FAIRNESS_MEASURES = ("unfairness", "sac_roughness", "section_roughness", "section_knuckle")
+FAIRNESS_MEASURES = ("unfairness", "sac_roughness", "section_roughness", "section_knuckle", "station_knuckles")
 """Fairness measures a ``[constraints]`` key may name (built in :data:`hullopt.app.run.ROUGHNESS_MEASURES`):
 the unfairness U (:func:`hullopt.fairing.unfairness`), the roughness of the sectional-area curve and of the
-sections (those the report compares and warns of) and the sections' knuckles (their sharpest turns)."""
+sections (those the report compares and warns of) and the sections' knuckles (their sharpest turns: in the
+mean over stations, and each station against the parent's same station)."""
 
 
 class ConstraintsConfig(_Strict):

@@ -200,7 +200,8 @@ class Limits(eqx.Module):
 
     * ``measures[j](sections, draft)`` (an :class:`~hullopt.optimise.Objective` or a :class:`Particular`) at
       most (``sense[j] = +1``) or at least (``−1``) a bound: ``values[j]`` itself, or ``values[j]`` times the
-      parent's value where ``relative[j]``; ``g = sense·(q − b)/|b|``.
+      parent's value where ``relative[j]``; ``g = sense·(q − b)/|b|`` (elementwise for a measure with one value
+      per station, each against the parent's at that station).
     * ``max_half_breadth`` [m] (``NaN``: the parent's largest half-breadth; ``None``: no limit): every
       offset's ``y`` at most it, ``g = (y − y_max)/y_max``, one per offset (n·m).
     * ``bulge`` (forbid): below the waterline no offset wider than its section's waterline half-breadth ``w``
@@ -220,7 +221,7 @@ class Limits(eqx.Module):
     max_half_breadth: Float[ArrayLike, ""] | None = None
     bulge: bool = eqx.field(static=True, default=True)
     tol: float = eqx.field(static=True, default=1e-3)
-    bounds: Float[ArrayLike, " k"] | None = None  # resolved by at_parent
+    bounds: tuple | None = None  # resolved by at_parent: one scalar (or array, as its measure) per measure
     y_ref: Float[ArrayLike, ""] | None = None
     allowance: Float[ArrayLike, "n m"] | None = None
 
@@ -228,8 +229,8 @@ class Limits(eqx.Module):
         """These limits with the parent's values resolved (``sections`` the parent at ``draft``)."""
         q = [m(sections, draft) for m in self.measures]
         values = jnp.asarray(self.values, float)
-        bounds = jnp.stack([jnp.where(r, v * qi, v) for r, v, qi in zip(self.relative, values, q)]) if q \
-            else jnp.zeros(0)
+        # one bound per measure; a measure may be an array (one value per station), bounded elementwise
+        bounds = tuple(jnp.where(r, v * qi, v) for r, v, qi in zip(self.relative, values, q))
         y = sections.yz[..., 0]
         y_ref = jnp.max(y)
         y_max = None if self.max_half_breadth is None else \
