@@ -125,6 +125,8 @@ def test_roughness_constraints_are_parsed_and_reach_the_limits():
     lim = run.limits_from(cfg)
     assert lim.names == ("sac_roughness", "section_roughness", "unfairness")
     assert lim.measures[:2] == (run.sac_roughness, run.section_roughness)
+    per_station = run.limits_from(RunConfig.model_validate(_raw(station_knuckles="<= 2 * parent")))
+    assert per_station.measures == (run.station_knuckles,) and per_station.relative == (True,)
     shipped = RunConfig.model_validate(tomllib.loads((CONFIGS / "min_added_resistance.toml").read_text()))
     assert {"sac_roughness", "section_roughness"} <= set(shipped.constraints.bounds())
 
@@ -224,7 +226,8 @@ def test_station_knuckles_hold_each_station_to_the_parents():
     x = jnp.array([0.0, 5.0])
     parent, design = (Sections(x, jnp.array([skeg, s]), 6.0) for s in (fair, knuckled))
     assert float(section_knuckle(design)) < 2.0 * float(section_knuckle(parent))  # blind to it
-    np.testing.assert_allclose(station_knuckles(parent), [np.deg2rad(70.0 - 1.146) ** 4, KNUCKLE_FLOOR], rtol=0.05)
+    turn = np.deg2rad(70.0) - np.arctan(0.02)  # from the side's slope to 70° off the vertical
+    np.testing.assert_allclose(station_knuckles(parent), [turn**4, KNUCKLE_FLOOR], rtol=1e-12)
     lim = Limits(names=("station_knuckles",), measures=(station_knuckles,), sense=np.array([1.0]),
                  values=np.array([2.0]), relative=(True,), max_half_breadth=None, bulge=False).at_parent(parent, 6.0)
     g = np.asarray(lim.groups(design, 6.0)["station_knuckles"])
