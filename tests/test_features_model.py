@@ -251,6 +251,69 @@ def test_a_named_curve_slides_with_the_inflection_curve_on_it():
     np.testing.assert_array_equal(np.asarray(slid.ends[:, -1]), np.asarray(slid.deck))
 
 
+def test_a_whole_frame_distribution_keeps_coincident_feature_points_together():
+    """The DTC's segments collapse (two inflection points coincide) at 176 pairs of neighbouring stations. A
+    distribution of all curves re-reads the frames between the parent's stations; it interpolates the chain of
+    offsets keel → segment ends → deck, so two points that coincide at both stations around a frame's source
+    coincide in the frame too (interpolated one by one, their different slopes parted them by up to 0.15 m
+    here: a stub segment that turns any way, which the knuckle and roughness measures read as knuckles)."""
+    h = load_parent("dtc")
+    xa, xb, c = 20.0, 340.0, np.array([0.25, -0.1])
+    model = feature_model(h, distributions=[Distribution(xa, xb, "all", 2)])
+    f = model.features(eqx.tree_at(lambda t: t.distribution, model.zeros(), jnp.asarray(c[None])))
+    x, ends = np.asarray(h.x), np.asarray(h.ends)
+    xi = np.clip((x - xa) / (xb - xa), 0.0, 1.0)
+    warp = xa + (xb - xa) * (xi + c[0] * np.sin(np.pi * xi) / np.pi + c[1] * np.sin(2 * np.pi * xi) / (2 * np.pi))
+    source = np.where((x > xa) & (x < xb), warp, x)
+    i = np.clip(np.searchsorted(x, source, side="right") - 1, 0, len(x) - 2)
+    same = np.all(ends[:, 1:] == ends[:, :-1], -1)  # (n, S) segment s collapsed at the parent's station
+    both = same[i] & same[i + 1]
+    assert both.sum() > 50 and np.any(np.abs(source - x) > 5.0)  # many such frames, moved metres
+    gap = np.hypot(*np.moveaxis(np.asarray(f.ends[:, 1:] - f.ends[:, :-1]), -1, 0))
+    assert gap[both].max() < 1e-12
+    # one by one, the same interpolation parts them
+    from scipy.interpolate import PchipInterpolator
+
+    alone = PchipInterpolator(x, ends, axis=0)(source)
+    assert np.hypot(*np.moveaxis(alone[:, 1:] - alone[:, :-1], -1, 0))[both].max() > 0.1
+
+
+def test_a_station_shift_moves_the_frames_and_keeps_their_shapes():
+    """``curves="stations"`` moves the frames themselves along the length (a Lackenby-like shift): each keeps
+    the parent's shape, so the section measures are the parent's, while Cb, LCB and the waterline's entrance
+    change. Volume checked against the closed mesh of the shifted hull (trimesh, a second method) and its
+    gradient against central differences."""
+    from hullopt.geometry import to_trimesh
+
+    h = load_parent("dtc")
+    xa, xb = 180.0, 340.0
+    model = feature_model(h, distributions=[Distribution(xa, xb, "stations", 2)])
+    at = lambda c: eqx.tree_at(lambda t: t.distribution, model.zeros(), jnp.asarray([c], float))  # noqa: E731
+    s0, s1 = model(model.zeros()), model(at([0.2, -0.1]))
+    np.testing.assert_array_equal(np.asarray(s1.yz), np.asarray(s0.yz))  # the frames keep their shapes
+    x0, x1 = np.asarray(s0.x), np.asarray(s1.x)
+    inside = (x0 > xa) & (x0 < xb)
+    np.testing.assert_array_equal(x1[~inside], x0[~inside])
+    xi = (x0[inside] - xa) / (xb - xa)
+    np.testing.assert_allclose(x1[inside] - x0[inside],
+                               (xb - xa) * (0.2 * np.sin(np.pi * xi) / np.pi - 0.1 * np.sin(2 * np.pi * xi) / (2 * np.pi)),
+                               atol=1e-12)
+    assert np.all(np.diff(x1) > 0) and np.max(np.abs(x1 - x0)) > 5.0
+    # frames moved forward in the fore body: fuller there, LCB forward
+    h0, h1 = hydrostatics(s0, 11.0), hydrostatics(s1, 11.0)
+    assert float(h1.cb) > float(h0.cb) + 0.005 and float(h1.lcb_pct) > float(h0.lcb_pct) + 0.3
+    # the whole hull's volume (to the deck) against the closed mesh's: the change agrees to 1 %
+    depth = float(jnp.max(s0.yz[..., 1]))
+    dv = float(volume_at(s1, depth) - volume_at(s0, depth))
+    dv_mesh = to_trimesh(s1).volume - to_trimesh(s0).volume
+    assert abs(dv) > 500.0
+    np.testing.assert_allclose(dv_mesh, dv, rtol=1e-2)
+    grad = jax.grad(lambda c: volume_at(model(at([c, -0.1])), 11.0))(0.2)
+    e = 1e-5
+    fd = (volume_at(model(at([0.2 + e, -0.1])), 11.0) - volume_at(model(at([0.2 - e, -0.1])), 11.0)) / (2 * e)
+    np.testing.assert_allclose(float(grad), float(fd), rtol=1e-6)
+
+
 def test_bad_designs():
     h = load_parent("dtc")
     with pytest.raises(HullError, match="strictly between"):
@@ -261,6 +324,8 @@ def test_bad_designs():
         feature_model(h, [ApexMove(0, 100.0, 150.0, 200.0)])
     with pytest.raises(HullError, match="two groups"):
         feature_model(h, distributions=[Distribution(10.0, 100.0), Distribution(150.0, 200.0)])
+    with pytest.raises(HullError, match="overlap"):
+        feature_model(h, distributions=[Distribution(10.0, 100.0, "stations"), Distribution(90.0, 200.0, "stations")])
     with pytest.raises(HullError, match="line"):
         feature_model(h, edits=[ContourEdit("bow", 10.0, 20.0)])
     model = feature_model(h, [ApexMove(-1, 200.0, 300.0, 350.0)], [Distribution(180.0, 340.0, "all", 1)])

@@ -59,7 +59,9 @@ class ApexMoveConfig(_Strict):
 class DistributionConfig(_Strict):
     x_a: float
     x_b: float
-    curves: str | list[str] = "all"
+    curves: str | list[str] = Field(default="all", description="'all' (whole frames re-read along the length), "
+                                    "'stations' (the frames themselves move), or curve names 'apex:<s>', "
+                                    "'aux:<s>', 'inflection:<k>', 'keel', 'deck'")
     modes: int = Field(default=2, ge=1, le=8)
     c: list[float] | None = None
     bound: float = Field(default=0.3, gt=0, lt=1, description="|c_j| ≤ bound (the warp stays monotone)")

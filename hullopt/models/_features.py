@@ -15,8 +15,13 @@ Order of operations (each is smooth in the parameters):
    curves: the station at ``x`` takes the parent's feature point at ``φ(x)``, a monotone warp of
    ``[x_a, x_b]`` onto itself, ``φ(x) = x_a + (x_b − x_a)(ξ + Σ_j c_j sin(jπξ)/(jπ))``. Closing the spacing
    steepens the surface along the curve, opening it softens it; with the group "all" the whole frames move
-   along the length (as a Lackenby shift does), which moves LCB and Cp. Feature curves are interpolated along
-   the length by monotone cubic Hermite (PCHIP) curves: C¹ in the warp, no overshoot where a segment appears;
+   along the length, which moves LCB and Cp. Feature curves are interpolated along the length by monotone
+   cubic Hermite (PCHIP) curves: C¹ in the warp, no overshoot where a segment appears; the points of a frame
+   as offsets along its chain (keel → segment ends → deck edge), so points that coincide at two stations
+   coincide between them. Re-read frames are blends of the parent's feature data, not of its sections: where
+   the segments change in number between two stations (a bulb's, a forefoot's) a blended frame is a new shape.
+   The group ``"stations"`` instead moves the frames themselves, the one at ``x`` to ``φ(x)`` (Lackenby's
+   station shift: each frame keeps the parent's shape, the stations are no longer the parent's);
 2. **contour edits**: smooth bumps (``sin²`` window) or ramps (smoothstep) added to a contour line — keel
    height (the fore/aft profile), flat-of-bottom half-breadth, flat-of-side height, deck edge;
 3. **apex moves** (claim 5): one apex of an apex line moves by ``d = (dy, dz)`` [m]; every apex between the
@@ -29,7 +34,8 @@ Order of operations (each is smooth in the parameters):
 4. **frames** (claim 6): the auxiliary apexes keep their ratios along and across the chord, because they are
    stored as those ratios; each segment is rebuilt as the patent's cubic spline.
 
-Stations stay where the parent has them (deformations act in the (y, z) plane of each frame).
+Deformations act in the (y, z) plane of each frame; stations stay where the parent has them unless a
+``"stations"`` distribution moves them.
 """
 
 from __future__ import annotations
@@ -246,8 +252,9 @@ class ApexMove:
 @dataclass(frozen=True)
 class Distribution:
     """Claim 7: redistribute the feature points of ``curves`` between ``x_a`` and ``x_b`` with ``modes`` sine
-    modes. ``curves`` is ``"all"`` (whole frames), or a tuple of names ``"apex:<s>"``, ``"aux:<s>"``,
-    ``"inflection:<k>"`` (``ends[:, k]``), ``"keel"``, ``"deck"``."""
+    modes. ``curves`` is ``"all"`` (whole frames re-read along the length), a tuple of names ``"apex:<s>"``,
+    ``"aux:<s>"``, ``"inflection:<k>"`` (``ends[:, k]``), ``"keel"``, ``"deck"``, or ``"stations"``: the
+    frames themselves move, the one at ``x`` to ``φ(x)`` (a Lackenby-like shift; each keeps its shape)."""
 
     x_a: float
     x_b: float
@@ -296,7 +303,9 @@ class FeatureModel(eqx.Module):
 
     hull: FeatureHull
     base: Float[ArrayLike, "n C"]  # the parent's feature channels, flattened (numpy: built once)
-    slopes: Float[ArrayLike, "n C"]  # PCHIP slopes along x
+    chain: Float[ArrayLike, "C C"]  # to the columns a distribution interpolates in (_chain) …
+    unchain: Float[ArrayLike, "C C"]  # … and back
+    slopes: Float[ArrayLike, "n C"]  # PCHIP slopes along x of base @ chain
     move_w: Float[ArrayLike, "K n"]
     move_seg: tuple[int, ...] = eqx.field(static=True)
     dist_mask: Float[ArrayLike, "G C"]
@@ -316,18 +325,25 @@ class FeatureModel(eqx.Module):
         h = self.hull
         x = h.x
         f = self.base
-        # 1. distribution: warp x within each group's range and re-read its curves there.
+        # 1. distribution: warp x within each group's range and re-read its curves there, or (the group
+        # "stations") move the frames themselves there.
+        x_out = x
         for g in range(self.dist_mask.shape[0]):
             xa, xb = self.dist_range[g, 0], self.dist_range[g, 1]
             xi = jnp.clip((x - xa) / (xb - xa), 0.0, 1.0)
             j = jnp.arange(1, params.distribution.shape[1] + 1, dtype=x.dtype)
-            dxi = jnp.sum(params.distribution[g] * jnp.sin(jnp.pi * j * xi[:, None]) / (jnp.pi * j), -1)
+            dxi = jnp.sum(_used_modes(self, params)[g] * jnp.sin(jnp.pi * j * xi[:, None]) / (jnp.pi * j), -1)
             t = xa + (xb - xa) * (xi + dxi)
             t = jnp.where((x > xa) & (x < xb), t, x)
-            f = jnp.where(self.dist_mask[g] > 0, _pchip(x, self.base, self.slopes, t), f)
+            if self.design[1][g].curves == "stations":
+                x_out = jnp.where((x > xa) & (x < xb), t, x_out)
+            else:
+                chained = self.base @ self.chain  # the change only, so zero parameters give the parent bit for bit
+                warped = self.base + (_pchip(x, chained, self.slopes, t) - chained) @ self.unchain
+                f = jnp.where(self.dist_mask[g] > 0, warped, f)
         # 2. contour edits.
         f = f + jnp.einsum("e,enc->nc", params.contour, self.edit_w)
-        out = _unflatten(h, f)
+        out = eqx.tree_at(lambda t: t.x, _unflatten(h, f), x_out)
         # 3. apex moves (absolute displacement of the apex, re-expressed in the current chord frame).
         if self.move_seg:
             ends, apex = out.ends, out.apex
@@ -345,6 +361,14 @@ class FeatureModel(eqx.Module):
 
     def __call__(self, params: FeatureParams) -> Sections:
         return self.features(params).sections()
+
+
+def _used_modes(model: FeatureModel, params: FeatureParams) -> Array:
+    """``params.distribution`` with the modes beyond each group's own count zeroed (the array has as many
+    columns as the group with the most)."""
+    c = params.distribution
+    used = np.arange(c.shape[-1]) < np.array([d.modes for d in model.design[1]], int).reshape(-1, 1)
+    return jnp.where(used, c, 0.0)
 
 
 def _channels(h: FeatureHull) -> list[tuple[str, tuple[int, ...]]]:
@@ -373,6 +397,20 @@ def _unflatten(h: FeatureHull, f: ArrayLike) -> FeatureHull:
     vals = {k: f[:, c.reshape(-1)].reshape((n,) + c.shape) for k, c in cols.items()}
     return eqx.tree_at(lambda t: (t.keel, t.deck, t.ends, t.apex, t.aux), h,
                        tuple(vals[k] for k in ("keel", "deck", "ends", "apex", "aux")))
+
+
+def _chain(h: FeatureHull) -> np.ndarray:
+    """``(C, C)`` change of columns: each point of a frame's chain keel → segment ends → deck edge becomes its
+    offset from the previous one (apex and auxiliary-apex ratios unchanged). A distribution interpolates in
+    these columns: monotone (PCHIP) interpolation keeps a zero offset at two stations zero between them, so
+    feature points that coincide there (a collapsed segment, an inflection on the deck edge) stay together —
+    interpolated one by one, their different slopes part them by millimetres to centimetres, a stub segment
+    that turns any way."""
+    cols = _columns(h)
+    chain = np.concatenate([cols["keel"][None], cols["ends"], cols["deck"][None]])  # (S + 3, 2)
+    a = np.eye(_flatten(h).shape[1])
+    a[chain[:-1].reshape(-1), chain[1:].reshape(-1)] = -1.0
+    return a
 
 
 def _pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -447,6 +485,8 @@ def _dist_columns(h: FeatureHull, curves) -> np.ndarray:
     c = np.zeros(_flatten(h).shape[1])
     if curves == "all":
         return c + 1.0
+    if curves == "stations":
+        return c
     for name in (curves,) if isinstance(curves, str) else curves:
         kind, _, idx = name.partition(":")
         try:
@@ -561,11 +601,17 @@ def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> Fe
         masks.append(_dist_columns(hull, d.curves))
     if masks and np.max(np.sum(masks, axis=0)) > 1:
         raise HullError("distribution: a feature curve is in two groups; give each curve to one group")
+    shifts = sorted((d.x_a, d.x_b) for d in distributions if d.curves == "stations")
+    if any(b1 > a2 for (_, b1), (a2, _) in zip(shifts, shifts[1:])):
+        raise HullError(f"distribution: station shifts {shifts} overlap; give each station to one shift")
     c = base.shape[1]
+    chain = _chain(hull)
     return FeatureModel(
         hull=hull,
         base=base,
-        slopes=np.asarray(_pchip_slopes(x, base)),
+        chain=chain,
+        unchain=np.linalg.inv(chain),
+        slopes=np.asarray(_pchip_slopes(x, base @ chain)),
         move_w=np.array([w for _, w in mw]).reshape(len(mw), len(x)),
         move_seg=tuple(s for s, _ in mw),
         dist_mask=np.array(masks).reshape(len(masks), c),
@@ -604,7 +650,7 @@ def design_margins(model: FeatureModel, params: FeatureParams) -> dict[str, Arra
     knots = jnp.concatenate([jnp.zeros_like(rho[..., :1]), rho, jnp.ones_like(rho[..., :1])], -1)
     gaps = jnp.min(jnp.diff(knots, axis=-1), axis=(-1, -2))
     aux = jnp.min(jnp.where(real, gaps, big))
-    warp = 1.0 - jnp.sum(jnp.abs(params.distribution), -1) if params.distribution.size else jnp.ones(0)
+    warp = 1.0 - jnp.sum(jnp.abs(_used_modes(model, params)), -1) if params.distribution.size else jnp.ones(0)
     return {"apex": apex, "aux": aux, "warp": warp}
 
 
