@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..drawing import save_figure
+from ..drawing import save_figure, station_sections
 
 
 def _figure(*args, figsize=None, **kw):
@@ -46,30 +46,25 @@ def _save(fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=130, bbox_inches="tight")
 
 
-def _station_indices(x: np.ndarray, lpp: float, per_station: int = 2) -> list[int]:
-    """Indices of the sections nearest to the stations 0, 1/per_station, …, 10 (stations number Lpp in ten
-    from the AP), each once."""
-    targets = np.arange(10 * per_station + 1) * lpp / (10.0 * per_station)
-    return sorted({int(np.argmin(np.abs(x - t))) for t in targets})
-
-
 def plot_body_plans(before, after, path: Path, every: int | None = None, title: str = "",
                     draft: float | None = None) -> Path:
     """Body plan of the parent (dashed grey) and the design (blue): aft body left, fore body right, as drawn
-    by naval architects, at the sections nearest the half stations (``every``: every ``every``-th section
-    instead), integer station numbers written above the design's sections, the DWL at ``draft`` [m]."""
+    by naval architects, at the half stations (interpolated there; ``every``: every ``every``-th given
+    section instead), integer station numbers written above the design's sections, the DWL at ``draft`` [m]."""
     fig, ax = _figure(figsize=(9, 6))
     lpp = float(after.lpp)
     mid = 0.5 * lpp
     top = max(float(np.max(np.asarray(s.yz)[..., 1])) for s in (before, after))
     for s, style in ((before, dict(color="0.55", lw=0.8, ls="--")), (after, dict(color="C0", lw=1.0))):
-        x, yz = np.asarray(s.x), np.asarray(s.yz)
-        idx = range(0, len(x), every) if every else _station_indices(x, lpp)
-        for i in idx:
+        if every:
+            x, yz = np.asarray(s.x)[::every], np.asarray(s.yz)[::every]
+        else:
+            _, x, yz = station_sections(s, per_station=2)
+        for i in range(len(x)):
             sign = 1.0 if x[i] >= mid else -1.0
             ax.plot(sign * yz[i, :, 0], yz[i, :, 1], **style)
             st = x[i] / lpp * 10.0
-            if s is after and not every and abs(st - round(st)) < 0.26:
+            if s is after and not every and abs(st - round(st)) < 1e-9:
                 # the label above the section's deck edge, fore body right, aft body left
                 ax.annotate(f"{round(st):d}", (sign * yz[i, -1, 0], yz[i, -1, 1]), xytext=(2 * sign, 3),
                             textcoords="offset points", ha="left" if sign > 0 else "right", va="bottom",
@@ -178,7 +173,7 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
     if parent is not None:
         px, py = parent[0] * sx, parent[1] * sy
         ax.plot([px], [py], "*", color="k", markersize=11, label="parent", zorder=4)
-        ax.annotate(f"parent (Bf {parent[2]:.3f})", (px, py), xytext=(5, -10), textcoords="offset points",
+        ax.annotate(f"parent (Bf {parent[2]:.4g})", (px, py), xytext=(5, -10), textcoords="offset points",
                     fontsize=7, color="k")
     pts = np.array([[d["measure"] * sx, d["objective"] * sy] for d in designs]).reshape(-1, 2)
     front = np.array([d.get("pareto", False) for d in designs], dtype=bool)
@@ -194,7 +189,7 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
         if key in seen or not np.isfinite([px, py]).all():
             continue
         seen.add(key)
-        ax.annotate(f"Bf {d['bf_target']:.3f}", (px, py), xytext=(4, 3), textcoords="offset points",
+        ax.annotate(f"Bf {d['bf_target']:.4g}", (px, py), xytext=(4, 3), textcoords="offset points",
                     fontsize=7, color="0.25")
     ax.margins(0.08)
     ax.set_xlabel(xlabel)
@@ -202,7 +197,7 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(alpha=0.3)
     bf = [d["bf_target"] for d in designs]
-    span = f", Bf {min(bf):.3f} … {max(bf):.3f}" if bf else ""
+    span = f", Bf {min(bf):.4g} … {max(bf):.4g}" if bf else ""
     ax.set_title(f"Pareto front: {yname.replace('_', ' ')} vs {xname.replace('_', ' ')}{span}\n"
                  f"(each design labelled with its bluntness target Bf)", loc="left", fontsize=10)
     return _save(fig, path)

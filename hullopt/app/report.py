@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from ..drawing import station_sections
 from ..errors import HullError
 from ..geometry import Sections, atomic_write_bytes, grid_triangles, surface_grid
 from .output import displayed, fmt, label, quantity, to_builtin, unit_scale
@@ -206,9 +207,9 @@ def _wireframe(s: Sections, name: str, draft: float):
 
     x, yz = np.asarray(s.x), np.asarray(s.yz)
     pts = []
-    for i in station_indices(x, float(s.lpp)):
+    for xk, section in zip(*station_sections(s, per_station=2)[1:]):
         for side in (1.0, -1.0):
-            pts += [*((x[i], side * y, z) for y, z in yz[i]), (None, None, None)]
+            pts += [*((xk, side * y, z) for y, z in section), (None, None, None)]
     wl = [_waterline_half_breadth(p, draft) for p in yz]
     for side in (1.0, -1.0):
         pts += [*((xi, side * w, draft) for xi, w in zip(x, wl)), (None, None, None)]
@@ -217,43 +218,27 @@ def _wireframe(s: Sections, name: str, draft: float):
                         line=dict(color="#444444", width=2))
 
 
-def station_indices(x: np.ndarray, lpp: float, per_station: int = 2) -> list[int]:
-    """Indices of the sections nearest the stations 0, 1/per_station, …, 10 (ten stations from the AP at 0
-    to the FP at 10), each once."""
-    targets = np.arange(10 * per_station + 1) * lpp / (10.0 * per_station)
-    return sorted({int(np.argmin(np.abs(np.asarray(x) - t))) for t in targets})
-
-
 def _body_plan_lines(s: Sections) -> tuple[list, list, list]:
-    """The half-sections nearest the half stations as one polyline with gaps: aft body to the left
-    (negative y), fore body to the right; hover names the station (0 at the AP, 10 at the FP) and x."""
-    x, yz, lpp = np.asarray(s.x), np.asarray(s.yz), float(s.lpp)
+    """The half-sections at the half stations (interpolated there) as one polyline with gaps: aft body to the
+    left (negative y), fore body to the right; hover names the station (0 at the AP, 10 at the FP) and x."""
     ys, zs, text = [], [], []
-    for i in station_indices(x, lpp):
-        sign = 1.0 if x[i] >= 0.5 * lpp else -1.0
-        tag = f"station {10 * x[i] / lpp:.2f}, x = {x[i]:.2f} m"
-        ys += [*(sign * yz[i, :, 0]), None]
-        zs += [*yz[i, :, 1], None]
-        text += [tag] * yz.shape[1] + [None]
+    for st, xk, section in zip(*station_sections(s, per_station=2)):
+        sign = 1.0 if st >= 5.0 else -1.0
+        ys += [*(sign * section[:, 0]), None]
+        zs += [*section[:, 1], None]
+        text += [f"station {st:g}, x = {xk:.2f} m"] * len(section) + [None]
     return ys, zs, text
 
 
 def _station_labels(s: Sections) -> tuple[list, list, list]:
     """Integer station numbers above the deck edge of their sections (fore body right, aft body left)."""
-    x, yz, lpp = np.asarray(s.x), np.asarray(s.yz), float(s.lpp)
-    xs, zs, text = [], [], []
-    for i in station_indices(x, lpp):
-        st = 10 * x[i] / lpp
-        if abs(st - round(st)) < 0.26:
-            xs.append((1.0 if x[i] >= 0.5 * lpp else -1.0) * yz[i, -1, 0])
-            zs.append(yz[i, -1, 1])
-            text.append(str(round(st)))
-    return xs, zs, text
+    st, _, yz = station_sections(s)
+    return list(np.where(st >= 5.0, 1.0, -1.0) * yz[:, -1, 0]), list(yz[:, -1, 1]), [f"{k:g}" for k in st]
 
 
 def fig_body_plan(h: Hulls):
-    """Body plan: aft body left, fore body right (as drawn by naval architects), at the sections nearest
-    the half stations, parent dashed, integer station numbers above the (first) design's sections, the DWL."""
+    """Body plan: aft body left, fore body right (as drawn by naval architects), at the half stations
+    (interpolated there), parent dashed, integer station numbers above the (first) design's sections, the DWL."""
     import plotly.graph_objects as go
 
     fig = _figure("Body plan", height=500)
@@ -396,7 +381,7 @@ def fig_pareto(report: dict, folder: Path):
         x, y = (displayed(k, objectives[k]["parent"])[0] for k in (mname, oname))
         fig.add_trace(go.Scatter(x=[x], y=[y], mode="markers", name="parent",
                                  marker=dict(color="black", size=13, symbol="star"),
-                                 hovertemplate=f"parent: Bf {objectives['bf']['parent']:.3f}<extra></extra>"))
+                                 hovertemplate=f"parent: Bf {objectives['bf']['parent']:.4g}<extra></extra>"))
     fig.update_xaxes(title=label(mname))
     fig.update_yaxes(title=label(oname))
     return fig

@@ -8,6 +8,7 @@ from ._lines import LinesPlan as LinesPlan
 from ._lines import lines_plan as lines_plan
 from ._lines import plot_lines as plot_lines
 from ._lines import save_lines as save_lines
+from ._lines import station_sections as station_sections
 from ._lines import write_lines_dxf as write_lines_dxf
 from ._offsets import SEED003_STATIONS as SEED003_STATIONS
 from ._offsets import half_breadths as half_breadths

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import HullError
-from ..geometry import Sections, atomic_write_bytes
+from ..geometry import Sections, atomic_write_bytes, sections_at
 from ._save import save_figure
 
 LINES_FORMATS = ("png", "svg", "pdf", "dxf")
@@ -67,6 +67,15 @@ def _nan_runs(x: np.ndarray, v: np.ndarray) -> list[np.ndarray]:
     return runs
 
 
+def station_sections(sections: Sections, per_station: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The hull at the stations 0, 1/per_station, …, 10 (ten stations from the AP at 0 to the FP at 10):
+    ``(stations (k,), x (k,) [m from the AP], yz (k, p, 2) [m])``, each half-section interpolated at its
+    station (:func:`~hullopt.geometry.sections_at`), not the given section nearest it."""
+    stations = np.arange(10 * per_station + 1) / per_station
+    x = stations * float(sections.lpp) / 10.0
+    return stations, x, sections_at(sections, x)
+
+
 def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_buttocks: int = 4,
                waterlines=None, buttocks=None, draft: float | None = None) -> LinesPlan:
     """Cut the lines plan from ``sections``: stations 0…10, waterlines (default ``n_waterlines`` equally
@@ -111,16 +120,12 @@ def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_butt
                      beam=2.0 * half, draft=None if draft is None else float(draft))
     p0, p1 = yz[:, :-1], yz[:, 1:]
 
-    # stations: the sections nearest to the ten divisions of Lpp (and the ends of the hull)
-    targets = np.arange(11) * lpp / 10.0
-    nearest = {}
-    for k, t in enumerate(targets):  # each section once, named by the (first) station it stands for
-        nearest.setdefault(int(np.argmin(np.abs(x - t))), k)
-    for i, k in sorted(nearest.items()):
-        label = f"{k}"
-        sign = 1.0 if x[i] >= 0.5 * lpp else -1.0
-        plan.body.append(("station", label, yz[i] * np.array([sign, 1.0])))
-        for view, pts in (("sheer", [[x[i], zmin], [x[i], zmax]]), ("half_breadth", [[x[i], 0.0], [x[i], half]])):
+    # stations: the hull at the ten divisions of Lpp
+    for k, xk, section in zip(*station_sections(sections)):
+        label = f"{k:g}"
+        sign = 1.0 if xk >= 0.5 * lpp else -1.0
+        plan.body.append(("station", label, section * np.array([sign, 1.0])))
+        for view, pts in (("sheer", [[xk, zmin], [xk, zmax]]), ("half_breadth", [[xk, 0.0], [xk, half]])):
             getattr(plan, view).append(("grid", label, np.array(pts)))
 
     for z in waterlines:

@@ -376,22 +376,7 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
     yz = np.asarray(sections.yz, np.float64)
     n, m = yz.shape[:2]
     big_m = int(np.clip(2 * m, *points))
-    u = np.linspace(0.0, 1.0, big_m)
-    even = np.empty((n, big_m, 2))
-    for i, p in enumerate(yz):
-        seg = np.hypot(*np.diff(p, axis=0).T)
-        s = np.r_[0.0, np.cumsum(seg)]
-        if s[-1] <= 0.0:  # a section collapsed to a point
-            even[i] = p[0]
-            continue
-        s = s / s[-1]
-        ui = u.copy()
-        for c in _corners(p[np.r_[True, seg > 0]], s[np.r_[True, seg > 0]]):
-            j = int(round(c * (big_m - 1)))  # the nearest sample moves onto the corner: corners stay exact
-            if 0 < j < big_m - 1 and ui[j - 1] < c < ui[j + 1]:
-                ui[j] = c
-        even[i, :, 0] = np.interp(ui, s, p[:, 0])
-        even[i, :, 1] = np.interp(ui, s, p[:, 1])
+    even = _by_girth(yz, big_m)
     if n < 2:
         return Sections(x=x, yz=even, lpp=np.asarray(float(sections.lpp)))
     # stations per interval: enough for `stations` intervals in all, and more where the loft twists (the
@@ -415,6 +400,45 @@ def resample_sections(sections: Sections, stations: int = 200, points: tuple[int
     xs = np.concatenate([xs[:1], xs[:1] + d, xs[1:-1], xs[-1:] - d, xs[-1:]])
     even = np.concatenate([even[:1], even[:1], even[1:-1], even[-1:], even[-1:]])
     return Sections(x=xs, yz=even, lpp=np.asarray(float(sections.lpp)))
+
+
+def _by_girth(yz: np.ndarray, big_m: int) -> np.ndarray:
+    """Each half-section of ``yz (n, m, 2)`` [m] resampled to ``big_m`` points equally spaced in its arc
+    length (point ``j`` the same fraction of the girth at every station), the sample nearest each corner
+    (a turn of more than 30°) moved onto it (numpy)."""
+    u = np.linspace(0.0, 1.0, big_m)
+    even = np.empty((yz.shape[0], big_m, 2))
+    for i, p in enumerate(yz):
+        seg = np.hypot(*np.diff(p, axis=0).T)
+        s = np.r_[0.0, np.cumsum(seg)]
+        if s[-1] <= 0.0:  # a section collapsed to a point
+            even[i] = p[0]
+            continue
+        s = s / s[-1]
+        ui = u.copy()
+        for c in _corners(p[np.r_[True, seg > 0]], s[np.r_[True, seg > 0]]):
+            j = int(round(c * (big_m - 1)))  # the nearest sample moves onto the corner: corners stay exact
+            if 0 < j < big_m - 1 and ui[j - 1] < c < ui[j + 1]:
+                ui[j] = c
+        even[i, :, 0] = np.interp(ui, s, p[:, 0])
+        even[i, :, 1] = np.interp(ui, s, p[:, 1])
+    return even
+
+
+def sections_at(sections: Sections, x: np.ndarray, points: int = 200) -> np.ndarray:
+    """The half-sections ``(k, points, 2)`` [m] at stations ``x (k,)`` [m from the AP] (numpy, for drawing):
+    each given section resampled by its girth (as :func:`resample_sections`), then interpolated point by
+    point along the length (PCHIP: monotone, no overshoot). A given station gives back its own section (to the
+    resampling's rounding of gentle turns); ``x`` is clipped to the hull's ends. Drawings at the stations
+    0…10 use it: a design whose frames moved along the length (a ``"stations"`` distribution) has no section
+    at a station, and its nearest one may stand metres away from the parent's."""
+    from scipy.interpolate import PchipInterpolator
+
+    xs = np.asarray(sections.x, np.float64)
+    even = _by_girth(np.asarray(sections.yz, np.float64), points)
+    out = PchipInterpolator(xs, even, axis=0)(np.clip(np.asarray(x, np.float64), xs[0], xs[-1]))
+    out[..., 0] = np.maximum(out[..., 0], 0.0)
+    return out
 
 
 def _unfold_centreline(yz: np.ndarray, wall: float) -> np.ndarray:
