@@ -87,6 +87,29 @@ def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
     assert (out / "hull.stl").exists() and report["targets"]["cb"]["met"] is False
 
 
+def test_a_station_shift_fit_keeps_every_section_and_reads_back(cli, tmp_path):
+    """The frames themselves move along the length (``curves = "stations"``): the Wigley fitted to Cb 0.46 and
+    LCB −1 % Lpp with every section the parent's own (section roughness equal to the parent's); the run folder and
+    its mesh read back with those particulars (the mesh to its resolution)."""
+    cfg = tmp_path / "st.toml"
+    cfg.write_text('kind = "fit"\n[hull]\nparent = "wigley"\ndraft = 6.25\n'
+                   '[[design.distribution]]\nx_a = 0.0\nx_b = 100.0\ncurves = "stations"\nmodes = 2\nbound = 0.4\n'
+                   "[targets]\ncb = 0.46\nlcb_pct = -1.0\n")
+    out = tmp_path / "st"
+    code, stdout, err = cli("run", cfg, "--out", out, "--json")
+    assert code == 0, err
+    r = json.loads(stdout)
+    assert r["met"] and not r["warnings"]
+    rough = r["objectives"]["section_roughness"]
+    assert rough["design"] == pytest.approx(rough["parent"], rel=1e-12)
+    assert r["objectives"]["sac_roughness"]["design"] > 1.2 * r["objectives"]["sac_roughness"]["parent"]  # it moved
+    for hull, rel in ((out, 1e-9), (f"{out / 'hull.stl'}", 5e-4)):
+        code, stdout, err = cli("hydro", hull, "--draft", "6.25", "--json")
+        assert code == 0, err
+        h = json.loads(stdout)
+        assert h["cb"] == pytest.approx(0.46, rel=rel) and h["lcb_pct"] == pytest.approx(-1.0, abs=2e-3)
+
+
 def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_path):
     # the reflection part only: with the strip-theory motions in the objective the run takes far longer than a
     # test may (the motions and their gradients are tested in test_motions.py)

@@ -353,7 +353,7 @@ def fig_convergence(report: dict):
 
 def fig_pareto(report: dict, folder: Path):
     """A sweep's designs: measure against objective in their displayed units (kN), the front joined, each
-    point's Bf target (3 decimals), values and hull file on hover; a click opens the hull file."""
+    point's Bf target (4 significant digits), values and hull file on hover; a click opens the hull file."""
     import plotly.graph_objects as go
 
     o = report.get("objective", {})
@@ -391,7 +391,7 @@ def _pareto_hover(k: int, d: dict, mname: str, oname: str, folder: Path) -> str:
     m, mu = displayed(mname, d["measure"])
     v, vu = displayed(oname, d["objective"])
     link = _hull_link(folder, k)
-    lines = [f"<b>design {k}</b>: Bf target {d['bf_target']:.3f}",
+    lines = [f"<b>design {k}</b>: Bf target {d['bf_target']:.4g}",
              f"{label(mname, unit=False)}: {fmt(m, 4)} {mu}".rstrip(),
              f"{label(oname, unit=False)}: {fmt(v, 4)} {vu}".rstrip(),
              f"targets met: {'yes' if d.get('met') else 'NO'}",
@@ -610,13 +610,13 @@ def report_warnings(report: dict) -> list[str]:
 
 
 def designs_table(report: dict, folder: Path) -> str:
-    """A sweep's designs: Bf target (3 decimals), measure and objective in kN, met, front, link to the hull."""
+    """A sweep's designs: Bf target (4 significant digits), measure and objective in kN, met, front, link to the hull."""
     o = report.get("objective", {})
     mname, oname = o.get("measure", "measure"), o.get("name", "objective")
     rows = []
     for k, d in enumerate(report.get("designs") or []):
         link = _hull_link(folder, k)
-        rows.append([str(k), f"{d.get('bf_target', float('nan')):.3f}",
+        rows.append([str(k), f"{d.get('bf_target', float('nan')):.4g}",
                      _e(fmt(displayed(mname, d.get("measure"))[0], 4)),
                      _e(fmt(displayed(oname, d.get("objective"))[0], 4)),
                      '<span class="ok">yes</span>' if d.get("met") else '<span class="bad">NO</span>',
