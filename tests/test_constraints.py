@@ -253,3 +253,18 @@ def test_sac_roughness_constraint_binds_in_the_solver():
     r = jax.jit(solve)()
     assert bool(r.met) and float(r.params[0]) == pytest.approx(2**-0.5, abs=1e-6)
     assert float(lim.groups(_ribbed(r.params[0]), 2.0)["sac_roughness"]) == pytest.approx(0.0, abs=1e-6)
+
+
+@pytest.mark.parametrize("curves, hinted", [("all", True), ("stations", False)])
+def test_the_roughness_warning_names_a_distribution_that_blends_frames(curves, hinted):
+    """The DTC's segments change in number between stations (its bulb, its stern): a distribution that re-reads
+    frames there blends frames of different make-up into new shapes (the KCS fit of configs/fit_own_hull.toml
+    had sections 26600x rougher); the roughness warning then says to move the frames instead."""
+    from hullopt.app.run import _blend_hint, build_problem
+
+    raw = {"kind": "fit", "hull": {"parent": "dtc"}, "targets": {"cb": 0.66},
+           "design": {"distribution": [{"x_a": 150.0, "x_b": 340.0, "curves": curves}]}}
+    cfg = RunConfig.model_validate(raw)
+    hint = _blend_hint(cfg, build_problem(cfg))
+    assert ('curves = "stations"' in hint and "design.distribution[0]" in hint) == hinted
+    assert bool(hint) == hinted

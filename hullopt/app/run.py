@@ -481,6 +481,7 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
         objectives[k] = {"parent": r[0], "design" if one else "designs": r[1] if one else r[1:], "unit": "-"}
     warnings = []
     tol = cfg.constraints.tolerance
+    blend = _blend_hint(cfg, prob)
     for i in range(len(designs)):
         who = "" if one else f"design {i}: "
         for k, g in groups.items():
@@ -495,8 +496,23 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
         for k, r in (("sectional-area curve is", sac), ("sections are", sec)):
             if r[i + 1] > ROUGHNESS * r[0] * (1.0 + tol):  # as a constraint at the bound is met
                 warnings.append(f"{who}the {k} rougher than the parent's: {r[i + 1] / r[0]:.2f}× "
-                                f"(more than {ROUGHNESS:g}×); raise [solver] fairness")
+                                f"(more than {ROUGHNESS:g}×); raise [solver] fairness" + blend * (k == "sections are"))
     return objectives, warnings
+
+
+def _blend_hint(cfg: RunConfig, prob: Problem) -> str:
+    """A hint for the section-roughness warning: the distributions that re-read frames where the parent's
+    segments change in number (a bulb, a forefoot), which blend frames of different make-up into new shapes."""
+    real = np.asarray(prob.design.model.hull.real)
+    x = np.asarray(prob.design.model.hull.x)
+    changes = x[1:][np.any(real[1:] != real[:-1], -1)]
+    bad = [i for i, g in enumerate(cfg.design.distribution)
+           if g.curves != "stations" and np.any((changes > g.x_a) & (changes < g.x_b))]
+    if not bad:
+        return ""
+    return (f", or move the frames themselves (curves = \"stations\") in design.distribution[{bad[0]}]: it re-reads "
+            f"frames across stations where the parent's segments change in number (x = {changes.min():.0f}…"
+            f"{changes.max():.0f} m)")
 
 
 def _unfairness(sections: Sections, draft) -> Array:
