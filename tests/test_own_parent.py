@@ -45,6 +45,7 @@ parent = "{parent}"
 [[design.distribution]]
 x_a = 0.0
 x_b = 230.0
+curves = "stations"
 modes = 2
 bound = 0.3
 

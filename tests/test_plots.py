@@ -164,10 +164,10 @@ def test_convergence_shows_objective_and_violation_on_log_scales(tmp_path, drawn
 
 
 def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):
-    """Forces in kN (N / 1000), each design's Bf to 3 decimals once, a title that says what is plotted."""
+    """Forces in kN (N / 1000), each design's Bf to 4 significant digits once, a title that says what is plotted."""
     from hullopt.app.plots import plot_pareto
 
-    bf = [0.3, 0.3125, 0.325, 0.3375]  # two decimals would make 0.31/0.31 and 0.33/0.34
+    bf = [0.3, 0.3125, 0.325, 0.3375]  # two decimals would make 0.31/0.31 and 0.33/0.34, three 0.312/0.338
     designs = [dict(bf_target=b, measure=5e5 - 1e5 * i, objective=3e4 + 1e4 * i, met=True, pareto=True)
                for i, b in enumerate(bf)]
     plot_pareto(designs, "calm_resistance", "mean_added_resistance", tmp_path / "p.png", parent=(4.5e5, 3.5e4, 0.32))
@@ -179,7 +179,7 @@ def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):
     (front,) = [ln for ln in ax.get_lines() if ln.get_label() == "Pareto front"]
     np.testing.assert_allclose(sorted(front.get_xdata()), [200.0, 300.0, 400.0, 500.0])
     labels = [t.get_text() for t in ax.texts]
-    assert sorted(labels) == ["Bf 0.300", "Bf 0.312", "Bf 0.325", "Bf 0.338", "parent (Bf 0.320)"]
+    assert sorted(labels) == ["Bf 0.3", "Bf 0.3125", "Bf 0.325", "Bf 0.3375", "parent (Bf 0.32)"]
     assert ax.get_title(loc="left").startswith("Pareto front: mean added resistance vs calm resistance")
     assert outside(fig, ax.get_legend(), ax)
 

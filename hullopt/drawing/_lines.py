@@ -68,9 +68,22 @@ def _nan_runs(x: np.ndarray, v: np.ndarray) -> list[np.ndarray]:
 
 
 def station_sections(sections: Sections, per_station: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The hull at the stations 0, 1/per_station, …, 10 (ten stations from the AP at 0 to the FP at 10):
-    ``(stations (k,), x (k,) [m from the AP], yz (k, p, 2) [m])``, each half-section interpolated at its
-    station (:func:`~hullopt.geometry.sections_at`), not the given section nearest it."""
+    """The hull at the stations 0, 1/per_station, …, 10 (ten stations from the AP at 0 to the FP at 10), each
+    half-section interpolated at its station (:func:`~hullopt.geometry.sections_at`), not the given section
+    nearest it.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    per_station : int
+        Sections per station interval (2: the half stations).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``stations (k,)`` (0 … 10), ``x (k,)`` [m from the AP] and ``yz (k, p, 2)`` [m], ``k = 10·per_station + 1``.
+    """
     stations = np.arange(10 * per_station + 1) / per_station
     x = stations * float(sections.lpp) / 10.0
     return stations, x, sections_at(sections, x)

@@ -426,12 +426,26 @@ def _by_girth(yz: np.ndarray, big_m: int) -> np.ndarray:
 
 
 def sections_at(sections: Sections, x: np.ndarray, points: int = 200) -> np.ndarray:
-    """The half-sections ``(k, points, 2)`` [m] at stations ``x (k,)`` [m from the AP] (numpy, for drawing):
-    each given section resampled by its girth (as :func:`resample_sections`), then interpolated point by
-    point along the length (PCHIP: monotone, no overshoot). A given station gives back its own section (to the
-    resampling's rounding of gentle turns); ``x`` is clipped to the hull's ends. Drawings at the stations
-    0…10 use it: a design whose frames moved along the length (a ``"stations"`` distribution) has no section
-    at a station, and its nearest one may stand metres away from the parent's."""
+    """The half-sections at stations ``x`` (numpy, for drawing): each given section resampled by its girth
+    (as :func:`resample_sections`), then interpolated point by point along the length (PCHIP: monotone, no
+    overshoot). A given station gives back its own section (to the resampling's rounding of gentle turns).
+    Drawings at the stations 0…10 use it: a design whose frames moved along the length (a ``"stations"``
+    distribution) has no section at a station, and its nearest one may stand metres away from the parent's.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    x : (k,) array_like
+        Stations [m from the AP]; clipped to the hull's ends.
+    points : int
+        Points per half-section, equally spaced in its girth.
+
+    Returns
+    -------
+    numpy.ndarray, (k, points, 2) float
+        The half-sections ``(y, z)`` [m], keel to deck edge.
+    """
     from scipy.interpolate import PchipInterpolator
 
     xs = np.asarray(sections.x, np.float64)
