@@ -610,7 +610,8 @@ def report_warnings(report: dict) -> list[str]:
 
 
 def designs_table(report: dict, folder: Path) -> str:
-    """A sweep's designs: Bf target (4 significant digits), measure and objective in kN, met, front, link to the hull."""
+    """A sweep's designs: Bf target (4 significant digits), measure and objective in kN, met, front, link to
+    the hull."""
     o = report.get("objective", {})
     mname, oname = o.get("measure", "measure"), o.get("name", "objective")
     rows = []

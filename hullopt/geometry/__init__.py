@@ -14,8 +14,8 @@ from ._mesh import export_mesh as export_mesh
 from ._mesh import grid_triangles as grid_triangles
 from ._mesh import hull_mesh as hull_mesh
 from ._mesh import read_stl_header as read_stl_header
-from ._mesh import stl_header as stl_header
 from ._mesh import sections_at as sections_at
+from ._mesh import stl_header as stl_header
 from ._mesh import surface_grid as surface_grid
 from ._mesh import to_trimesh as to_trimesh
 from ._mesh import wetted_surface as wetted_surface

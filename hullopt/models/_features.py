@@ -303,9 +303,9 @@ class FeatureModel(eqx.Module):
 
     hull: FeatureHull
     base: Float[ArrayLike, "n C"]  # the parent's feature channels, flattened (numpy: built once)
-    chain: Float[ArrayLike, "C C"]  # to the columns a distribution interpolates in (_chain) …
-    unchain: Float[ArrayLike, "C C"]  # … and back
-    slopes: Float[ArrayLike, "n C"]  # PCHIP slopes along x of base @ chain
+    chained: Float[ArrayLike, "n C"]  # base in the columns a distribution interpolates in (_chain) …
+    unchain: Float[ArrayLike, "C C"]  # … and back to the channels
+    slopes: Float[ArrayLike, "n C"]  # PCHIP slopes along x of chained
     move_w: Float[ArrayLike, "K n"]
     move_seg: tuple[int, ...] = eqx.field(static=True)
     dist_mask: Float[ArrayLike, "G C"]
@@ -328,18 +328,19 @@ class FeatureModel(eqx.Module):
         # 1. distribution: warp x within each group's range and re-read its curves there, or (the group
         # "stations") move the frames themselves there.
         x_out = x
+        c = _used_modes(self, params)
         for g in range(self.dist_mask.shape[0]):
             xa, xb = self.dist_range[g, 0], self.dist_range[g, 1]
             xi = jnp.clip((x - xa) / (xb - xa), 0.0, 1.0)
-            j = jnp.arange(1, params.distribution.shape[1] + 1, dtype=x.dtype)
-            dxi = jnp.sum(_used_modes(self, params)[g] * jnp.sin(jnp.pi * j * xi[:, None]) / (jnp.pi * j), -1)
+            j = jnp.arange(1, c.shape[1] + 1, dtype=x.dtype)
+            dxi = jnp.sum(c[g] * jnp.sin(jnp.pi * j * xi[:, None]) / (jnp.pi * j), -1)
             t = xa + (xb - xa) * (xi + dxi)
             t = jnp.where((x > xa) & (x < xb), t, x)
             if self.design[1][g].curves == "stations":
                 x_out = jnp.where((x > xa) & (x < xb), t, x_out)
             else:
-                chained = self.base @ self.chain  # the change only, so zero parameters give the parent bit for bit
-                warped = self.base + (_pchip(x, chained, self.slopes, t) - chained) @ self.unchain
+                # the change only, so that zero parameters give the parent bit for bit
+                warped = self.base + (_pchip(x, self.chained, self.slopes, t) - self.chained) @ self.unchain
                 f = jnp.where(self.dist_mask[g] > 0, warped, f)
         # 2. contour edits.
         f = f + jnp.einsum("e,enc->nc", params.contour, self.edit_w)
@@ -404,8 +405,8 @@ def _chain(h: FeatureHull) -> np.ndarray:
     offset from the previous one (apex and auxiliary-apex ratios unchanged). A distribution interpolates in
     these columns: monotone (PCHIP) interpolation keeps a zero offset at two stations zero between them, so
     feature points that coincide there (a collapsed segment, an inflection on the deck edge) stay together —
-    interpolated one by one, their different slopes part them by millimetres to centimetres, a stub segment
-    that turns any way."""
+    interpolated one by one, their different slopes part them (by up to 0.15 m on the DTC): a stub segment that
+    turns any way."""
     cols = _columns(h)
     chain = np.concatenate([cols["keel"][None], cols["ends"], cols["deck"][None]])  # (S + 3, 2)
     a = np.eye(_flatten(h).shape[1])
@@ -609,7 +610,7 @@ def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> Fe
     return FeatureModel(
         hull=hull,
         base=base,
-        chain=chain,
+        chained=base @ chain,
         unchain=np.linalg.inv(chain),
         slopes=np.asarray(_pchip_slopes(x, base @ chain)),
         move_w=np.array([w for _, w in mw]).reshape(len(mw), len(x)),
