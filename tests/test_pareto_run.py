@@ -11,8 +11,9 @@ CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
 def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
-    """configs/pareto_bow.toml's sweep (Michell + friction against R_AW, motion + reflection) on the Wigley: the
-    KCS's takes far longer than a test may (tests/data/pareto_wigley.toml, the reduced copy)."""
+    """configs/pareto_bow.toml's sweep (Michell + friction against R_AW, motion + reflection; the frames moved
+    along the length) on the Wigley: the KCS's takes longer than a test may (tests/data/pareto_wigley.toml, the
+    reduced copy). A design of the sweep, rebuilt from the run folder with its moved stations, reads back."""
     out = tmp_path / "p"
     args = ["run", str(CONFIGS.parent / "tests" / "data" / "pareto_wigley.toml"), "--set", "sweep.count=4",
             "--set", "sweep.chunk=2", "--out", str(out), "--json"]
