@@ -175,12 +175,12 @@ def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):
     ax = fig.axes[0]
     (star,) = [ln for ln in ax.get_lines() if ln.get_label() == "parent"]  # the parent, to read the front against
     assert (star.get_xdata()[0], star.get_ydata()[0]) == (450.0, 35.0)
-    assert ax.get_xlabel() == "calm resistance [kN]" and ax.get_ylabel() == "mean added resistance [kN]"
+    assert ax.get_xlabel() == "calm-water resistance R_T [kN]" and ax.get_ylabel() == "mean added resistance R_AW [kN]"
     (front,) = [ln for ln in ax.get_lines() if ln.get_label() == "Pareto front"]
     np.testing.assert_allclose(sorted(front.get_xdata()), [200.0, 300.0, 400.0, 500.0])
     labels = [t.get_text() for t in ax.texts]
     assert sorted(labels) == ["Bf 0.3", "Bf 0.3125", "Bf 0.325", "Bf 0.3375", "parent (Bf 0.32)"]
-    assert ax.get_title(loc="left").startswith("Pareto front: mean added resistance vs calm resistance")
+    assert ax.get_title(loc="left").startswith("Pareto front: mean added resistance R_AW against calm-water resistance R_T")
     assert outside(fig, ax.get_legend(), ax)
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..drawing import save_figure, station_sections
+from .output import displayed, label
 
 
 def _figure(*args, figsize=None, **kw):
@@ -148,24 +149,15 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
 
 
 def _axis(name: str) -> tuple[str, float]:
-    """An objective's axis label with its unit from its class (N shown as kN; none for a coefficient) and the
-    factor from SI to the shown unit."""
-    from ..optimise import OBJECTIVES
-
-    unit = OBJECTIVES[name].unit if name in OBJECTIVES else "-"
-    scale = 1e-3 if unit == "N" else 1.0
-    unit = "kN" if unit == "N" else unit
-    return name.replace("_", " ") + (f" [{unit}]" if unit != "-" else " [-]"), scale
-
-
-def _label(name: str) -> str:
-    return _axis(name)[0]
+    """A report key's axis label with its unit, as the report's tables name it (a force in kN), and the factor
+    from SI to that unit."""
+    return label(name), displayed(name, 1.0)[0]
 
 
 def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
                 parent: tuple[float, float, float] | None = None) -> Path:
     """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in
-    kN, each design labelled with its Bf target to 3 decimals (a label once per position); designs that miss
+    kN, each design labelled with its Bf target to 4 significant digits (a label once per position); designs that miss
     their targets as crosses, dominated ones grey; ``parent`` = (measure, objective, Bf) of the parent, a
     black star, to read the designs against."""
     fig, ax = _figure(figsize=(7.5, 5))
@@ -198,6 +190,6 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
     ax.grid(alpha=0.3)
     bf = [d["bf_target"] for d in designs]
     span = f", Bf {min(bf):.4g} … {max(bf):.4g}" if bf else ""
-    ax.set_title(f"Pareto front: {yname.replace('_', ' ')} vs {xname.replace('_', ' ')}{span}\n"
+    ax.set_title(f"Pareto front: {label(yname, unit=False)} against {label(xname, unit=False)}{span}\n"
                  f"(each design labelled with its bluntness target Bf)", loc="left", fontsize=10)
     return _save(fig, path)
