@@ -323,6 +323,8 @@ def test_bad_designs():
         feature_model(h, [ApexMove(0, 100.0, 150.0, 200.0)])
     with pytest.raises(HullError, match="two groups"):
         feature_model(h, distributions=[Distribution(10.0, 100.0), Distribution(150.0, 200.0)])
+    with pytest.raises(HullError, match="a group of its own"):
+        feature_model(h, distributions=[Distribution(10.0, 100.0, ("stations", "keel"))])
     with pytest.raises(HullError, match="overlap"):
         feature_model(h, distributions=[Distribution(10.0, 100.0, "stations"), Distribution(90.0, 200.0, "stations")])
     with pytest.raises(HullError, match="line"):

@@ -489,6 +489,9 @@ def _dist_columns(h: FeatureHull, curves) -> np.ndarray:
     if curves == "stations":
         return c
     for name in (curves,) if isinstance(curves, str) else curves:
+        if name in ("all", "stations"):
+            raise HullError(f"distribution: {name!r} is a group of its own: give it as curves = {name!r}, not in a "
+                            "list")
         kind, _, idx = name.partition(":")
         try:
             if kind in ("keel", "deck") and not idx:
@@ -503,8 +506,8 @@ def _dist_columns(h: FeatureHull, curves) -> np.ndarray:
                 raise ValueError
         except (ValueError, IndexError):
             raise HullError(
-                f"distribution: unknown feature curve {name!r}; expected 'all', 'keel', 'deck', 'apex:<s>', "
-                f"'aux:<s>' or 'inflection:<k>' with s < {h.n_segments}, k ≤ {h.n_segments}"
+                f"distribution: unknown feature curve {name!r}; expected 'all', 'stations', 'keel', 'deck', "
+                f"'apex:<s>', 'aux:<s>' or 'inflection:<k>' with s < {h.n_segments}, k ≤ {h.n_segments}"
             ) from None
     # an inflection curve that coincides with the keel or the deck edge somewhere (no flat of bottom or side
     # there) slides with it: one without the other would open a gap in those sections
