@@ -278,6 +278,22 @@ def test_a_whole_frame_distribution_keeps_coincident_feature_points_together():
     assert np.hypot(*np.moveaxis(alone[:, 1:] - alone[:, :-1], -1, 0))[both].max() > 0.1
 
 
+def test_a_group_uses_only_its_own_modes():
+    """Two groups with 1 and 3 modes share a (2, 3) parameter array: the first group's two extra columns move
+    nothing and count nothing in its monotonicity margin (they warped its frames and were bounded as its own)."""
+    from hullopt.models import design_margins
+
+    h = load_parent("dtc")
+    model = feature_model(h, distributions=[Distribution(10.0, 150.0, "stations", 1),
+                                            Distribution(180.0, 340.0, "stations", 3)])
+    at = lambda c: eqx.tree_at(lambda t: t.distribution, model.zeros(), jnp.asarray(c, float))  # noqa: E731
+    base = at([[0.2, 0.0, 0.0], [0.1, -0.1, 0.05]])
+    extra = at([[0.2, 0.5, -0.4], [0.1, -0.1, 0.05]])
+    np.testing.assert_array_equal(np.asarray(model(extra).x), np.asarray(model(base).x))
+    np.testing.assert_allclose(np.asarray(design_margins(model, extra)["warp"]), [0.8, 0.75], atol=1e-15)
+    assert not np.array_equal(np.asarray(model(base).x), np.asarray(h.x))  # the used modes do move it
+
+
 def test_a_station_shift_moves_the_frames_and_keeps_their_shapes():
     """``curves="stations"`` moves the frames themselves along the length (a Lackenby-like shift): each keeps
     the parent's shape, so the section measures are the parent's, while Cb, LCB and the waterline's entrance
