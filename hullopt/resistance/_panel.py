@@ -1,0 +1,393 @@
+"""Wave resistance by a Rankine-source panel method on the hull's true surface, in deep water.
+
+The hull below the draft T, panelled from its sections, carries constant-strength sources σ (flat quadrilateral
+panels, Hess & Smith 1964). Step 1, the double-body flow: the hull and its mirror image in the waterplane z = T
+(a rigid free surface, the zero-Froude limit) in the stream −U·x̂ of a ship moving ahead; σ from the Neumann
+condition ∂φ/∂n = U·n_x at the panel centroids, a dense second-kind system (port/starboard and the waterplane
+mirror by images, so only the port side's wet panels are unknowns). Step 2, the waves: the submerged sources
+radiate Kelvin waves through Havelock's far-field spectrum (λ = sec θ, k₀ = g/U²)::
+
+    R_w = (ρ g²/(π U⁴)) ∫₁^∞ |S(λ)|² λ²/√(λ² − 1) dλ,
+    S(λ) = Σ_panels σ ∫_panel e^{k₀λ²(z − T)} e^{i k₀λ x} 2 cos(k₀λ√(λ² − 1) y) dA    (both sides),
+
+the same constant and λ rule as :mod:`._michell`'s integral, which this is when the sources are Michell's thin-ship
+ones (σ = U·n_x on each side of a thin hull): the thin Wigley gives Michell's value (tests). The true-surface
+sources add what thin-ship theory lacks — the hull's thickness, its flat bottom, the bulb's and the stern's 3-D
+flow — so the method stays meaningful on full and bulbous hulls. It is the zeroth order of the Neumann–Michell
+family (Noblesse, Huang & Yang 2013): hull panels only, no free-surface panels; the free-surface condition is
+Kelvin's (linearised about the stream), not Dawson's double-body one.
+
+Panel integrals of the wave spectrum are exact for parallelogram panels, ∫ e^{a·r} dA = A e^{a·c} shc(a·e₁/2)
+shc(a·e₂/2) (c the centroid, e₁, e₂ the mean edge vectors, shc(s) = sinh(s)/s), so the short waves of large λ and
+the steep decay e^{k₀λ²(z−T)} of the top panel row need no finer panels. Panel velocities are Hess & Smith's
+closed forms: in-plane from the edges' logarithms, normal from the solid angle (van Oosterom & Strackee 1983).
+
+A dry transom is closed by flat panels on the end section (as Michell closes it by a source sheet): the
+double-body flow stagnates there, and a transom stern's waves are overestimated at low speed — as in thin-ship
+theory. Sinkage and trim come from the double-body pressure (the low-speed squat, not iterated), against the
+waterplane's area and longitudinal moment of inertia.
+
+Everything is pure JAX: differentiable in the sections, the draft and the speed; vmapped over speeds (the
+double-body solve is done once: σ scales with U). Differentiating the dense solve costs one transposed solve.
+
+References: Hess, J.L. & Smith, A.M.O. (1964) J. Ship Res. 8(2), 22–44. Havelock, T.H. (1932) Proc. R. Soc. A 138,
+339–348 (the submerged sphere, the test). van Oosterom, A. & Strackee, J. (1983) IEEE Trans. Biomed. Eng. 30,
+125–126. Noblesse, F., Huang, F. & Yang, C. (2013) J. Eng. Math. 79, 51–71.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ..constants import G, RHO_SEA
+from ..errors import HullError
+from ..geometry import Sections, safe_div, safe_norm
+from ._michell import LAMBDA_MAX, lambda_nodes
+
+STATIONS = 48  # default panel columns along the length (cosine-clustered towards the ends)
+GIRTH = 12  # default panel rows from the keel to the waterline
+
+
+class Panels(eqx.Module):
+    """Flat source panels (the port side's), with their geometry.
+
+    Attributes
+    ----------
+    vertices : (N, 4, 3) float
+        Corners [m] (x forward from the AP, y to port, z up from the baseline), ordered counter-clockwise seen
+        from outside the hull (the normal points into the water).
+    draft : () float
+        The waterplane z = T [m] the double body is mirrored in.
+    """
+
+    vertices: Float[Array, "N 4 3"]
+    draft: Float[Array, ""]
+
+    @property
+    def centre(self) -> Float[Array, "N 3"]:
+        return jnp.mean(self.vertices, axis=1)
+
+    @property
+    def area_vector(self) -> Float[Array, "N 3"]:
+        """½ d₁ × d₂ of the diagonals: the outward normal times the (projected) area [m²]."""
+        v = self.vertices
+        return 0.5 * jnp.cross(v[:, 2] - v[:, 0], v[:, 3] - v[:, 1])
+
+    @property
+    def area(self) -> Float[Array, " N"]:
+        return safe_norm(self.area_vector)
+
+    @property
+    def normal(self) -> Float[Array, "N 3"]:
+        a = self.area
+        return safe_div(self.area_vector, a[:, None], (a > 0.0)[:, None])
+
+    @property
+    def real(self) -> Float[Array, " N"]:
+        """1 for a panel with an area, 0 for a collapsed one (a closed end, a section on the centreline)."""
+        scale = jnp.max(self.area)
+        return (self.area > 1e-10 * scale).astype(self.vertices.dtype)
+
+
+def _girth_points(yz: Array, draft: Array, count: int) -> tuple[Array, Array]:
+    """The part of one half-section polyline (m, 2) below ``draft``, as ``count`` points equally spaced in girth
+    from the keel to the waterline (edges on the centreline skipped), and the wet girth [m]. Each edge's wet part is a fraction of it,
+    [0, s] or [s, 1] with s = (T − z₀)/(z₁ − z₀), so the wet girth has the one-sided derivative in T also when
+    T sits on a point of the polyline (no square root of a clipped length)."""
+    p0, p1 = yz[:-1], yz[1:]
+    z0, z1 = p0[:, 1], p1[:, 1]
+    dz = z1 - z0
+    b0, b1 = z0 <= draft, z1 <= draft
+    s = safe_div(draft - z0, dz, dz != 0.0)  # in [0, 1] where used (no clip: its tie at 0 halves dT)
+    lo = jnp.where(b0, 0.0, s)
+    hi = jnp.where(b1, 1.0, s)
+    hi = jnp.where(b0 | b1, hi, lo)  # both ends above: nothing wet
+    keep = (p0[:, 0] > 0.0) | (p1[:, 0] > 0.0)  # edges on the centreline get points only when all are there
+    full = safe_norm(p1 - p0)
+    weighted = full * jnp.where(keep, 1.0, 1e-9)
+    seg = (hi - lo) * weighted
+    cum = jnp.concatenate([jnp.zeros(1, yz.dtype), jnp.cumsum(seg)])
+    u = 0.5 * (1.0 - jnp.cos(jnp.linspace(0.0, jnp.pi, count)))
+    u = 0.5 * u + 0.5 * jnp.linspace(0.0, 1.0, count)  # half cosine (keel and waterline), half uniform
+    target = u * cum[-1]
+    # the edge each point falls on, at most the last edge with a wet end: with the draft on a polyline point the
+    # waterline's point is the start of the edge above (its fraction s = 0 moves with T), not the end of the one
+    # below (fixed), so the points have the derivative the wet girth has
+    last = jnp.max(jnp.where(b0 | b1, jnp.arange(seg.shape[0]), 0))
+    idx = jnp.searchsorted(cum, target, side="right", method="compare_all").astype(last.dtype) - 1
+    idx = jnp.minimum(idx, last)
+    idx = jnp.maximum(idx, 0)
+    t = lo[idx] + safe_div(target - cum[idx], weighted[idx], weighted[idx] > 0.0)
+    return p0[idx] + t[:, None] * (p1[idx] - p0[idx]), jnp.sum((hi - lo) * full)
+
+
+def hull_panels(sections: Sections, draft, stations: int = STATIONS, girth: int = GIRTH) -> Panels:
+    """The port side of the hull below ``draft`` as ``(stations − 1)·girth`` panels, plus ``girth`` panels on each
+    end section (a wet transom or bow face; collapsed to nothing on a closed end).
+
+    Each section's wet part is resampled to ``girth + 1`` points equally spaced in its girth (half cosine:
+    finer at the keel and the waterline); the stations are ``stations`` cosine-spaced positions between the
+    wet length (the first to the last station with a wet section), each section linearly interpolated between
+    the given ones.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array
+        Draft T [m above the baseline].
+    stations, girth : int
+        Panel columns + 1 along the length, panel rows around the girth.
+
+    Returns
+    -------
+    Panels
+        ``(stations − 1)·girth + 2·girth`` panels.
+    """
+    if not (isinstance(stations, int) and stations >= 3 and isinstance(girth, int) and girth >= 2):
+        raise HullError(f"panels: stations {stations!r} ≥ 3 and girth {girth!r} ≥ 2 expected (integers)")
+    t = jnp.asarray(draft, dtype=sections.yz.dtype)
+    xs = jnp.asarray(sections.x, dtype=sections.yz.dtype)
+    yz, wet = jax.vmap(lambda p: _girth_points(p, t, girth + 1))(jnp.asarray(sections.yz))  # (n, g+1, 2)
+    wet = wet > 1e-6 * (t - sections.keel)
+    x_lo, x_hi = jnp.min(jnp.where(wet, xs, xs[-1])), jnp.max(jnp.where(wet, xs, xs[0]))
+    u = 0.5 * (1.0 - jnp.cos(jnp.linspace(0.0, jnp.pi, stations)))
+    x = x_lo + (x_hi - x_lo) * u
+    flat = yz.reshape(yz.shape[0], -1)
+    grid = jax.vmap(lambda col: jnp.interp(x, xs, col), in_axes=1, out_axes=1)(flat).reshape(stations, girth + 1, 2)
+    pts = jnp.concatenate([jnp.broadcast_to(x[:, None, None], (stations, girth + 1, 1)), grid], axis=-1)
+    # hull: (i, j) → (i, j+1) → (i+1, j+1) → (i+1, j): counter-clockwise seen from port (x forward, z up)
+    hull = jnp.stack([pts[:-1, :-1], pts[:-1, 1:], pts[1:, 1:], pts[1:, :-1]], axis=2).reshape(-1, 4, 3)
+
+    def cap(p, forward):  # the end section closed to the centreline at each height
+        on = p.at[:, 1].set(0.0)
+        q = jnp.stack([on[:-1], p[:-1], p[1:], on[1:]], axis=1)
+        return q if forward else q[:, ::-1]
+
+    caps = jnp.concatenate([cap(pts[0], False), cap(pts[-1], True)])
+    return Panels(vertices=jnp.concatenate([hull, caps]), draft=t)
+
+
+def _plane_frames(panels: Panels):
+    """Each panel's unit normal n, in-plane axes (e₁, e₂) and corners in them (N, 4, 2), projected on the mean
+    plane through the centroid."""
+    n = panels.normal
+    c = panels.centre
+    d = panels.vertices[:, 2] - panels.vertices[:, 0]
+    d = d - jnp.sum(d * n, -1, keepdims=True) * n
+    dn = safe_norm(d)
+    e1 = safe_div(d, dn[:, None], (dn > 0.0)[:, None])
+    e2 = jnp.cross(n, e1)
+    r = panels.vertices - c[:, None]
+    local = jnp.stack([jnp.sum(r * e1[:, None], -1), jnp.sum(r * e2[:, None], -1)], axis=-1)
+    return c, n, e1, e2, local
+
+
+def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = False) -> Float[Array, "P N 3"]:
+    """Velocity [m/s per m/s of σ] at ``points`` induced by each panel's unit source density (outflow
+    1 m³/s per m²): (1/4π) ∫ (p − q)/|p − q|³ dA, by Hess & Smith's closed forms.
+
+    ``own``: the points are the panels' own centroids (P = N); a panel's velocity at its own centroid is the
+    outside limit (normal part ½).
+    """
+    c, n, e1, e2, local = _plane_frames(panels)
+    r = points[:, None, :] - c[None]  # (P, N, 3)
+    px, py, pz = (jnp.sum(r * e, -1) for e in (e1, e2, n))
+    a, b = local, jnp.roll(local, -1, axis=1)  # the edges' ends (N, 4, 2)
+
+    def corners(px, py, pz):  # vectors from the point to the corners, in the panel's frame: (P, N, 4, 3)
+        return jnp.stack([a[None, :, :, 0] - px[..., None], a[None, :, :, 1] - py[..., None],
+                          jnp.broadcast_to(-pz[..., None], px.shape + (4,))], axis=-1)
+
+    R = corners(px, py, pz)
+    rk = safe_norm(R)
+    rk1 = jnp.roll(rk, -1, axis=-1)
+    edge = b - a
+    dk = safe_norm(edge)
+    nu = safe_div(jnp.stack([edge[..., 1], -edge[..., 0]], -1), dk[..., None], (dk > 0.0)[..., None])
+    den = jnp.maximum(rk + rk1 - dk[None], 1e-13 * (jnp.max(dk) + 1.0))
+    log = jnp.log(jnp.maximum(rk + rk1 + dk[None], 1e-13) / den)  # ∫ 1/r dl along each edge
+    vt = jnp.sum(nu[None] * log[..., None], axis=-2)  # (P, N, 2): (1/4π)·Σ ν_k ∫ 1/r dl, times 4π
+    if own:  # the solid angle at a panel's own centroid is 2π: computed at a harmless point instead
+        eye = jnp.eye(px.shape[0], px.shape[1], dtype=bool)
+        px, py, pz = jnp.where(eye, 0.0, px), jnp.where(eye, 0.0, py), jnp.where(eye, 1.0, pz)
+        R = corners(px, py, pz)
+        rk = safe_norm(R)
+        rk1 = jnp.roll(rk, -1, axis=-1)
+    # solid angle Ω: the fan of triangles (corner k, corner k+1, the frame's origin at the corners' mean)
+    R2 = jnp.roll(R, -1, axis=-2)
+    R3 = jnp.stack([-px, -py, -pz], axis=-1)[..., None, :]
+    r3 = safe_norm(R3)
+    num = jnp.sum(R * jnp.cross(R2, R3), -1)
+    den2 = rk * rk1 * r3 + jnp.sum(R * R2, -1) * r3 + jnp.sum(R * R3, -1) * rk1 + jnp.sum(R2 * R3, -1) * rk
+    ok = (num != 0.0) | (den2 != 0.0)  # both 0 only on a collapsed panel (its velocity is masked below)
+    atan = jnp.arctan2(jnp.where(ok, num, 0.0), jnp.where(ok, den2, 1.0))
+    wn = -jnp.sum(atan, axis=-1) / (2.0 * jnp.pi)  # Ω/(4π), tan(Ω_k/2) = num/den
+    if own:
+        wn = jnp.where(eye, 0.5, wn)
+    v = (vt[..., :1] * e1[None] + vt[..., 1:] * e2[None]) / (4.0 * jnp.pi) + wn[..., None] * n[None]
+    return jnp.where(panels.real[None, :, None] > 0.0, v, 0.0)  # a collapsed panel induces nothing
+
+
+def _images(panels: Panels) -> list[Panels]:
+    """The port panels and their mirrors (starboard, above the waterplane, both), corners re-ordered so every
+    image's normal points out of its own image of the hull."""
+    v = panels.vertices
+    t = panels.draft
+    ys = v * jnp.array([1.0, -1.0, 1.0])
+    zs = v.at[..., 2].set(2.0 * t - v[..., 2])
+    yzs = zs * jnp.array([1.0, -1.0, 1.0])
+    flip = lambda w: w[:, ::-1]  # noqa: E731  a mirror turns the winding
+    return [panels, Panels(flip(ys), t), Panels(flip(zs), t), Panels(yzs, t)]
+
+
+def _velocities(panels: Panels) -> Float[Array, "N N 3"]:
+    """Velocity at each panel centroid from unit σ on each panel and its three images (N, N, 3)."""
+    p = panels.centre
+    ims = _images(panels)
+    return source_velocity(p, ims[0], own=True) + sum(source_velocity(p, im) for im in ims[1:])
+
+
+def double_body_flow(panels: Panels) -> tuple[Float[Array, " N"], Float[Array, "N 3"]]:
+    """The double-body flow past the hull at unit speed (the stream −x̂: the ship moves ahead).
+
+    Returns
+    -------
+    sigma : (N,) float
+        Source densities [m/s per m/s of speed] from ∂φ/∂n = n_x at every real panel's centroid (σ = 0 on a
+        collapsed panel).
+    velocity : (N, 3) float
+        The total velocity at the centroids [per m/s of speed]: the stream plus the sources'.
+    """
+    real = panels.real > 0.0
+    v = _velocities(panels)
+    a = jnp.sum(v * panels.normal[:, None, :], axis=-1)
+    a = jnp.where(real[:, None] & real[None, :], a, jnp.eye(a.shape[0], dtype=a.dtype))
+    sigma = jnp.linalg.solve(a, jnp.where(real, panels.normal[:, 0], 0.0))
+    return sigma, jnp.einsum("pnk,n->pk", v, sigma) - jnp.array([1.0, 0.0, 0.0])
+
+
+def _shc(s):
+    """sinh(s)/s for complex s, by its series near 0 (finite derivatives everywhere)."""
+    small = jnp.abs(s) < 1e-4
+    ss = jnp.where(small, jnp.ones_like(s), s)
+    return jnp.where(small, 1.0 + s * s / 6.0, jnp.sinh(ss) / ss)
+
+
+def kelvin_spectrum(panels: Panels, sigma, k0, lam) -> Array:
+    """S(λ) [m³/s per m/s of speed]: the submerged sources' (both sides) Havelock amplitude at wave numbers k₀λ
+    (``lam`` (L,), k₀ = g/U² [1/m]), each panel's integral exact for a parallelogram (see the module)."""
+    c, n, e1, e2, local = _plane_frames(panels)
+    v = panels.vertices
+    f1 = 0.5 * (v[:, 2] + v[:, 3] - v[:, 0] - v[:, 1])  # mean edge vectors, the parallelogram's sides
+    f2 = 0.5 * (v[:, 1] + v[:, 2] - v[:, 0] - v[:, 3])
+    q = sigma * panels.area * panels.real  # (N,)
+    kl = k0 * lam[:, None]  # (L, 1)
+    ky = kl * jnp.sqrt(jnp.maximum(lam * lam - 1.0, 0.0))[:, None]
+    kz = kl * lam[:, None]
+
+    def phase(r, sign):  # a·r for a = (i kλ, i·sign·kλ√(λ²−1), k λ²), r (N, 3) → (L, N) complex
+        return jax.lax.complex(kz * r[None, :, 2], kl * r[None, :, 0] + sign * ky * r[None, :, 1])
+
+    cz = c.at[:, 2].add(-panels.draft)
+    total = 0.0
+    for sign in (1.0, -1.0):  # the port and starboard sources
+        e = jnp.exp(phase(cz, sign)) * _shc(0.5 * phase(f1, sign)) * _shc(0.5 * phase(f2, sign))
+        total = total + e @ q.astype(e.dtype)
+    return total
+
+
+class PanelResult(eqx.Module):
+    """The panel method's calm-water wave results at k speeds (SI).
+
+    Attributes
+    ----------
+    r_wave : (k,) float
+        Wave resistance R_w [N].
+    sinkage : (k,) float
+        Sinkage at the centre of flotation [m], positive down (double-body pressure, not iterated).
+    trim : (k,) float
+        Trim [rad], positive bow up (by the stern).
+    """
+
+    r_wave: Float[Array, "*k"]
+    sinkage: Float[Array, "*k"]
+    trim: Float[Array, "*k"]
+
+
+def _waterplane(panels: Panels, stations: int, girth: int):
+    """Waterplane area [m²], centre x [m] and longitudinal moment of inertia about it [m⁴], from the hull
+    panels' waterline corners (trapezoids between panel columns)."""
+    top = panels.vertices[: (stations - 1) * girth].reshape(stations - 1, girth, 4, 3)[:, -1]
+    x0, x1 = top[:, 0, 0], top[:, 3, 0]  # the waterline edge: corners (i, g) and (i+1, g)
+    y0, y1 = top[:, 1, 1], top[:, 2, 1]
+    dx = x1 - x0
+    awp = jnp.sum(dx * (y0 + y1))
+    mx = jnp.sum(dx * (x0 * y0 + x1 * y1))  # trapezoid of 2·x·y
+    xf = safe_div(mx, awp)
+    ix = jnp.sum(dx * ((x0 - xf) ** 2 * y0 + (x1 - xf) ** 2 * y1))
+    return awp, xf, ix
+
+
+def panel_wave_resistance(sections: Sections, draft, speed, *, rho: float = RHO_SEA, g: float = G,
+                          stations: int = STATIONS, girth: int = GIRTH, lambda_panels: int = 256,
+                          lam_max: float = LAMBDA_MAX) -> PanelResult:
+    """Wave resistance R_w [N], sinkage and trim by the Rankine-source panel method at ``speed`` U [m/s].
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y half-breadths to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline].
+    speed : float or Array
+        Ship speed U [m/s] > 0, shape (k,) or scalar.
+    rho, g : float
+        Water density [kg/m³], gravity [m/s²].
+    stations, girth : int
+        Panelling (:func:`hull_panels`).
+    lambda_panels, lam_max : int, float
+        The λ rule (:func:`hullopt.resistance._michell.lambda_nodes`).
+
+    Returns
+    -------
+    PanelResult
+        ``r_wave``, ``sinkage``, ``trim``, each of ``speed``'s shape (0 at a speed ≤ 0).
+
+    Examples
+    --------
+    >>> import jax; jax.config.update("jax_enable_x64", True)
+    >>> from hullopt.models import wigley
+    >>> from hullopt.resistance import panel_wave_resistance
+    >>> u = 0.3 * (9.80665 * 100.0) ** 0.5
+    >>> r = panel_wave_resistance(wigley(100, 10, 6.25, 10, n=41, m=33), 6.25, u).r_wave
+    >>> 100 < float(r) / 1e3 < 180
+    True
+    """
+    panels = hull_panels(sections, draft, stations, girth)
+    sigma, vel = double_body_flow(panels)
+    cp = 1.0 - jnp.sum(vel * vel, -1)  # pressure coefficient of the double body (per ½ρU²)
+    w = panels.area_vector * panels.real[:, None]
+    fz = -2.0 * jnp.sum(cp * w[:, 2])  # both sides; per ½ρU², upward positive
+    xc = panels.centre[:, 0]
+    awp, xf, ix = _waterplane(panels, stations, girth)
+    my = -2.0 * jnp.sum(cp * (w[:, 2] * (xc - xf)))  # about the centre of flotation, bow up positive
+    lam, wts = lambda_nodes(lambda_panels, lam_max)
+    speed = jnp.asarray(speed, dtype=sections.yz.dtype)
+
+    def one(u):
+        ok = u > 0.0
+        u2 = jnp.where(ok, u * u, 1.0)
+        s = kelvin_spectrum(panels, sigma, g / u2, lam)
+        r = rho * g * g / (jnp.pi * u2) * jnp.sum(wts * (s.real**2 + s.imag**2))
+        q = 0.5 * u2 / g  # ½ρU²/(ρg)
+        sink = -safe_div(q * fz, awp)
+        trim = safe_div(q * my, ix)
+        return jnp.where(ok, r, 0.0), jnp.where(ok, sink, 0.0), jnp.where(ok, trim, 0.0)
+
+    flat = jnp.reshape(speed, (-1,))
+    r, s, t = jax.vmap(one)(flat)
+    return PanelResult(r_wave=r.reshape(speed.shape), sinkage=s.reshape(speed.shape), trim=t.reshape(speed.shape))
