@@ -1,5 +1,6 @@
-"""The calm_resistance_michell objective: Michell's wave resistance from the sections plus Holtrop's (1 + k1)
-times ITTC-1957 friction, from a config's options, differentiable in the hull's shape."""
+"""The calm_resistance objectives: R_T = (1 + k1)·R_F + R_APP + R_W + R_A with R_W by the method named
+(calm_resistance_michell: Michell's), from a config's options, over an operating profile, differentiable in the
+hull's shape."""
 
 import equinox as eqx
 import jax
@@ -32,11 +33,26 @@ def test_value_is_michell_plus_form_factor_friction():
     @jax.jit
     def parts(s):
         hm = holtrop_mennen(holtrop_hull(s, DRAFT), 18.0 * KNOT)
-        return hm.form_factor * hm.friction, michell_wave_resistance(s, DRAFT, 18.0 * KNOT, panels=128)
+        return (hm.form_factor * hm.friction + hm.appendages + hm.correlation,
+                michell_wave_resistance(s, DRAFT, 18.0 * KNOT, panels=128), hm.total)
 
-    friction, wave = (float(v) for v in parts(HULL))
-    assert float(eqx.filter_jit(obj)(HULL, DRAFT)) == pytest.approx(friction + wave, rel=1e-12)
-    assert 0.3 < wave / friction < 3.0  # a Wigley at Fn 0.3: wave and viscous parts of one order
+    viscous, wave, holtrop = (float(v) for v in parts(HULL))
+    assert float(eqx.filter_jit(obj)(HULL, DRAFT)) == pytest.approx(viscous + wave, rel=1e-12)
+    assert 0.3 < wave / viscous < 3.0  # a Wigley at Fn 0.3: wave and viscous parts of one order
+    # calm_resistance's default is Holtrop–Mennen's own total
+    hm = OBJECTIVES["calm_resistance"].from_config({"speed_kn": 18.0})
+    assert float(eqx.filter_jit(hm)(HULL, DRAFT)) == pytest.approx(holtrop, rel=1e-12)
+
+
+def test_profile_is_the_weighted_mean():
+    """``speeds_kn`` with ``weights``: Σ wᵢ R_T(Uᵢ)/Σ wᵢ, each speed's R_T by the same method."""
+    obj = OBJECTIVES["calm_resistance"].from_config({"speed_kn": 18.0, "speeds_kn": [16.0, 18.0, 20.0],
+                                                      "weights": [1.0, 2.0, 1.0], "method": "michell"})
+    one = [float(OBJECTIVES["calm_resistance"].from_config({"speed_kn": v, "method": "michell"})(HULL, DRAFT))
+           for v in (16.0, 18.0, 20.0)]
+    assert float(obj(HULL, DRAFT)) == pytest.approx((one[0] + 2 * one[1] + one[2]) / 4, rel=1e-12)
+    with pytest.raises(ValueError, match="weights"):
+        OBJECTIVES["calm_resistance"].from_config({"speed_kn": 18.0, "speeds_kn": [16.0, 18.0], "weights": [1.0]})
 
 
 def test_gradient_in_the_shape_matches_central_differences():

@@ -25,7 +25,7 @@ def run(capsys, *args):
 
 
 def test_json_records(capsys):
-    code, out, _ = run(capsys, HULL, "--speed", "14.59,18.28", "--json")
+    code, out, _ = run(capsys, HULL, "--speed", "14.59,18.28", "--json", "--method", "holtrop,michell")
     assert code == 0
     recs = json.loads(out)
     assert [r["speed_kn"] for r in recs] == [14.59, 18.28]
@@ -50,8 +50,25 @@ def test_json_records(capsys):
 
 def test_table_and_range(capsys):
     code, out, _ = run(capsys, "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=9", "--speed", "10:20:3",
-                       "--levels", "9")
-    assert code == 0 and "Calm-water resistance" in out and "R_w Michell [kN]" in out and "20.00" in out
+                       "--levels", "9", "--method", "michell,holtrop")
+    assert code == 0 and "Calm-water resistance" in out and "R_W Michell [kN]" in out and "20.00" in out
+    assert "R_T H-M [kN]" in out and "panel" not in out
+
+
+def test_all_methods_plot_and_warning(capsys, tmp_path):
+    """Every method on one convention (the totals differ in R_W only), the panel method's sinkage and trim,
+    the plot written, and the KCS's warning: Michell and the panel method several times Holtrop–Mennen on a full
+    bulbous hull, named as outside their validity."""
+    code, out, err = run(capsys, "examples/hulls/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230", "--draft",
+                         "10.8", "--speed", "20,24", "--json", "--plot", str(tmp_path / "r.png"))
+    assert code == 0 and (tmp_path / "r.png").stat().st_size > 10_000
+    for r in json.loads(out):
+        base = r["form_factor"] * r["r_f"] + r["r_app"] + r["r_a"]
+        for m in ("holtrop", "michell", "panel"):
+            assert r[f"r_total_{m}"] == pytest.approx(base + r[f"r_wave_{m}"], rel=1e-12)
+        assert r["r_wave_panel"] > 3 * r["r_wave_holtrop"] and r["sinkage_panel"] > 0 and r["trim_panel"] < 0
+    assert "michell is outside its validity (Cb 0.64 with a bulb" in " ".join(err.split())
+    assert "panel is outside its validity" in err
 
 
 @pytest.mark.parametrize("args,needle", [
@@ -60,6 +77,8 @@ def test_table_and_range(capsys):
     ([HULL, "--speed", "1:2"], "--speed"),
     ([HULL, "--speed", "10", "--draft", "12"], "--draft"),
     ([HULL, "--speed", "10", "--levels", "1"], "--levels"),
+    ([HULL, "--speed", "10", "--method", "cfd"], "--method"),
+    ([HULL, "--speed", "10", "--plot", "r.txt"], "--plot"),
 ])
 def test_bad_input_is_one_clear_line(capsys, args, needle):
     code, out, err = run(capsys, *args)

@@ -20,12 +20,13 @@ from __future__ import annotations
 import re
 import tomllib
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..errors import HullError
 from ..optimise import OBJECTIVES, TARGETS, Objective, make_targets
+from ..resistance import METHODS
 
 
 FAIRNESS = 0.05
@@ -110,6 +111,13 @@ class ObjectiveConfig(_Strict):
     motion: bool = Field(default=True, description="mean_added_resistance: include the motion part R_AWM (strip theory)")
     wind_speed: float = Field(default=0.0, ge=0, description="true wind [m/s] (wind_added_resistance)")
     wind_angle_deg: float = Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")
+    method: Literal[METHODS] | None = Field(  # type: ignore[valid-type]
+        default=None, description="calm_resistance: the wave-resistance method (default holtrop; michell for "
+                                  "calm_resistance_michell)")
+    speeds_kn: list[Annotated[float, Field(gt=0)]] | None = Field(
+        default=None, min_length=1, description="calm_resistance: an operating profile's speeds [kn]")
+    weights: list[Annotated[float, Field(ge=0)]] | None = Field(
+        default=None, description="calm_resistance: the profile's weights, one a speed")
 
     @model_validator(mode="after")
     def _options(self):

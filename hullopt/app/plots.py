@@ -193,3 +193,26 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
     ax.set_title(f"Pareto front: {label(yname, unit=False)} against {label(xname, unit=False)}{span}\n"
                  f"(each design labelled with its bluntness target Bf)", loc="left", fontsize=10)
     return _save(fig, path)
+
+
+def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -> Path:
+    """Calm-water R_T [kN] and P_E [MW] against speed [kn] and C_W against Fn, one curve per wave-resistance
+    method (``records`` as ``hullopt resistance --json`` prints them)."""
+    fig, axes = _figure(1, 3, figsize=(14, 4.2))
+    kn = [r["speed_kn"] for r in records]
+    fn = [r["fn"] for r in records]
+    names = {"holtrop": "Holtrop–Mennen", "michell": "Michell", "panel": "panel"}
+    for i, m in enumerate(methods):
+        style = dict(color=f"C{i}", marker="o", ms=3, label=names[m])
+        axes[0].plot(kn, [r[f"r_total_{m}"] / 1e3 for r in records], **style)
+        axes[1].plot(kn, [r[f"p_e_{m}"] / 1e6 for r in records], **style)
+        axes[2].plot(fn, [r[f"c_w_{m}"] * 1e3 for r in records], **style)
+    for ax, (x, y) in zip(axes, (("speed [kn]", "R_T [kN]"), ("speed [kn]", "P_E [MW]"), ("Fn", "C_W × 10³"))):
+        ax.set_xlabel(x)
+        ax.set_ylabel(y)
+        ax.grid(alpha=0.3)
+    axes[0].legend(title="R_W by")
+    axes[0].set_title("R_T = (1+k1)·R_F + R_APP + R_W + R_A", fontsize=9)
+    axes[2].set_title("C_W = R_W / (½ρU²S)", fontsize=9)
+    fig.suptitle(title)
+    return _save(fig, path)

@@ -11,8 +11,8 @@ name                         unit  value
 ===========================  ====  ==============================================================
 ``k_aw``                     -     K_AW in short head waves (patent; smooth C_U)
 ``mean_added_resistance``    N     sea-state mean R_AW (NMRI, long-crested; motion + reflection)
-``calm_resistance``          N     Holtrop–Mennen 1982 total resistance in calm water
-``calm_resistance_michell``  N     Michell wave resistance + (1 + k1)·ITTC-1957 friction in calm water
+``calm_resistance``          N     calm-water R_T = (1 + k1)·R_F + R_APP + R_W(method) + R_A
+``calm_resistance_michell``  N     the same with Michell's R_W
 ``wind_added_resistance``    N     ISO 15016 wind added resistance ΔR_AA
 ===========================  ====  ==============================================================
 """
@@ -24,12 +24,13 @@ from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from ..constants import KNOT
 from ..geometry import Sections
-from ..resistance import holtrop_hull, holtrop_mennen, michell_wave_resistance
+from ..resistance import calm_water
 from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
 from ..wind import Parts, no_parts, wind_added_resistance, wind_variables
 
@@ -128,47 +129,52 @@ class MeanAddedResistance(Objective):
 
 
 class CalmResistance(Objective):
-    """Holtrop–Mennen 1982 total calm-water resistance [N] at ``speed`` [m/s], from the hull's own geometry
-    (:func:`~hullopt.resistance.holtrop_hull`)."""
+    """Calm-water resistance R_T = (1 + k1)·R_F + R_APP + R_W + R_A [N] (:func:`~hullopt.resistance.calm_water`)
+    with R_W by ``method`` ("holtrop", "michell" or "panel"), at ``speed`` [m/s] — or over an operating profile:
+    speeds (k,) with ``weights`` (k,), the weighted mean Σ wᵢ R_T(Uᵢ) / Σ wᵢ. Holtrop–Mennen's R_W sees Cp, LCB
+    and the entrance angle only; Michell's and the panel method's see every section (a Pareto sweep against
+    added resistance has something to trade), within their validity (slender hulls, see the module)."""
 
     name: ClassVar[str] = "calm_resistance"
     unit: ClassVar[str] = "N"
-    description: ClassVar[str] = "Holtrop–Mennen 1982 total resistance in calm water"
+    description: ClassVar[str] = "calm-water R_T = (1 + k1)·R_F + R_APP + R_W(method) + R_A"
+    default_method: ClassVar[str] = "holtrop"
 
-    speed: Scalar
-
-    def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
-        return holtrop_mennen(holtrop_hull(sections, draft), self.speed).total
-
-    @classmethod
-    def from_config(cls, options: Mapping[str, Any]) -> CalmResistance:
-        return cls(_scalar(options["speed_kn"] * KNOT))
-
-
-class MichellCalmResistance(Objective):
-    """Calm-water resistance [N] at ``speed`` [m/s] with the hull's own wave making: Michell's thin-ship wave
-    resistance from the sections (:func:`~hullopt.resistance.michell_wave_resistance`) plus ITTC-1957
-    friction times Holtrop–Mennen's form factor, (1 + k1)·R_F (:func:`~hullopt.resistance.holtrop_mennen` on
-    :func:`~hullopt.resistance.holtrop_hull`). Unlike ``calm_resistance`` (Holtrop–Mennen's R_W sees Cp, LCB
-    and the entrance angle only) it responds to the shape of every section, so a Pareto sweep against added
-    resistance in waves has something to trade. ``n_levels`` heights and ``panels`` λ panels as Michell's."""
-
-    name: ClassVar[str] = "calm_resistance_michell"
-    unit: ClassVar[str] = "N"
-    description: ClassVar[str] = "Michell wave resistance + (1 + k1)·ITTC-1957 friction in calm water"
-
-    speed: Scalar
+    speed: Float[ArrayLike, "*k"]
+    weights: Float[ArrayLike, "*k"] | None = None
+    method: str = eqx.field(static=True, default="holtrop")
     n_levels: int = eqx.field(static=True, default=33)
     panels: int = eqx.field(static=True, default=128)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
-        hm = holtrop_mennen(holtrop_hull(sections, draft), self.speed)
-        rw = michell_wave_resistance(sections, draft, self.speed, n_levels=self.n_levels, panels=self.panels)
-        return hm.form_factor * hm.friction + rw
+        r = calm_water(sections, draft, self.speed, self.method, n_levels=self.n_levels,
+                       lambda_panels=self.panels).total
+        w = jnp.ones_like(r) if self.weights is None else jnp.asarray(self.weights, dtype=r.dtype)
+        return jnp.sum(w * r) / jnp.sum(w)
 
     @classmethod
-    def from_config(cls, options: Mapping[str, Any]) -> MichellCalmResistance:
-        return cls(_scalar(options["speed_kn"] * KNOT))
+    def from_config(cls, options: Mapping[str, Any]) -> CalmResistance:
+        speeds, weights = options.get("speeds_kn"), options.get("weights")
+        method = options.get("method") or cls.default_method
+        if speeds is None:
+            if weights is not None:
+                raise ValueError("weights: give them with speeds_kn (one weight a speed)")
+            return cls(_scalar(options["speed_kn"] * KNOT), method=method)
+        w = np.ones(len(speeds)) if weights is None else np.asarray(weights, float)
+        if w.shape != (len(speeds),) or np.any(w < 0) or w.sum() <= 0:
+            raise ValueError(f"weights {[float(v) for v in w]}: expected one non-negative weight a speed of speeds_kn "
+                             f"({len(speeds)}), not all 0")
+        return cls(np.asarray(speeds, float) * KNOT, w, method=method)
+
+
+class MichellCalmResistance(CalmResistance):
+    """``calm_resistance`` with ``method = "michell"``: the same R_T convention (kept for configs that name it)."""
+
+    name: ClassVar[str] = "calm_resistance_michell"
+    description: ClassVar[str] = "calm-water R_T with Michell's wave resistance"
+    default_method: ClassVar[str] = "michell"
+
+    method: str = eqx.field(static=True, default="michell")
 
 
 class WindAddedResistance(Objective):

@@ -14,3 +14,8 @@ from ._panel import hull_panels as hull_panels
 from ._panel import kelvin_spectrum as kelvin_spectrum
 from ._panel import panel_wave_resistance as panel_wave_resistance
 from ._panel import source_velocity as source_velocity
+from ._calm import METHODS as METHODS
+from ._calm import CalmWater as CalmWater
+from ._calm import calm_water as calm_water
+from ._calm import check_method as check_method
+from ._calm import outside_validity as outside_validity

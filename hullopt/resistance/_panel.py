@@ -17,9 +17,11 @@ flow — so the method stays meaningful on full and bulbous hulls. It is the zer
 family (Noblesse, Huang & Yang 2013): hull panels only, no free-surface panels; the free-surface condition is
 Kelvin's (linearised about the stream), not Dawson's double-body one.
 
-Panel integrals of the wave spectrum are exact for parallelogram panels, ∫ e^{a·r} dA = A e^{a·c} shc(a·e₁/2)
-shc(a·e₂/2) (c the centroid, e₁, e₂ the mean edge vectors, shc(s) = sinh(s)/s), so the short waves of large λ and
-the steep decay e^{k₀λ²(z−T)} of the top panel row need no finer panels. Panel velocities are Hess & Smith's
+Panel integrals of the wave spectrum are exact for rectangles, ∫ e^{a·r} dA = A e^{a·c} shc(a·h₁) shc(a·h₂)
+(c the centre, h₁, h₂ the half-sides, shc(s) = sinh(s)/s): each panel is taken as the rectangle of its area in
+its plane with one side horizontal and the other spanning its heights, so the short waves of large λ and the
+steep decay e^{k₀λ²(z−T)} of the top panel row need no finer panels, and no corner rises above the waterline
+(a parallelogram of the mean edges did on twisted bow panels: e^{k₀λ²δ} blew up at low speed). Panel velocities are Hess & Smith's
 closed forms: in-plane from the edges' logarithms, normal from the solid angle (van Oosterom & Strackee 1983).
 
 A dry transom is closed by flat panels on the end section (as Michell closes it by a source sheet): the
@@ -36,6 +38,8 @@ References: Hess, J.L. & Smith, A.M.O. (1964) J. Ship Res. 8(2), 22–44. Havelo
 """
 
 from __future__ import annotations
+
+import functools
 
 import equinox as eqx
 import jax
@@ -92,15 +96,16 @@ class Panels(eqx.Module):
         return (self.area > 1e-10 * scale).astype(self.vertices.dtype)
 
 
-def _girth_points(yz: Array, draft: Array, count: int) -> tuple[Array, Array]:
+def _girth(yz: Array, draft: Array, count: int, below: bool) -> tuple[Array, Array]:
     """The part of one half-section polyline (m, 2) below ``draft``, as ``count`` points equally spaced in girth
-    from the keel to the waterline (edges on the centreline skipped), and the wet girth [m]. Each edge's wet part is a fraction of it,
-    [0, s] or [s, 1] with s = (T − z₀)/(z₁ − z₀), so the wet girth has the one-sided derivative in T also when
-    T sits on a point of the polyline (no square root of a clipped length)."""
+    from the keel to the waterline (edges on the centreline skipped), and the wet girth [m]. Each edge's wet
+    part is a fraction of it, [0, s] or [s, 1] with s = (T − z₀)/(z₁ − z₀), so the wet girth has a one-sided
+    derivative in T also when T sits on a point of the polyline (no square root of a clipped length): from
+    above, or with ``below`` (a point at T counted dry) from below."""
     p0, p1 = yz[:-1], yz[1:]
     z0, z1 = p0[:, 1], p1[:, 1]
     dz = z1 - z0
-    b0, b1 = z0 <= draft, z1 <= draft
+    b0, b1 = (z0 < draft, z1 < draft) if below else (z0 <= draft, z1 <= draft)
     s = safe_div(draft - z0, dz, dz != 0.0)  # in [0, 1] where used (no clip: its tie at 0 halves dT)
     lo = jnp.where(b0, 0.0, s)
     hi = jnp.where(b1, 1.0, s)
@@ -113,15 +118,28 @@ def _girth_points(yz: Array, draft: Array, count: int) -> tuple[Array, Array]:
     u = 0.5 * (1.0 - jnp.cos(jnp.linspace(0.0, jnp.pi, count)))
     u = 0.5 * u + 0.5 * jnp.linspace(0.0, 1.0, count)  # half cosine (keel and waterline), half uniform
     target = u * cum[-1]
-    # the edge each point falls on, at most the last edge with a wet end: with the draft on a polyline point the
-    # waterline's point is the start of the edge above (its fraction s = 0 moves with T), not the end of the one
-    # below (fixed), so the points have the derivative the wet girth has
+    # the edge each point falls on, at most the last edge with a wet end (the waterline's point is on the edge
+    # whose fraction moves with T, so the points have the derivative the wet girth has)
     last = jnp.max(jnp.where(b0 | b1, jnp.arange(seg.shape[0]), 0))
     idx = jnp.searchsorted(cum, target, side="right", method="compare_all").astype(last.dtype) - 1
     idx = jnp.minimum(idx, last)
     idx = jnp.maximum(idx, 0)
     t = lo[idx] + safe_div(target - cum[idx], weighted[idx], weighted[idx] > 0.0)
     return p0[idx] + t[:, None] * (p1[idx] - p0[idx]), jnp.sum((hi - lo) * full)
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(2,))
+def _girth_points(yz: Array, draft: Array, count: int) -> tuple[Array, Array]:
+    """:func:`_girth` with the derivative the mean of its one-sided ones where the draft sits on a polyline
+    point (where the wet girth has a kink; elsewhere both sides agree): what central differences measure."""
+    return _girth(yz, draft, count, False)
+
+
+@_girth_points.defjvp
+def _girth_points_jvp(count, primals, tangents):
+    out, above = jax.jvp(lambda y, t: _girth(y, t, count, False), primals, tangents)
+    _, below = jax.jvp(lambda y, t: _girth(y, t, count, True), primals, tangents)
+    return out, jax.tree.map(lambda a, b: 0.5 * (a + b), above, below)
 
 
 def hull_panels(sections: Sections, draft, stations: int = STATIONS, girth: int = GIRTH) -> Panels:
@@ -277,13 +295,32 @@ def _shc(s):
     return jnp.where(small, 1.0 + s * s / 6.0, jnp.sinh(ss) / ss)
 
 
+def _spectral_rectangles(panels: Panels):
+    """Each panel as a rectangle in its own plane for the wave spectrum: centre (N, 3) and half-sides (N, 3),
+    (N, 3) — one side horizontal, one along the plane's steepest slope, spanning the panel's heights exactly
+    (so no corner rises above the panel's highest point, where e^{k₀λ²(z − T)} would grow) with the panel's
+    area. A horizontal panel takes its in-plane x direction for the slope."""
+    c, n, _, _, _ = _plane_frames(panels)
+    zhat = jnp.array([0.0, 0.0, 1.0])
+    xhat = jnp.array([1.0, 0.0, 0.0])
+    up = zhat - n[:, 2:3] * n
+    flat = safe_norm(up) < 1e-6
+    up = jnp.where(flat[:, None], xhat - n[:, 0:1] * n, up)
+    ev = safe_div(up, safe_norm(up)[:, None], (safe_norm(up) > 0.0)[:, None])
+    eh = jnp.cross(n, ev)
+    v = jnp.sum((panels.vertices - c[:, None]) * ev[:, None], -1)  # (N, 4) along the slope
+    lo, hi = jnp.min(v, -1), jnp.max(v, -1)
+    span = hi - lo
+    width = safe_div(panels.area, span, span > 0.0)
+    centre = c + (0.5 * (lo + hi))[:, None] * ev
+    return centre, 0.5 * span[:, None] * ev, 0.5 * width[:, None] * eh
+
+
 def kelvin_spectrum(panels: Panels, sigma, k0, lam) -> Array:
     """S(λ) [m³/s per m/s of speed]: the submerged sources' (both sides) Havelock amplitude at wave numbers k₀λ
-    (``lam`` (L,), k₀ = g/U² [1/m]), each panel's integral exact for a parallelogram (see the module)."""
-    c, n, e1, e2, local = _plane_frames(panels)
-    v = panels.vertices
-    f1 = 0.5 * (v[:, 2] + v[:, 3] - v[:, 0] - v[:, 1])  # mean edge vectors, the parallelogram's sides
-    f2 = 0.5 * (v[:, 1] + v[:, 2] - v[:, 0] - v[:, 3])
+    (``lam`` (L,), k₀ = g/U² [1/m]); each panel's integral exact for the rectangle of
+    :func:`_spectral_rectangles`: A·e^{a·c}·shc(a·h₁)·shc(a·h₂), h the half-sides."""
+    c, h1, h2 = _spectral_rectangles(panels)
     q = sigma * panels.area * panels.real  # (N,)
     kl = k0 * lam[:, None]  # (L, 1)
     ky = kl * jnp.sqrt(jnp.maximum(lam * lam - 1.0, 0.0))[:, None]
@@ -295,7 +332,7 @@ def kelvin_spectrum(panels: Panels, sigma, k0, lam) -> Array:
     cz = c.at[:, 2].add(-panels.draft)
     total = 0.0
     for sign in (1.0, -1.0):  # the port and starboard sources
-        e = jnp.exp(phase(cz, sign)) * _shc(0.5 * phase(f1, sign)) * _shc(0.5 * phase(f2, sign))
+        e = jnp.exp(phase(cz, sign)) * _shc(phase(h1, sign)) * _shc(phase(h2, sign))
         total = total + e @ q.astype(e.dtype)
     return total
 

@@ -1,8 +1,10 @@
-"""``hullopt resistance``: calm-water resistance over speeds — Michell's thin-ship wave resistance from the
-sections beside Holtrop & Mennen (1982), and the effective power."""
+"""``hullopt resistance``: calm-water resistance over speeds by one convention, R_T = (1 + k1)·R_F + R_APP +
+R_W + R_A, with the wave resistance R_W by Holtrop–Mennen 1982, Michell's thin-ship integral and the panel method
+side by side, the effective power, and a warning where the methods disagree."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import equinox as eqx
@@ -12,28 +14,24 @@ import typer
 
 from ...constants import KNOT
 from ...errors import HullError
-from ...resistance import holtrop_hull, holtrop_mennen, michell_wave_resistance
+from ...resistance import METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity
 from .._app import app
 from ..hulls import load_hull
-from ..output import parse_range, print_json, table
+from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP, check_draft
+
+NAMES = {"holtrop": "H-M", "michell": "Michell", "panel": "panel"}
 
 # JSON key → (table label, unit, display scale); forces in N and powers in W in the JSON
 COLUMNS = {
     "speed_kn": ("speed", "kn", 1.0),
     "fn": ("Fn", "", 1.0),
-    "r_wave_michell": ("R_w Michell", "kN", 1e-3),
     "r_f": ("R_F ITTC-57", "kN", 1e-3),
     "form_factor": ("1+k1", "", 1.0),
-    "r_w": ("R_W H-M", "kN", 1e-3),
-    "r_b": ("R_B", "kN", 1e-3),
-    "r_tr": ("R_TR", "kN", 1e-3),
     "r_a": ("R_A", "kN", 1e-3),
-    "r_total_holtrop": ("R_T H-M", "kN", 1e-3),
-    "r_total_michell": ("R_T Michell", "kN", 1e-3),
-    "p_e_holtrop": ("P_E H-M", "kW", 1e-3),
-    "p_e_michell": ("P_E Michell", "kW", 1e-3),
 }
+PER_METHOD = {"r_wave": ("R_W", "kN", 1e-3), "r_total": ("R_T", "kN", 1e-3), "p_e": ("P_E", "kW", 1e-3)}
+DISAGREE = 1.5  # a factor between two methods' R_W that gets a warning
 
 
 def parse_speeds(text: str) -> np.ndarray:
@@ -50,14 +48,41 @@ def parse_speeds(text: str) -> np.ndarray:
     return v
 
 
+def parse_methods(text: str) -> tuple[str, ...]:
+    """``all`` or a comma list of :data:`~hullopt.resistance.METHODS` → the methods, in that order."""
+    names = METHODS if text.strip() == "all" else tuple(m.strip() for m in text.split(",") if m.strip())
+    bad = [m for m in names if m not in METHODS]
+    if bad or not names:
+        raise HullError(f"--method {text!r}: expected 'all' or a comma list of {', '.join(METHODS)}")
+    return names
+
+
 @eqx.filter_jit
-def _evaluate(sections, draft, speeds, n_levels):
-    """Michell's R_w and the Holtrop–Mennen parts at ``speeds`` [m/s]; the calm-water total with Michell's
-    wave part is (1 + k1)·R_F + R_APP + R_w(Michell) + R_A (Holtrop's form factor, friction and correlation)."""
-    rw = michell_wave_resistance(sections, draft, speeds, n_levels=n_levels)
-    hm = holtrop_mennen(holtrop_hull(sections, draft), speeds)
-    calm = hm.form_factor * hm.friction + hm.appendages + rw + hm.correlation
-    return rw, hm, calm
+def _evaluate(sections, draft, speeds, methods, n_levels):
+    """The calm-water parts by each method, and Holtrop–Mennen's own parts."""
+    out = {m: calm_water(sections, draft, speeds, m, n_levels=n_levels, lambda_panels=256) for m in methods}
+    return out, holtrop_mennen(holtrop_hull(sections, draft), speeds)
+
+
+def disagreements(records: list[dict], methods, invalid: dict[str, str]) -> list[str]:
+    """Warnings where two methods' R_W differ by more than :data:`DISAGREE` at a speed whose wave part matters
+    (≥ 5 % of R_T by either), naming the method outside its validity."""
+    msgs = []
+    for i, a in enumerate(methods):
+        for b in methods[i + 1:]:
+            worst = None
+            for r in records:
+                wa, wb = r[f"r_wave_{a}"], r[f"r_wave_{b}"]
+                big = max(wa / r[f"r_total_{a}"], wb / r[f"r_total_{b}"]) >= 0.05
+                ratio = max(wa, wb) / max(min(wa, wb), 1e-300)
+                if big and ratio > DISAGREE and (worst is None or ratio > worst[0]):
+                    worst = (ratio, r["speed_kn"], a if wa > wb else b)
+            if worst:
+                ratio, kn, high = worst
+                why = "; ".join(f"{m} is outside its validity ({invalid[m]})" for m in (a, b) if m in invalid)
+                msgs.append(f"R_W by {high} is {ratio:.1f}× the other's ({a} vs {b}) at {kn:g} kn"
+                            + (f": {why}" if why else ""))
+    return msgs
 
 
 @app.command()
@@ -65,18 +90,25 @@ def resistance(
     hull: Annotated[str, typer.Argument(help=HULL_HELP)],
     speed: Annotated[str, typer.Option(help="Speeds [kn]: a list 12,14,16 or START:STOP:COUNT.")],
     draft: Annotated[float | None, typer.Option(help="Draft above the baseline [m] (default: the hull's).")] = None,
+    method: Annotated[str, typer.Option(help="Wave resistance by: all, or a comma list of holtrop, michell, "
+                                             "panel.")] = "all",
     levels: Annotated[int, typer.Option(help="Heights from the keel to the draft sampled by Michell's integral.")] = 33,
+    plot: Annotated[Path | None, typer.Option(help="Draw R_T and P_E against speed and C_W against Fn, each "
+                                                   "method's curve (.png, .svg, .pdf).")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: a list with one record per speed (SI: N, W, m/s).")] = False,
 ) -> None:
-    """Calm-water resistance over speeds: Michell's thin-ship wave resistance from the sections (deep water),
-    Holtrop & Mennen 1982's parts, the total with either wave part, and effective power P_E = R_T·U.
-
-    R_T Michell = (1 + k1)·R_F + R_APP + R_w(Michell) + R_A: Holtrop's form factor, ITTC-1957 friction and
-    correlation allowance with Michell's wave resistance in place of Holtrop's R_W + R_B + R_TR.
+    """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
+    Holtrop's form factor 1 + k1, appendages and correlation allowance R_A — with the wave resistance R_W by
+    Holtrop & Mennen 1982 (R_W + R_B + R_TR), Michell's thin-ship integral and the Rankine-source panel method
+    (with its double-body sinkage and trim), and effective power P_E = R_T·U. Warns where two methods' R_W differ
+    by more than 1.5× and names the one outside its validity.
     """
     knots = parse_speeds(speed)
+    methods = parse_methods(method)
     if levels < 2:
         raise HullError(f"--levels {levels}: expected at least 2 heights")
+    if plot is not None and plot.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise HullError(f"--plot {str(plot)!r}: expected a .png, .svg or .pdf file")
     h = load_hull(hull)
     if draft is None:
         if h.design_draft is None:
@@ -84,23 +116,41 @@ def resistance(
         draft = h.design_draft
     t = check_draft(h, draft)
     u = knots * KNOT
-    rw, hm, calm = _evaluate(h.sections, t, jnp.asarray(u), levels)
-    rw, calm = np.asarray(rw), np.asarray(calm)
-    parts = {k: np.broadcast_to(np.asarray(getattr(hm, a)), u.shape) for k, a in (
-        ("fn", "fn"), ("r_f", "friction"), ("form_factor", "form_factor"), ("r_app", "appendages"), ("r_w", "wave"),
-        ("r_b", "bulb"), ("r_tr", "transom"), ("r_a", "correlation"), ("r_total_holtrop", "total"), ("cf", "cf"),
-        ("ca", "ca"))}
+    out, hm = _evaluate(h.sections, t, jnp.asarray(u), methods, levels)
+    s = float(holtrop_hull(h.sections, t).S)
     records = []
     for i, kn in enumerate(knots):
-        rec = {"speed_kn": float(kn), "speed": float(u[i]), "draft": t, "fn": float(parts["fn"][i]),
-               "r_wave_michell": float(rw[i])}
-        rec.update({k: float(v[i]) for k, v in parts.items() if k != "fn"})
-        rec.update(r_total_michell=float(calm[i]), p_e_holtrop=float(parts["r_total_holtrop"][i] * u[i]),
-                   p_e_michell=float(calm[i] * u[i]))
+        rec = {"speed_kn": float(kn), "speed": float(u[i]), "draft": t, "fn": float(np.asarray(hm.fn)[i]),
+               "wetted_surface": s, "r_f": float(hm.friction[i]), "cf": float(hm.cf[i]),
+               "form_factor": float(hm.form_factor), "r_app": float(np.broadcast_to(hm.appendages, u.shape)[i]),
+               "r_a": float(np.broadcast_to(hm.correlation, u.shape)[i]), "ca": float(hm.ca)}
+        for m, cw in out.items():
+            rw, rt = float(cw.r_wave[i]), float(cw.total[i])
+            rec.update({f"r_wave_{m}": rw, f"r_total_{m}": rt, f"p_e_{m}": rt * u[i],
+                        f"c_w_{m}": rw / (0.5 * 1025.0 * u[i] ** 2 * s)})
+        if "holtrop" in methods:
+            rec.update(r_w=float(hm.wave[i]), r_b=float(hm.bulb[i]), r_tr=float(hm.transom[i]))
+        if "panel" in out:
+            rec.update(sinkage_panel=float(out["panel"].sinkage[i]), trim_panel=float(out["panel"].trim[i]))
         records.append(rec)
+    invalid = outside_validity(holtrop_hull(h.sections, t), max(r["fn"] for r in records))
+    for msg in disagreements(records, methods, invalid):
+        warn(msg)
+    if plot is not None:
+        from ..plots import plot_resistance
+
+        plot_resistance(records, methods, plot, title=f"{h.name} — T {t:g} m")
     if json:
         print_json(records)
         return
     cols = [f"{label} [{unit}]" if unit else label for label, unit, _ in COLUMNS.values()]
-    rows = [[float(r[k]) * s for k, (_, _, s) in COLUMNS.items()] for r in records]
-    table(f"Calm-water resistance — {h.name} (T {t:g} m, Lpp {float(h.sections.lpp):g} m)", cols, rows)
+    keys = list(COLUMNS)
+    scales = [sc for _, _, sc in COLUMNS.values()]
+    for key, (label, unit, sc) in PER_METHOD.items():
+        for m in methods:
+            cols.append(f"{label} {NAMES[m]} [{unit}]")
+            keys.append(f"{key}_{m}")
+            scales.append(sc)
+    rows = [[float(r[k]) * sc for k, sc in zip(keys, scales)] for r in records]
+    table(f"Calm-water resistance — {h.name} (T {t:g} m, Lpp {float(h.sections.lpp):g} m); "
+          f"R_T = (1+k1)·R_F + R_APP + R_W + R_A", cols, rows)

@@ -1,0 +1,128 @@
+"""Calm-water resistance with one convention for every wave-resistance method.
+
+    R_T = (1 + k1)·R_F + R_APP + R_W(method) + R_A
+
+R_F is ITTC-1957 friction on the hull's wetted surface, 1 + k1 Holtrop & Mennen's (1982) form factor, R_APP
+their appendage resistance (0 for a bare hull) and R_A their correlation allowance (C_A·½ρU²S, its own term);
+R_W is the wave resistance by the chosen method:
+
+* ``"holtrop"`` — Holtrop & Mennen's regression R_W + R_B + R_TR (wave, bulb, transom): sees Cp, LCB, the
+  entrance angle and the bulb and transom areas, not the shape of each section; valid for ordinary merchant
+  hulls inside its data (Cp 0.55–0.85, Fn < 0.45).
+* ``"michell"`` — Michell's thin-ship integral from the sections (:mod:`._michell`): sees every section; valid
+  for slender hulls (B/L ≲ 0.15, fine ends); overpredicts full and bulbous hulls several-fold.
+* ``"panel"`` — the Rankine-source panel method (:mod:`._panel`): the true hull surface, its thickness, flat bottom
+  and bulb; like Michell it radiates through Kelvin's uniform-stream waves, so it overpredicts the stern waves of
+  full hulls (no viscous wake, no double-body free-surface condition) — see ``benchmarks/README.md``.
+
+With ``"holtrop"`` the total is Holtrop & Mennen's own; the three totals differ in R_W only.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ..errors import HullError
+from ..geometry import Sections
+from ._holtrop import HoltropHull, holtrop_hull, holtrop_mennen
+from ._michell import michell_wave_resistance
+from ._panel import GIRTH, STATIONS, panel_wave_resistance
+
+METHODS = ("holtrop", "michell", "panel")
+"""The wave-resistance methods of :func:`calm_water`."""
+
+
+class CalmWater(eqx.Module):
+    """Calm-water resistance at k speeds [N] by one convention (see the module).
+
+    Attributes
+    ----------
+    fn : (k,) Froude number on the waterline length (Holtrop's L).
+    r_f : (k,) ITTC-1957 friction R_F [N].
+    form_factor : () Holtrop's 1 + k1.
+    r_app : (k,) appendage resistance [N].
+    r_wave : (k,) wave resistance R_W by ``method`` [N].
+    r_a : (k,) correlation allowance R_A [N].
+    total : (k,) R_T = (1 + k1)·R_F + R_APP + R_W + R_A [N].
+    method : str, the wave-resistance method.
+    sinkage, trim : (k,) the panel method's double-body sinkage [m, down] and trim [rad, bow up]; None otherwise.
+    """
+
+    fn: Float[Array, "*k"]
+    r_f: Float[Array, "*k"]
+    form_factor: Float[Array, ""]
+    r_app: Float[Array, "*k"]
+    r_wave: Float[Array, "*k"]
+    r_a: Float[Array, "*k"]
+    total: Float[Array, "*k"]
+    method: str = eqx.field(static=True)
+    sinkage: Float[Array, "*k"] | None = None
+    trim: Float[Array, "*k"] | None = None
+
+
+def check_method(method: str, what: str = "method") -> str:
+    """``method`` if it is one of :data:`METHODS`, else a :class:`HullError` naming them."""
+    if method not in METHODS:
+        raise HullError(f"{what} {method!r}: expected one of {', '.join(METHODS)}")
+    return method
+
+
+def calm_water(sections: Sections, draft, speed, method: str = "holtrop", *, n_levels: int = 33,
+               lambda_panels: int = 128, stations: int = STATIONS, girth: int = GIRTH) -> CalmWater:
+    """Calm-water resistance R_T [N] and its parts at ``speed`` U [m/s] (any shape), R_W by ``method``.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y half-breadths to port, z up from the baseline).
+    draft : float or Array
+        Draft T [m above the baseline].
+    speed : float or array_like
+        Ship speed [m/s] > 0, any shape.
+    method : {"holtrop", "michell", "panel"}
+        The wave-resistance method.
+    n_levels, lambda_panels, stations, girth : int
+        Michell's heights, the λ rule's panels (Michell and panel), the panel method's panelling.
+
+    Returns
+    -------
+    CalmWater
+        The parts and the total, each of ``speed``'s shape.
+    """
+    check_method(method)
+    u = jnp.asarray(speed, dtype=jnp.asarray(sections.yz).dtype)
+    hm = holtrop_mennen(holtrop_hull(sections, draft), u)
+    panel = None
+    if method == "holtrop":
+        rw = hm.wave + hm.bulb + hm.transom
+    elif method == "michell":
+        rw = michell_wave_resistance(sections, draft, u, n_levels=n_levels, panels=lambda_panels)
+    else:
+        panel = panel_wave_resistance(sections, draft, u, stations=stations, girth=girth,
+                                      lambda_panels=lambda_panels)
+        rw = panel.r_wave
+    shape = jnp.shape(u)
+    r_app = jnp.broadcast_to(hm.appendages, shape)
+    total = hm.form_factor * hm.friction + r_app + rw + hm.correlation
+    return CalmWater(fn=hm.fn, r_f=hm.friction, form_factor=hm.form_factor, r_app=r_app, r_wave=rw,
+                     r_a=jnp.broadcast_to(hm.correlation, shape), total=total, method=method,
+                     sinkage=None if panel is None else panel.sinkage, trim=None if panel is None else panel.trim)
+
+
+def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
+    """Each method of :data:`METHODS` that is outside its validity on ``hull`` at Froude number ``fn``, with
+    why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb:
+    uniform-stream Kelvin waves overpredict its waves several-fold — KCS 5–7×), Holtrop–Mennen outside its
+    data (Cp 0.55–0.85, Fn ≤ 0.45)."""
+    cb = float(hull.volume) / (float(hull.L) * float(hull.B) * float(hull.T))
+    cp = cb / float(hull.cm)
+    bulb = float(hull.A_BT) > 0.0
+    out = {}
+    if cb > 0.55 or bulb:
+        why = f"Cb {cb:.2f}{' with a bulb' if bulb else ''}: linear Kelvin waves overpredict a full hull's"
+        out.update(michell=why, panel=why)
+    if not 0.55 <= cp <= 0.85 or fn > 0.45:
+        out["holtrop"] = f"Cp {cp:.2f}, Fn {fn:.2f}: outside its data (Cp 0.55–0.85, Fn ≤ 0.45)"
+    return out
