@@ -1,10 +1,10 @@
 """Heave and pitch in regular waves by strip theory, and the motion-induced added resistance R_AWM.
 
 Strip theory: Salvesen, Tuck & Faltinsen (1970), "Ship motions and sea loads", Trans. SNAME 78 (STF), with
-its forward-speed terms and the transom end terms (a section at the aftmost station with a wet area is a
-transom; for a hull ending in a point the end terms vanish). Sectional added mass a33(x) and damping b33(x)
-at the encounter frequency come from each section's own shape by Frank's close-fit method
-(:mod:`hullopt.waves._sections2d`), on ``n_strips`` (25) strips equally spaced over the wet length with the
+its forward-speed terms and the transom end terms (only where the hull's aftmost station is wet, a real
+transom; for a hull ending in a point, or a transom above the water, the end terms vanish). Sectional added
+mass a33(x) and damping b33(x) at the encounter frequency come from each section's own shape by Frank's
+close-fit method (:mod:`hullopt.waves._sections2d`), on ``n_strips`` (25) strips equally spaced over the wet length with the
 half-sections interpolated between the hull's stations (the mass and restoring come from the hull's own
 stations). Excitation: Froude–Krylov from the incident pressure over each section
 plus diffraction by the 2D Haskind relation (STF eq. 45 form) with STF's speed terms.
@@ -100,9 +100,11 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     a, b = jnp.where(wet, a, 0.0), jnp.where(wet, b, 0.0)
     fk, dif, kappa = jnp.where(wet, fk, 0.0), jnp.where(wet, dif, 0.0), jnp.where(wet, kappa, 0.0)
     u = speed
-    # Transom values at the aftmost wet station (close to zero for a hull ending in a point).
-    i_a = jnp.argmax(wet)
-    aa, ba, xa = a[i_a], b[i_a], xi[i_a]
+    # Transom terms only where the hull's own aft end is wet (a real transom): the first strip is then the
+    # aftmost station; on a hull ending in a point it is dry and the end terms vanish (before, the first wet
+    # strip stood in for a transom: on the Wigley with 25 strips one of 16 % of the maximum breadth).
+    transom = wet[0]
+    aa, ba, xa = jnp.where(transom, a[0], 0.0), jnp.where(transom, b[0], 0.0), xi[0]
     a0, b0 = w @ a, w @ b
     a1, b1 = w @ (xi * a), w @ (xi * b)
     a2, b2 = w @ (xi**2 * a), w @ (xi**2 * b)
@@ -124,8 +126,9 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     h = c(rho * we * omega) * phase * dif
     wc, xic = c(w), c(xi)
     u_iwe = c(u) / jax.lax.complex(0.0, we)
-    f3 = wc @ (f_fk + h) + u_iwe * h[i_a]
-    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h[i_a]
+    h_a = jnp.where(transom, h[0], 0.0)
+    f3 = wc @ (f_fk + h) + u_iwe * h_a
+    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h_a
     i55 = mass * kyy_m**2
 
     def z(re, im):
@@ -220,12 +223,31 @@ def _strips(sections, t, lcb, n_panels, n_strips):
     return xs, simpson_weights(xs), xs - lcb, nodes, wet
 
 
+@jax.custom_jvp
+def _hydrostatics(sections, t):
+    """:func:`~hullopt.geometry.longitudinal_integrals` whose derivative at a draft exactly on a vertex of the
+    section polylines is the mean of the one-sided derivatives (there the waterplane has a kink: A_wp, LCF and
+    I_L have different derivatives above and below it), what central differences measure; elsewhere the
+    ordinary derivative (the two sides are one function)."""
+    return longitudinal_integrals(sections, t)
+
+
+@_hydrostatics.defjvp
+def _hydrostatics_jvp(primals, tangents):
+    sections, t = primals
+    d_sections, dt = tangents
+    t_up, t_down = jnp.nextafter(t, jnp.inf), jnp.nextafter(t, -jnp.inf)
+    _, up = jax.jvp(longitudinal_integrals, (sections, t_up), (d_sections, dt))
+    _, down = jax.jvp(longitudinal_integrals, (sections, t_down), (d_sections, dt))
+    return longitudinal_integrals(sections, t), jax.tree_util.tree_map(lambda a, b: 0.5 * (a + b), up, down)
+
+
 def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips=None):
     """The hull's frequency-independent parts, and ``(omega, heading) -> (ω_e, k, η3, η5, R_AWM)``."""
     if n_strips is not None and (not isinstance(n_strips, int) or n_strips < 5 or n_strips % 2 == 0):
         raise HullError(f"n_strips: expected an odd integer >= 5 (or None for the hull's stations), got {n_strips!r}")
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
-    li = longitudinal_integrals(sections, t)
+    li = _hydrostatics(sections, t)
     kg_ = t if kg is None else jnp.asarray(kg, dtype=float)
     mass = rho * li.volume
     c33 = rho * g * li.awp
