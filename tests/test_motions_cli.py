@@ -1,7 +1,7 @@
 """``hullopt motions``: the KCS added-resistance curve at Fn 0.26 in head seas against the towing-tank range
 (issue 16: σ_aw peak 6–14 at λ/L 0.95–1.4, short-wave level 1.5–3.5, the motion part dominant at the peak;
-tank data, e.g. Sadat-Hosseini et al. 2013, Ocean Eng. 59: peak ≈ 9–10 at λ/L ≈ 1.15), JSON keys, the plot
-and bad input."""
+the KCS experiments: Simonsen et al. 2013, "EFD and CFD for KCS heaving and pitching in
+regular head waves", J. Mar. Sci. Technol. 18, 435–459), JSON keys, the plot and bad input."""
 
 import json
 
@@ -44,7 +44,9 @@ def test_kcs_added_resistance_curve_in_the_tank_range(capsys, hulls, tmp_path, m
     assert motion[peak] > refl[peak]  # measured 7.27 vs 1.28
     assert np.all((1.5 <= sig[:2]) & (sig[:2] <= 3.5))  # λ/L 0.3, 0.4: measured 3.18, 3.44
     heave, pitch = np.asarray(d["heave"]), np.asarray(d["pitch"])
-    assert heave[-1] == pytest.approx(1.1, abs=0.1) and pitch[-1] == pytest.approx(1.1, abs=0.1)  # long waves
+    # long waves (λ/L 2): measured 0.99 and 1.07 (heave was 1.10 while a spurious transom term stood at the
+    # first wet strip)
+    assert heave[-1] == pytest.approx(1.0, abs=0.1) and pitch[-1] == pytest.approx(1.1, abs=0.1)
     assert heave[0] < 0.05 and pitch[0] < 0.05  # short waves
     omega, omega_e = np.asarray(d["omega"]), np.asarray(d["omega_e"])
     np.testing.assert_allclose(omega_e, omega + omega**2 / 9.80665 * d["speed"], rtol=1e-12)  # head seas
