@@ -65,3 +65,13 @@ def test_kcs_added_resistance_curve_in_the_tank_range(capsys, hulls, tmp_path, m
 def test_bad_input_is_one_line_error(capsys, args, needle):
     code, out, err = run(capsys, "builtin:wigley?L=100&B=10&T=6.25&D=9&n=21&m=11", "--draft", "6.25", *args)
     assert code != 0 and needle in err + out
+
+
+@pytest.mark.parametrize("speed_kn,warned", [(12.0, False), (18.5, True)])
+def test_warns_outside_the_validated_froude_range(capsys, speed_kn, warned):
+    # Fn 0.197 and 0.304 on a 100 m Wigley (L/B 10): GB's motion part is 1.8× Journée's tank peaks at Fn 0.3.
+    code, out, err = run(capsys, "builtin:wigley?L=100&B=10&T=6.25&D=9&n=21&m=11", "--draft", "6.25",
+                         "--speed", str(speed_kn), "--lambdas", "1.0", "--json")
+    assert code == 0, err
+    assert ("warning:" in err and "Fn 0.30 > 0.25" in err) == warned
+    json.loads(out)  # the warning stays off stdout

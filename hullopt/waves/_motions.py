@@ -301,6 +301,30 @@ def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0
     return jnp.asarray(amplitude, dtype=float) ** 2 * r.reshape(om.shape)
 
 
+# Where the motion part R_AWM (strip theory + Gerritsma–Beukelman) holds, measured against Journée's four Wigley
+# models (1992, TU Delft report 909; tests/test_motions_journee.py): peak σ_aw (R_AWM + NMRI's R_AWR) 0.93 and
+# 0.88 of the tank at Fn 0.2 on the slender models (L/B 10), 0.82 and 0.55 on the beamy ones (L/B 5); at Fn 0.3
+# 1.75–1.8× on the slender ones (heave at resonance within 10 %: GB's energy balance counts every radiated wave
+# as resistance, and strip theory's pitch at speed is off), at Fn 0.4 1.8–4.2×.
+MOTION_FN_MAX = 0.25
+MOTION_L_OVER_B_MIN = 7.0
+
+
+def motion_validity_warning(fn: float, lpp_over_b: float) -> str | None:
+    """A one-line warning where the motion part R_AWM is outside the range it was validated in (Froude number
+    ``fn`` > :data:`MOTION_FN_MAX` or L/B ``lpp_over_b`` < :data:`MOTION_L_OVER_B_MIN`), else None."""
+    why = []
+    if fn > MOTION_FN_MAX:
+        why.append(f"Fn {fn:.2f} > {MOTION_FN_MAX:g} (Journée's slender Wigleys: 1.8× the tank's peak at Fn 0.3, "
+                   "up to 4× at 0.4)")
+    if lpp_over_b < MOTION_L_OVER_B_MIN:
+        why.append(f"L/B {lpp_over_b:.1f} < {MOTION_L_OVER_B_MIN:g} (Journée's L/B 5 Wigleys: 0.55–0.8 of the tank)")
+    if not why:
+        return None
+    return ("the motion part R_AWM (strip theory, Gerritsma–Beukelman) holds within 20 % of towing-tank peaks at "
+            f"Fn ≤ {MOTION_FN_MAX:g} on hulls with L/B ≥ {MOTION_L_OVER_B_MIN:g}; here " + "; ".join(why))
+
+
 # λ/L knots of the motion part's response in a sea state (:func:`motion_response`): R_AWM(λ/L) is a resonance
 # peak (λ/L ≈ 0.9–1.3 in head seas at Fn 0.2–0.35); outside 0.3–3 it is < 3 % of its peak on the Wigley and the
 # KCS in head seas (0 beyond λ/L ≈ 2.3, where GB's free-ship share falls below the fixed ship's).
@@ -359,4 +383,5 @@ def motion_response(sections: Sections, draft, speed, *, knots: int = 20, kg=Non
     return response
 
 
-__all__ = ["MOTION_LAMBDA_RANGE", "Motions", "motion_added_resistance", "motion_response", "motions"]
+__all__ = ["MOTION_FN_MAX", "MOTION_LAMBDA_RANGE", "MOTION_L_OVER_B_MIN", "Motions", "motion_added_resistance",
+           "motion_response", "motion_validity_warning", "motions"]
