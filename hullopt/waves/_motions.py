@@ -317,7 +317,20 @@ MOTION_L_OVER_B_MIN = 7.0
 
 def motion_validity_warning(fn: float, lpp_over_b: float) -> str | None:
     """A one-line warning where the motion part R_AWM is outside the range it was validated in (Froude number
-    ``fn`` > :data:`MOTION_FN_MAX` or L/B ``lpp_over_b`` < :data:`MOTION_L_OVER_B_MIN`), else None."""
+    ``fn`` > :data:`MOTION_FN_MAX` or L/B ``lpp_over_b`` < :data:`MOTION_L_OVER_B_MIN`), else None.
+
+    Parameters
+    ----------
+    fn : float
+        Froude number U/√(g Lpp) [-].
+    lpp_over_b : float
+        Length between perpendiculars over the waterline beam [-].
+
+    Returns
+    -------
+    str or None
+        The warning's text (the validated range and why this case is outside it), or None inside the range.
+    """
     why = []
     if fn > MOTION_FN_MAX:
         why.append(f"Fn {fn:.2f} > {MOTION_FN_MAX:g} (Journée's slender Wigleys: 1.8× the tank's peak at Fn 0.3, "
