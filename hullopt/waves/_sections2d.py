@@ -327,7 +327,8 @@ def _clip_below(yz, draft, on_vertex_below: bool):
     b = p0 + s_b[:, None] * d
     a = a.at[:, 1].set(jnp.where(b0, z0, draft))
     b = b.at[:, 1].set(jnp.where(b1, z1, draft))
-    keep = (b0 | b1) & ((p0[:, 0] > 0.0) | (p1[:, 0] > 0.0))  # drop edges above the water and on the centreline
+    # drop edges above the water, on the centreline, and lying on the waterline itself (in either convention)
+    keep = (b0 | b1) & ((p0[:, 0] > 0.0) | (p1[:, 0] > 0.0)) & ~((z0 == draft) & (z1 == draft))
     return a, b, jnp.where(keep, (s_b - s_a) * full, 0.0), keep
 
 
