@@ -102,3 +102,17 @@ def wigley_small():
     from hullopt.models import wigley
 
     return wigley(100.0, 10.0, 6.25, 8.0, n=11, m=21)
+
+
+def test_immersed_section_ends_on_the_waterline_crossing_and_has_the_mean_derivative_on_a_point():
+    from hullopt.waves._sections2d import _resample_polyline
+
+    yz = jnp.asarray([[0.0, 0.0], [1.0, 0.5], [2.0, 1.5], [3.0, 3.0], [4.0, 5.0]])  # flared above z = 1.5
+    nodes = lambda t: _resample_polyline(yz, t, 6, 1e-3)[0]  # noqa: E731
+    # between points the last node is the crossing (2 + 1/3, 0), not the start of the dry segment above (3, 0)
+    np.testing.assert_allclose(nodes(2.0)[-1], [7.0 / 3.0, 0.0], atol=1e-12)
+    # on a point (z = 1.5) the nodes' derivative is the mean of the one-sided ones, as central differences
+    h = 1e-7
+    up, down = (nodes(1.5 + h) - nodes(1.5)) / h, (nodes(1.5) - nodes(1.5 - h)) / h
+    assert float(jnp.max(jnp.abs(up - down))) > 0.1  # a real kink
+    np.testing.assert_allclose(jax.jacfwd(nodes)(1.5), 0.5 * (up + down), atol=1e-6)

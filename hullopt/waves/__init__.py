@@ -51,3 +51,6 @@ from ._sections2d import heave_coefficients as heave_coefficients
 from ._sections2d import section_panels as section_panels
 from ._motions import motion_added_resistance as motion_added_resistance
 from ._motions import motion_response as motion_response
+from ._motions import MOTION_FN_MAX as MOTION_FN_MAX
+from ._motions import MOTION_L_OVER_B_MIN as MOTION_L_OVER_B_MIN
+from ._motions import motion_validity_warning as motion_validity_warning

@@ -1,13 +1,13 @@
 """Heave and pitch in regular waves by strip theory, and the motion-induced added resistance R_AWM.
 
 Strip theory: Salvesen, Tuck & Faltinsen (1970), "Ship motions and sea loads", Trans. SNAME 78 (STF), with
-its forward-speed terms and the transom end terms (a section at the aftmost station with a wet area is a
-transom; for a hull ending in a point the end terms vanish). Sectional added mass a33(x) and damping b33(x)
-at the encounter frequency come from each section's own shape by Frank's close-fit method
-(:mod:`hullopt.waves._sections2d`), on ``n_strips`` (25) strips equally spaced over the wet length with the
-half-sections interpolated between the hull's stations (the mass and restoring come from the hull's own
-stations). Excitation: Froude–Krylov from the incident pressure over each section
-plus diffraction by the 2D Haskind relation (STF eq. 45 form) with STF's speed terms.
+its forward-speed terms and the transom end terms (only where the hull's aftmost station is wet, a real
+transom; for a hull ending in a point, or a transom above the water, the end terms vanish). Sectional added
+mass a33(x) and damping b33(x) at the encounter frequency come from each section's own shape by Frank's
+close-fit method (:mod:`hullopt.waves._sections2d`), on ``n_strips`` (25) strips equally spaced over the wet
+length with the half-sections interpolated between the hull's stations (the mass and restoring come from the
+hull's own stations). Excitation: Froude–Krylov from the incident pressure over each section plus diffraction
+by the 2D Haskind relation (STF eq. 45 form) with STF's speed terms.
 
 R_AWM: Gerritsma & Beukelman (1972), "Analysis of the resistance increase in waves of a fast cargo ship",
 ISP 19 — the energy radiated by the damping waves, R_GB = (k cos α/(2ω_e)) ∫ b'33 |V_z|² dx with the
@@ -19,8 +19,11 @@ hullopt's motion part is R_AWM = R_GB(free ship) − R_GB(ship held fixed, V_z =
 fixed-ship term is GB's share of the diffraction (reflection) resistance — in short waves, where the ship
 no longer moves, GB alone tends to it and not to 0 (KCS at Fn 0.26: σ 1.0 at λ/L 0.3, 2.6 at 0.5) — and
 that share is what the NMRI reflection part R_AWR(Bf) models; subtracting it makes R_AW = R_AWM + R_AWR
-count the reflection once (KCS: σ_AWM 0.02 at λ/L 0.3, peak 7.2 at λ/L 1.2–1.3). GB is a head-to-beam-seas
-method: it is used for |α| ≤ 90°, and its value in following seas (cos α < 0) is clipped to 0.
+count the reflection once (KCS: σ_AWM 0.03 at λ/L 0.3, peak 9.7 at λ/L 1.1). GB is a head-to-beam-seas
+method: it is used for |α| ≤ 90°, and its value in following seas (cos α < 0) is clipped to 0. Validated
+against Journée's four Wigley models (TU Delft report 909) at Fn ≤ :data:`MOTION_FN_MAX` and L/B ≥
+:data:`MOTION_L_OVER_B_MIN`; beyond, GB overpredicts the tank's peaks (1.8× at Fn 0.3) and the commands warn
+(:func:`motion_validity_warning`).
 
 Conventions: x forward from the AP, ξ = x − LCB (the centre of gravity is at the LCB), z up; wave heading
 α = 0 head seas; time dependence e^{iω_e t}; incident elevation ζ_a e^{i(ω_e t + kξ cos α + ky sin α)} at
@@ -100,9 +103,11 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     a, b = jnp.where(wet, a, 0.0), jnp.where(wet, b, 0.0)
     fk, dif, kappa = jnp.where(wet, fk, 0.0), jnp.where(wet, dif, 0.0), jnp.where(wet, kappa, 0.0)
     u = speed
-    # Transom values at the aftmost wet station (close to zero for a hull ending in a point).
-    i_a = jnp.argmax(wet)
-    aa, ba, xa = a[i_a], b[i_a], xi[i_a]
+    # Transom terms only where the hull's own aft end is wet (a real transom): the first strip is then the
+    # aftmost station; on a hull ending in a point it is dry and the end terms vanish (before, the first wet
+    # strip stood in for a transom: on the Wigley with 25 strips one of 16 % of the maximum breadth).
+    transom = wet[0]
+    aa, ba, xa = jnp.where(transom, a[0], 0.0), jnp.where(transom, b[0], 0.0), xi[0]
     a0, b0 = w @ a, w @ b
     a1, b1 = w @ (xi * a), w @ (xi * b)
     a2, b2 = w @ (xi**2 * a), w @ (xi**2 * b)
@@ -124,8 +129,9 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     h = c(rho * we * omega) * phase * dif
     wc, xic = c(w), c(xi)
     u_iwe = c(u) / jax.lax.complex(0.0, we)
-    f3 = wc @ (f_fk + h) + u_iwe * h[i_a]
-    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h[i_a]
+    h_a = jnp.where(transom, h[0], 0.0)
+    f3 = wc @ (f_fk + h) + u_iwe * h_a
+    f5 = -(wc @ (xic * (f_fk + h))) - u_iwe * (wc @ h) - u_iwe * c(xa) * h_a
     i55 = mass * kyy_m**2
 
     def z(re, im):
@@ -220,12 +226,31 @@ def _strips(sections, t, lcb, n_panels, n_strips):
     return xs, simpson_weights(xs), xs - lcb, nodes, wet
 
 
+@jax.custom_jvp
+def _hydrostatics(sections, t):
+    """:func:`~hullopt.geometry.longitudinal_integrals` whose derivative at a draft exactly on a vertex of the
+    section polylines is the mean of the one-sided derivatives (there the waterplane has a kink: A_wp, LCF and
+    I_L have different derivatives above and below it), what central differences measure; elsewhere the
+    ordinary derivative (the two sides are one function)."""
+    return longitudinal_integrals(sections, t)
+
+
+@_hydrostatics.defjvp
+def _hydrostatics_jvp(primals, tangents):
+    sections, t = primals
+    d_sections, dt = tangents
+    t_up, t_down = jnp.nextafter(t, jnp.inf), jnp.nextafter(t, -jnp.inf)
+    _, up = jax.jvp(longitudinal_integrals, (sections, t_up), (d_sections, dt))
+    _, down = jax.jvp(longitudinal_integrals, (sections, t_down), (d_sections, dt))
+    return longitudinal_integrals(sections, t), jax.tree_util.tree_map(lambda a, b: 0.5 * (a + b), up, down)
+
+
 def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips=None):
     """The hull's frequency-independent parts, and ``(omega, heading) -> (ω_e, k, η3, η5, R_AWM)``."""
     if n_strips is not None and (not isinstance(n_strips, int) or n_strips < 5 or n_strips % 2 == 0):
         raise HullError(f"n_strips: expected an odd integer >= 5 (or None for the hull's stations), got {n_strips!r}")
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
-    li = longitudinal_integrals(sections, t)
+    li = _hydrostatics(sections, t)
     kg_ = t if kg is None else jnp.asarray(kg, dtype=float)
     mass = rho * li.volume
     c33 = rho * g * li.awp
@@ -277,6 +302,47 @@ def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0
     one = _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips)
     r = jax.vmap(lambda o, h: one(o, h)[4])(om.ravel(), hd.ravel())
     return jnp.asarray(amplitude, dtype=float) ** 2 * r.reshape(om.shape)
+
+
+# Where the motion part R_AWM (strip theory + Gerritsma–Beukelman) holds, measured against Journée's four Wigley
+# models (1992, TU Delft report 909; tests/test_motions_journee.py): peak σ_aw (R_AWM + NMRI's R_AWR) 0.93 and
+# 0.88 of the tank at Fn 0.2 on the slender models (L/B 10), 0.82 and 0.55 on the beamy ones (L/B 5); at Fn 0.3
+# 1.75–1.8× on the slender ones (heave at resonance within 10 %: GB's energy balance counts every radiated wave
+# as resistance, and strip theory's pitch at speed is off), at Fn 0.4 1.8–4.2×.
+# Against the tank's peaks interpolated linearly in Fn (I, III): 1.09/1.03 at Fn 0.22, 1.24/1.23 at 0.24,
+# 1.33/1.30 at 0.25, 1.37/1.43 at 0.26 — hence the limit.
+MOTION_FN_MAX = 0.25
+MOTION_L_OVER_B_MIN = 7.0
+
+
+def motion_validity_warning(fn: float, lpp_over_b: float) -> str | None:
+    """A one-line warning where the motion part R_AWM is outside the range it was validated in (Froude number
+    ``fn`` > :data:`MOTION_FN_MAX` or L/B ``lpp_over_b`` < :data:`MOTION_L_OVER_B_MIN`), else None.
+
+    Parameters
+    ----------
+    fn : float
+        Froude number U/√(g Lpp) [-].
+    lpp_over_b : float
+        Length between perpendiculars over the waterline beam [-].
+
+    Returns
+    -------
+    str or None
+        The warning's text (the validated range and why this case is outside it), or None inside the range.
+    """
+    why = []
+    if fn > MOTION_FN_MAX:
+        why.append(f"Fn {fn:.2f} > {MOTION_FN_MAX:g} (Journée's slender Wigleys: 1.8× the tank's peak at Fn 0.3, "
+                   "up to 4× at 0.4)")
+    if lpp_over_b < MOTION_L_OVER_B_MIN:
+        why.append(f"L/B {lpp_over_b:.1f} < {MOTION_L_OVER_B_MIN:g} "
+                   "(Journée's L/B 5 Wigleys: 0.55–0.8 of the tank)")
+    if not why:
+        return None
+    return (f"the motion part R_AWM (strip theory, Gerritsma–Beukelman) holds at Fn ≤ {MOTION_FN_MAX:g} on hulls "
+            f"with L/B ≥ {MOTION_L_OVER_B_MIN:g} (peak σ_aw within 20 % of Journée's slender Wigley models at "
+            "Fn 0.2); here " + "; ".join(why))
 
 
 # λ/L knots of the motion part's response in a sea state (:func:`motion_response`): R_AWM(λ/L) is a resonance
@@ -337,4 +403,5 @@ def motion_response(sections: Sections, draft, speed, *, knots: int = 20, kg=Non
     return response
 
 
-__all__ = ["MOTION_LAMBDA_RANGE", "Motions", "motion_added_resistance", "motion_response", "motions"]
+__all__ = ["MOTION_FN_MAX", "MOTION_LAMBDA_RANGE", "MOTION_L_OVER_B_MIN", "Motions", "motion_added_resistance",
+           "motion_response", "motion_validity_warning", "motions"]

@@ -309,32 +309,60 @@ def heave_coefficients(nodes, omega, rho: float = RHO_SEA, g: float = G, n_gauss
     return -rho * integral.real, rho * omega * integral.imag
 
 
-def _resample_polyline(yz, draft, n_panels, min_half_breadth):
-    """The part of one half-section polyline (m, 2) below ``draft``, resampled to ``n_panels`` + 1 nodes
-    equally spaced in arclength (cosine-clustered towards the waterline and keel), z from the waterline."""
+def _clip_below(yz, draft, on_vertex_below: bool):
+    """Each segment's part below ``draft`` in one convention for a vertex exactly at the draft: below
+    (``on_vertex_below``, the branch of drafts just above it) or above (just below it). Returns the part's ends
+    a, b (m−1, 2), its length (m−1,) — linear in the draft along a crossing segment, so a zero-length part
+    still carries its derivative — and whether the segment has a part below (or touches the water)."""
     p0, p1 = yz[:-1], yz[1:]
-    y0, z0, y1, z1 = p0[:, 0], p0[:, 1], p1[:, 0], p1[:, 1]
+    z0, z1 = p0[:, 1], p1[:, 1]
     dz = z1 - z0
-    crosses = (z0 - draft) * (z1 - draft) < 0.0
-    s = safe_div(draft - z0, dz, crosses)
-    yc = y0 + s * (y1 - y0)
-    below0, below1 = z0 <= draft, z1 <= draft
-    a_y, a_z = jnp.where(below0, y0, yc), jnp.where(below0, z0, draft)
-    b_y, b_z = jnp.where(below1, y1, yc), jnp.where(below1, z1, draft)
-    keep = (below0 | below1) & ((y0 > 0.0) | (y1 > 0.0))  # drop edges above the waterline and on the centreline
-    seg = safe_sqrt((b_y - a_y) ** 2 + (b_z - a_z) ** 2)
-    seg = jnp.where(keep, seg, 0.0)
+    b0, b1 = (z0 <= draft, z1 <= draft) if on_vertex_below else (z0 < draft, z1 < draft)
+    s = safe_div(draft - z0, dz, b0 != b1)  # the crossing's position along a crossing segment, in [0, 1]
+    s_a = jnp.where(b0, 0.0, jnp.where(b1, s, 1.0))
+    s_b = jnp.where(b1, 1.0, jnp.where(b0, s, 0.0))
+    d = p1 - p0
+    full = safe_sqrt(jnp.sum(d * d, axis=-1))
+    a = p0 + s_a[:, None] * d
+    b = p0 + s_b[:, None] * d
+    a = a.at[:, 1].set(jnp.where(b0, z0, draft))
+    b = b.at[:, 1].set(jnp.where(b1, z1, draft))
+    # drop edges above the water, on the centreline, and lying on the waterline itself (in either convention)
+    keep = (b0 | b1) & ((p0[:, 0] > 0.0) | (p1[:, 0] > 0.0)) & ~((z0 == draft) & (z1 == draft))
+    return a, b, jnp.where(keep, (s_b - s_a) * full, 0.0), keep
+
+
+def _resample_one(yz, draft, n_panels, min_half_breadth, on_vertex_below):
+    a, b, seg, keep = _clip_below(yz, draft, on_vertex_below)
     cum = jnp.concatenate([jnp.zeros(1), jnp.cumsum(seg)])
     total = cum[-1]
     u = 0.5 * (1.0 - jnp.cos(jnp.linspace(0.0, jnp.pi, n_panels + 1)))  # cosine spacing in [0, 1]
     u = 0.5 * u + 0.5 * jnp.linspace(0.0, 1.0, n_panels + 1)  # half cosine, half uniform
     target = u * total
-    idx = jnp.clip(jnp.searchsorted(cum, target, side="right", method="compare_all") - 1, 0, seg.shape[0] - 1)
+    n_seg = seg.shape[0]
+    idx = jnp.clip(jnp.searchsorted(cum, target, side="right", method="compare_all") - 1, 0, n_seg - 1)
     frac = safe_div(target - cum[idx], seg[idx], seg[idx] > 0.0)
-    y = a_y[idx] + frac * (b_y[idx] - a_y[idx])
-    z = a_z[idx] + frac * (b_z[idx] - a_z[idx])
-    y = jnp.maximum(y, min_half_breadth)
-    return jnp.stack([y, z - draft], axis=-1), total
+    p = a[idx] + frac[:, None] * (b[idx] - a[idx])
+    # The last node is the waterline end of the last segment that reaches the water (in polyline order), also
+    # where that part has zero length (a vertex on the draft) or dry segments follow it.
+    last = n_seg - 1 - jnp.argmax(keep[::-1])
+    p = p.at[-1].set(b[last])
+    y = jnp.maximum(p[:, 0], min_half_breadth)
+    return jnp.stack([y, p[:, 1] - draft], axis=-1), total
+
+
+def _resample_polyline(yz, draft, n_panels, min_half_breadth):
+    """The part of one half-section polyline (m, 2) below ``draft``, resampled to ``n_panels`` + 1 nodes
+    equally spaced in arclength (cosine-clustered towards the waterline and keel), z from the waterline.
+
+    A draft exactly on a vertex of the polyline (the Wigley at its design draft, an offset table with a
+    waterline at T) is a kink of the immersed shape: drafts above it move along the segment above the vertex,
+    drafts below along the one below. The nodes are the mean of the two branches — equal in value, and in
+    derivative the mean of the one-sided derivatives, what central differences measure; between vertices both
+    branches are the same function."""
+    up, total = _resample_one(yz, draft, n_panels, min_half_breadth, True)
+    down, _ = _resample_one(yz, draft, n_panels, min_half_breadth, False)
+    return 0.5 * (up + down), total
 
 
 def section_panels(sections: Sections, draft, n_panels: int = 20):

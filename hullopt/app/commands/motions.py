@@ -13,10 +13,10 @@ import typer
 from ...constants import G, KNOT, RHO_SEA
 from ...errors import HullError
 from ...waves import motions as strip_motions
-from ...waves import nmri_added_resistance, omega_from_wavelength
+from ...waves import motion_validity_warning, nmri_added_resistance, omega_from_wavelength
 from .._app import app
 from ..hulls import load_hull
-from ..output import parse_range, print_json, table
+from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP, check_draft
 
 
@@ -89,6 +89,9 @@ def motions(
     }
     if plot is not None:
         _plot(plot, out)
+    note = motion_validity_warning(out["fn"], lpp / beam)
+    if note is not None:
+        warn(note)
     if json:
         print_json(out)
         return

@@ -14,12 +14,12 @@ from ...constants import G, KNOT, RHO_SEA
 from ...errors import HullError
 from ...models import blunt_bow as blunt_bow_modification
 from ...waves import (
-    AFT_OPTIONS, METHODS, SPECTRA, mean_added_resistance, method_resistance,
+    AFT_OPTIONS, METHODS, SPECTRA, mean_added_resistance, method_resistance, motion_validity_warning,
     nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
 )
 from .._app import app
 from ..hulls import load_hull
-from ..output import busy, console, parse_range, print_json, table
+from ..output import busy, console, parse_range, print_json, table, warn
 from .hydro import HULL_HELP, check_draft
 
 
@@ -163,6 +163,10 @@ def waves(
             }
         if plot is not None:
             _plot(plot, out)
+    if motion and method in ("nmri", "all"):  # the methods whose R_AW has the strip-theory motion part
+        note = motion_validity_warning(out["fn"], lpp / out["beam"])
+        if note is not None:
+            warn(note)
     if json:
         print_json(out)
         return
