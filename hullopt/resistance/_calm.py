@@ -63,7 +63,20 @@ class CalmWater(eqx.Module):
 
 
 def check_method(method: str, what: str = "method") -> str:
-    """``method`` if it is one of :data:`METHODS`, else a :class:`HullError` naming them."""
+    """``method`` if it is one of :data:`METHODS`, else a :class:`HullError` naming them.
+
+    Parameters
+    ----------
+    method : str
+        A wave-resistance method's name.
+    what : str
+        How the error names it (an option, a config field).
+
+    Returns
+    -------
+    str
+        ``method``.
+    """
     if method not in METHODS:
         raise HullError(f"{what} {method!r}: expected one of {', '.join(METHODS)}")
     return method
@@ -115,7 +128,20 @@ def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
     """Each method of :data:`METHODS` that is outside its validity on ``hull`` at Froude number ``fn``, with
     why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb:
     uniform-stream Kelvin waves overpredict its waves several-fold — KCS 5–7×), Holtrop–Mennen outside its
-    data (Cp 0.55–0.85, Fn ≤ 0.45)."""
+    data (Cp 0.55–0.85, Fn ≤ 0.45).
+
+    Parameters
+    ----------
+    hull : HoltropHull
+        The hull's particulars (concrete values).
+    fn : float
+        The highest Froude number asked for.
+
+    Returns
+    -------
+    dict[str, str]
+        Method → why it is outside its validity (methods inside it are absent).
+    """
     cb = float(hull.volume) / (float(hull.L) * float(hull.B) * float(hull.T))
     cp = cb / float(hull.cm)
     bulb = float(hull.A_BT) > 0.0

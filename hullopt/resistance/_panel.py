@@ -205,11 +205,24 @@ def _plane_frames(panels: Panels):
 
 
 def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = False) -> Float[Array, "P N 3"]:
-    """Velocity [m/s per m/s of σ] at ``points`` induced by each panel's unit source density (outflow
-    1 m³/s per m²): (1/4π) ∫ (p − q)/|p − q|³ dA, by Hess & Smith's closed forms.
+    """Velocity induced at ``points`` by each panel's unit source density (outflow 1 m³/s per m²),
+    (1/4π) ∫ (p − q)/|p − q|³ dA, by Hess & Smith's closed forms: in-plane from the edges' logarithms, normal
+    from the solid angle.
 
-    ``own``: the points are the panels' own centroids (P = N); a panel's velocity at its own centroid is the
-    outside limit (normal part ½).
+    Parameters
+    ----------
+    points : (P, 3) Array
+        Field points (x, y, z) [m].
+    panels : Panels
+        N flat panels (non-planar corners are projected on the mean plane).
+    own : bool
+        The points are the panels' own centroids (P = N): a panel's velocity at its own centroid is the outside
+        limit (normal part ½).
+
+    Returns
+    -------
+    (P, N, 3) Array
+        Velocity [m/s per m/s of source density]; 0 from a collapsed panel.
     """
     c, n, e1, e2, local = _plane_frames(panels)
     r = points[:, None, :] - c[None]  # (P, N, 3)
@@ -272,6 +285,11 @@ def _velocities(panels: Panels) -> Float[Array, "N N 3"]:
 def double_body_flow(panels: Panels) -> tuple[Float[Array, " N"], Float[Array, "N 3"]]:
     """The double-body flow past the hull at unit speed (the stream −x̂: the ship moves ahead).
 
+    Parameters
+    ----------
+    panels : Panels
+        The port side's wet panels (their images complete the hull and its mirror in the waterplane).
+
     Returns
     -------
     sigma : (N,) float
@@ -317,9 +335,25 @@ def _spectral_rectangles(panels: Panels):
 
 
 def kelvin_spectrum(panels: Panels, sigma, k0, lam) -> Array:
-    """S(λ) [m³/s per m/s of speed]: the submerged sources' (both sides) Havelock amplitude at wave numbers k₀λ
-    (``lam`` (L,), k₀ = g/U² [1/m]); each panel's integral exact for the rectangle of
-    :func:`_spectral_rectangles`: A·e^{a·c}·shc(a·h₁)·shc(a·h₂), h the half-sides."""
+    """The submerged sources' (both sides) Havelock amplitude S(λ) at wave numbers k₀λ; each panel's integral
+    exact for the rectangle of :func:`_spectral_rectangles`: A·e^{a·c}·shc(a·h₁)·shc(a·h₂), h the half-sides.
+
+    Parameters
+    ----------
+    panels : Panels
+        The port side's wet panels (the starboard side is added by symmetry).
+    sigma : (N,) Array
+        Source densities [m/s].
+    k0 : float or Array
+        g/U² [1/m].
+    lam : (L,) Array
+        λ = sec θ ≥ 1.
+
+    Returns
+    -------
+    (L,) complex Array
+        S(λ) [m³/s] (``sigma``'s unit times m²).
+    """
     c, h1, h2 = _spectral_rectangles(panels)
     q = sigma * panels.area * panels.real  # (N,)
     kl = k0 * lam[:, None]  # (L, 1)

@@ -1,0 +1,151 @@
+"""The panel method's validation and speed: the Wigley against Michell's integral (and its thin-ship limit),
+the KCS and DTMB 5415 models against towing-tank C_T, sinkage and trim (tests/data, see SOURCES.md there), and
+the time of one evaluation at the default panelling (value; value + gradient; compile), with a figure.
+
+Model-scale totals: C_T = (1 + k1)·C_F(ITTC-57, the model's Re) + C_W(method), Holtrop's 1 + k1, no C_A (a
+model has none). Writes ``results/panel.json`` and ``results/panel.png``.
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from _common import HULLS, RESULTS, goal, machine, save, timeit
+
+jax.config.update("jax_enable_x64", True)
+
+from hullopt.constants import G  # noqa: E402
+from hullopt.models import load_hull, wigley  # noqa: E402
+from hullopt.resistance import (calm_water, michell_wave_resistance, panel_wave_resistance,  # noqa: E402
+                                wave_resistance_coefficient)
+from hullopt.geometry import wetted_surface  # noqa: E402
+
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data"
+RHO_FRESH, NU_KCS = 999.5, 1.27e-6  # the KCS tank (Tokyo 2015 case 2.1)
+
+
+def _cf(re):
+    return 0.075 / (np.log10(re) - 2.0) ** 2
+
+
+def wigley_curves():
+    """C_W of the Wigley (L 100, B 10, T 6.25 m) by the panel method and Michell, Fn 0.2–0.45, and the thin
+    Wigley's (B 2 m) ratio panel/Michell."""
+    fns = np.round(np.arange(0.2, 0.4501, 0.025), 3)
+    out = {"fn": fns.tolist()}
+    for b, key in ((10.0, "wigley"), (2.0, "thin")):
+        h = wigley(100.0, b, 6.25, 10.0, n=61, m=33)
+        u = jnp.asarray(fns * np.sqrt(G * 100.0))
+        s = wetted_surface(h, 6.25)
+        p = panel_wave_resistance(h, 6.25, u)
+        rm = michell_wave_resistance(h, 6.25, u)
+        out[key] = {"cw_panel": np.asarray(wave_resistance_coefficient(p.r_wave, u, s)).tolist(),
+                    "cw_michell": np.asarray(wave_resistance_coefficient(rm, u, s)).tolist(),
+                    "sinkage_over_l": (np.asarray(p.sinkage) / 100.0).tolist()}
+    return out
+
+
+def _read(name):
+    with open(DATA / name) as f:
+        return [r for r in csv.DictReader(line for line in f if not line.startswith("#"))]
+
+
+def model_totals(spec, draft, scale, fn, nu, ct_tank, label):
+    """C_T of a model by each method at ``fn`` against the tank's, the panel method's sinkage and trim."""
+    h = load_hull(spec).sections
+    lpp = float(h.lpp)
+    u = float(fn) * np.sqrt(G * lpp)
+    re = (u / np.sqrt(scale)) * (lpp / scale) / nu
+    rec = {"hull": label, "fn": fn, "re_model": re, "cf_model": _cf(re), "ct_tank": ct_tank}
+    s = float(wetted_surface(h, draft))
+    for m in ("holtrop", "michell", "panel"):
+        cw = calm_water(h, draft, u, m)
+        c_w = float(cw.r_wave) / (0.5 * 1025.0 * u * u * s)
+        rec[f"cw_{m}"] = c_w
+        rec[f"ct_{m}"] = float(cw.form_factor) * _cf(re) + c_w
+        if m == "panel":
+            rec["sinkage_model_m"] = float(cw.sinkage) / scale
+            rec["trim_deg"] = float(np.degrees(cw.trim))
+    rec["form_factor"] = float(cw.form_factor)
+    return rec
+
+
+def speed():
+    """Time of one evaluation at the default panelling (48 × 12 + ends) on the KCS at 24 kn."""
+    h = load_hull(f"{HULLS}/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230").sections
+    u = 24 * 1852 / 3600
+    f = jax.jit(lambda s: panel_wave_resistance(s, 10.8, u).r_wave)
+    g = jax.jit(jax.value_and_grad(lambda s: panel_wave_resistance(s, 10.8, u).r_wave))
+    t0 = time.perf_counter()
+    jax.block_until_ready(f(h))
+    compile_value = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    jax.block_until_ready(g(h))
+    compile_grad = time.perf_counter() - t0
+    tv = timeit(lambda: jax.block_until_ready(f(h)), 5)
+    tg = timeit(lambda: jax.block_until_ready(g(h)), 5)
+    return {"value_s": tv, "value_grad_s": tg, "ratio": tg / tv, "compile_value_s": compile_value,
+            "compile_grad_s": compile_grad}
+
+
+def plot(w, rows, path):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(11, 4))
+    a, b = fig.subplots(1, 2)
+    a.plot(w["fn"], np.array(w["wigley"]["cw_panel"]) * 1e3, "o-", label="panel")
+    a.plot(w["fn"], np.array(w["wigley"]["cw_michell"]) * 1e3, "s--", label="Michell")
+    a.set(xlabel="Fn", ylabel="C_W × 10³", title="Wigley L/B 10, B/T 1.6")
+    a.legend()
+    a.grid(alpha=0.3)
+    labels = [f"{r['hull']}\nFn {r['fn']}" for r in rows]
+    x = np.arange(len(rows))
+    for i, (key, name) in enumerate((("ct_tank", "tank"), ("ct_holtrop", "H-M"), ("ct_michell", "Michell"),
+                                     ("ct_panel", "panel"))):
+        b.bar(x + (i - 1.5) * 0.2, [r[key] * 1e3 for r in rows], 0.2, label=name)
+    b.set_xticks(x, labels)
+    b.set(ylabel="model C_T × 10³", title="(1+k1)·C_F + C_W against the tank")
+    b.legend()
+    b.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    w = wigley_curves()
+    kcs = {float(r["Fn"]): r for r in _read("kcs_tokyo2015_resistance.csv") if r["case"] == "T2015_2.1"}
+    fixed = [r for r in _read("kcs_tokyo2015_resistance.csv") if r["case"] != "T2015_2.1"][0]
+    dtmb = {float(r["Fn"]): float(r["value"]) for r in _read("dtmb5415_resistance.csv") if r["quantity"] == "CT"}
+    kspec = f"{HULLS}/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230"
+    dspec = f"{HULLS}/dtmb5415_navaltoolbox_fullscale.stl.gz?lpp=142"
+    rows = [model_totals(kspec, 10.8, 31.6, 0.26, NU_KCS, float(kcs[0.26]["CT_x1e3"]) * 1e-3, "KCS (free)"),
+            model_totals(kspec, 10.8, 31.6, 0.26, 1.1418e-6, float(fixed["CT_x1e3"]) * 1e-3, "KCS (fixed)"),
+            model_totals(dspec, 6.15, 24.83, 0.28, 1.14e-6, dtmb[0.28], "DTMB 5415"),
+            model_totals(dspec, 6.15, 24.83, 0.41, 1.14e-6, dtmb[0.41], "DTMB 5415")]
+    rows[0]["sinkage_tank_m"] = -float(kcs[0.26]["sinkage_m"])  # the tank's sinks negative; ours down positive
+    rows[0]["trim_tank_deg"] = float(kcs[0.26]["trim_deg"])  # negative bow down, as ours
+    t = speed()
+    plot(w, rows, RESULTS / "panel.png")
+    thin = np.array(w["thin"]["cw_panel"]) / np.array(w["thin"]["cw_michell"])
+    goals = [goal("panel: thin Wigley (B/L 0.02) C_W / Michell's, Fn 0.2–0.45", [round(float(thin.min()), 3),
+                  round(float(thin.max()), 3)], "-", "within 0.95–1.05", bool(np.all(abs(thin - 1) < 0.05)))]
+    for r in rows:
+        err = r["ct_panel"] / r["ct_tank"] - 1
+        goals.append(goal(f"panel: model C_T {r['hull']} Fn {r['fn']} / tank − 1", round(err, 3), "-",
+                          "within ±0.10", bool(abs(err) <= 0.10), peer=f"H-M {r['ct_holtrop'] / r['ct_tank'] - 1:+.3f}"))
+    goals += [goal("panel: one evaluation (KCS, 24 kn, 48×12 panels)", round(t["value_s"], 3), "s", "≤ 2",
+                   t["value_s"] <= 2.0),
+              goal("panel: value + gradient / value", round(t["ratio"], 2), "×", "≤ 4", t["ratio"] <= 4.0)]
+    save("panel", {"machine": machine(), "wigley": w, "models": rows, "speed": t, "goals": goals})
+    for r in rows:
+        print(r["hull"], r["fn"], {k: round(v * 1e3, 3) for k, v in r.items() if k.startswith("ct_")})
+    print(t)
+
+
+if __name__ == "__main__":
+    main()
