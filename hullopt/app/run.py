@@ -20,6 +20,7 @@ import numpy as np
 from jaxtyping import Array, Float
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
+from ..constants import G, KNOT
 from ..drawing import write_offsets_wide
 from ..errors import HullError
 from ..geometry import Sections, safe_norm
@@ -39,6 +40,7 @@ from ..optimise import (
     target_errors,
     with_objective_scale,
 )
+from ..resistance import DISAGREE, holtrop_hull, outside_validity
 from .config import DesignConfig, ObjectiveConfig, RunConfig
 from .output import console, write_hull_file, write_json
 from .parents import parent_digest, run_parent
@@ -497,7 +499,28 @@ def assess(cfg: RunConfig, prob: Problem, designs: list) -> tuple[dict, list[str
             if r[i + 1] > ROUGHNESS * r[0] * (1.0 + tol):  # as a constraint at the bound is met
                 warnings.append(f"{who}the {k} rougher than the parent's: {r[i + 1] / r[0]:.2f}× "
                                 f"(more than {ROUGHNESS:g}×); raise [solver] fairness" + blend * (k == "sections are"))
+    warnings += _calm_disagreement(cfg, objectives, parent, d.draft)
     return objectives, warnings
+
+
+def _calm_disagreement(cfg: RunConfig, objectives: dict, parent: Sections, draft) -> list[str]:
+    """A warning when the parent's calm-water R_T by Holtrop–Mennen and by Michell (both in every report with an
+    objective) differ by more than :data:`~hullopt.resistance.DISAGREE`, naming the method outside
+    its validity (``hullopt resistance --method all`` shows the panel method beside them)."""
+    ho, mi = objectives.get("calm_resistance"), objectives.get("calm_resistance_michell")
+    if ho is None or mi is None or cfg.objective is None:
+        return []
+    ratio = max(ho["parent"], mi["parent"]) / max(min(ho["parent"], mi["parent"]), 1e-300)
+    if ratio <= DISAGREE:
+        return []
+    hull = holtrop_hull(parent, draft)
+    u = cfg.objective.speed_kn * KNOT
+    invalid = outside_validity(hull, u / np.sqrt(G * float(hull.L)))
+    high = "michell" if mi["parent"] > ho["parent"] else "holtrop"
+    why = "; ".join(f"{m} is outside its validity ({invalid[m]})" for m in ("michell", "holtrop") if m in invalid)
+    return [f"calm-water R_T of the parent by {high} is {ratio:.1f}× the other's (holtrop vs michell) at "
+            f"{cfg.objective.speed_kn:g} kn" + (f": {why}" if why else "")
+            + "; compare the methods with hullopt resistance --method all"]
 
 
 def _blend_hint(cfg: RunConfig, prob: Problem) -> str:

@@ -19,3 +19,4 @@ from ._calm import CalmWater as CalmWater
 from ._calm import calm_water as calm_water
 from ._calm import check_method as check_method
 from ._calm import outside_validity as outside_validity
+from ._calm import DISAGREE as DISAGREE

@@ -33,6 +33,9 @@ from ._panel import GIRTH, STATIONS, panel_wave_resistance
 METHODS = ("holtrop", "michell", "panel")
 """The wave-resistance methods of :func:`calm_water`."""
 
+DISAGREE = 1.5
+"""Two methods whose wave (or total) resistances differ by more than this factor get a warning."""
+
 
 class CalmWater(eqx.Module):
     """Calm-water resistance at k speeds [N] by one convention (see the module).

@@ -14,7 +14,7 @@ import typer
 
 from ...constants import KNOT
 from ...errors import HullError
-from ...resistance import METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity
+from ...resistance import DISAGREE, METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity
 from .._app import app
 from ..hulls import load_hull
 from ..output import parse_range, print_json, table, warn
@@ -31,7 +31,6 @@ COLUMNS = {
     "r_a": ("R_A", "kN", 1e-3),
 }
 PER_METHOD = {"r_wave": ("R_W", "kN", 1e-3), "r_total": ("R_T", "kN", 1e-3), "p_e": ("P_E", "kW", 1e-3)}
-DISAGREE = 1.5  # a factor between two methods' R_W that gets a warning
 
 
 def parse_speeds(text: str) -> np.ndarray:
