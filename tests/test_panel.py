@@ -132,3 +132,23 @@ def test_vmap_over_designs_equals_each():
     scales = jnp.array([0.9, 1.0, 1.1])
     f = lambda s: panel_wave_resistance(eqx_scale(h, s), 6.25, u, stations=24, girth=6).r_wave  # noqa: E731
     np.testing.assert_allclose(np.asarray(jax.vmap(f)(scales)), [float(f(s)) for s in scales], rtol=1e-10)
+
+
+def test_wave_pattern_is_kelvins():
+    """The far-field pattern of the Wigley at Fn 0.3: transverse waves on the centreline behind it at the
+    wavelength 2πU²/g (within 2 %), calm ahead of the bow, and its waves inside the Kelvin wedge (19.47° from
+    the bow): far outside it the elevation is < 15 % of inside."""
+    from hullopt.resistance import wave_pattern
+
+    h = wigley(100, 10, 6.25, 10, n=41, m=33)
+    u = 0.3 * np.sqrt(G * 100.0)
+    x = np.linspace(-400.0, 150.0, 1101)
+    z = np.asarray(wave_pattern(h, 6.25, u, x, np.array([0.0]), stations=24, girth=6))[:, 0]
+    behind = x < -100.0
+    up = np.flatnonzero(np.diff(np.sign(z[behind])) > 0)  # up-crossings
+    wavelength = np.mean(np.diff(x[behind][up]))
+    assert wavelength == pytest.approx(2 * np.pi * u**2 / G, rel=0.02)
+    assert np.all(z[x > 100.5] == 0.0)
+    side = np.asarray(wave_pattern(h, 6.25, u, np.array([-100.0]), np.array([20.0, 150.0]), stations=24,
+                                   girth=6))[0]
+    assert abs(side[1]) < 0.15 * np.abs(z[behind]).max() and abs(side[0]) > 0.15 * np.abs(z[behind]).max()

@@ -57,11 +57,12 @@ def test_table_and_range(capsys):
 
 def test_all_methods_plot_and_warning(capsys, tmp_path):
     """Every method on one convention (the totals differ in R_W only), the panel method's sinkage and trim,
-    the plot written, and the KCS's warning: Michell and the panel method several times Holtrop–Mennen on a full
+    the plots written (curves, Kelvin pattern), and the KCS's warning: Michell and the panel method several times Holtrop–Mennen on a full
     bulbous hull, named as outside their validity."""
     code, out, err = run(capsys, "examples/hulls/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230", "--draft",
-                         "10.8", "--speed", "20,24", "--json", "--plot", str(tmp_path / "r.png"))
-    assert code == 0 and (tmp_path / "r.png").stat().st_size > 10_000
+                         "10.8", "--speed", "20,24", "--json", "--plot", str(tmp_path / "r.png"), "--pattern",
+                         str(tmp_path / "w.png"))
+    assert code == 0 and (tmp_path / "r.png").stat().st_size > 10_000 and (tmp_path / "w.png").stat().st_size > 10_000
     for r in json.loads(out):
         base = r["form_factor"] * r["r_f"] + r["r_app"] + r["r_a"]
         for m in ("holtrop", "michell", "panel"):
@@ -79,6 +80,7 @@ def test_all_methods_plot_and_warning(capsys, tmp_path):
     ([HULL, "--speed", "10", "--levels", "1"], "--levels"),
     ([HULL, "--speed", "10", "--method", "cfd"], "--method"),
     ([HULL, "--speed", "10", "--plot", "r.txt"], "--plot"),
+    ([HULL, "--speed", "10", "--pattern", "w.txt"], "--pattern"),
 ])
 def test_bad_input_is_one_clear_line(capsys, args, needle):
     code, out, err = run(capsys, *args)

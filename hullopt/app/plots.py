@@ -216,3 +216,22 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
     axes[2].set_title("C_W = R_W / (½ρU²S)", fontsize=9)
     fig.suptitle(title)
     return _save(fig, path)
+
+
+def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Path:
+    """The Kelvin wave pattern ζ(x, y) [m] (``zeta`` (len x, len y)) in plan view, port side up, the hull's
+    waterline length marked and the 19.47° Kelvin wedge from the bow dashed."""
+    fig, ax = _figure(figsize=(11, 4.5))
+    m = float(np.percentile(np.abs(zeta), 99.5)) or 1.0
+    im = ax.pcolormesh(x, y, np.asarray(zeta).T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")
+    ax.plot([0.0, lpp], [0.0, 0.0], color="k", lw=4, solid_capstyle="butt")
+    wedge = np.tan(np.radians(19.47)) * (lpp - np.asarray(x))
+    ax.plot(x, np.where(np.asarray(x) <= lpp, wedge, np.nan), "k--", lw=0.7, label="Kelvin wedge 19.47°")
+    ax.set_aspect("equal")
+    ax.set_ylim(float(y[0]), float(y[-1]))
+    ax.set_xlabel("x from the AP [m] (the ship moves to the right)")
+    ax.set_ylabel("y [m]")
+    ax.legend(loc="upper right", fontsize=8)
+    fig.colorbar(im, ax=ax, label="wave elevation ζ [m]", shrink=0.8)
+    ax.set_title(title, fontsize=10)
+    return _save(fig, path)

@@ -44,6 +44,7 @@ import functools
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 from ..constants import G, RHO_SEA
@@ -216,7 +217,7 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     panels : Panels
         N flat panels (non-planar corners are projected on the mean plane).
     own : bool
-        The points are the panels' own centroids (P = N): a panel's velocity at its own centroid is the outside
+        The points are the first P panels' own centroids: a panel's velocity at its own centroid is the outside
         limit (normal part ½).
 
     Returns
@@ -276,10 +277,12 @@ def _images(panels: Panels) -> list[Panels]:
 
 
 def _velocities(panels: Panels) -> Float[Array, "N N 3"]:
-    """Velocity at each panel centroid from unit σ on each panel and its three images (N, N, 3)."""
-    p = panels.centre
-    ims = _images(panels)
-    return source_velocity(p, ims[0], own=True) + sum(source_velocity(p, im) for im in ims[1:])
+    """Velocity at each panel centroid from unit σ on each panel and its three images (N, N, 3): the images
+    stacked into one panel set (one program, not four), the own panel first (its diagonal is the own limit)."""
+    n = panels.vertices.shape[0]
+    every = Panels(jnp.concatenate([im.vertices for im in _images(panels)]), panels.draft)
+    v = source_velocity(panels.centre, every, own=True)
+    return jnp.sum(v.reshape(n, 4, n, 3), axis=1)
 
 
 def double_body_flow(panels: Panels) -> tuple[Float[Array, " N"], Float[Array, "N 3"]]:
@@ -462,3 +465,72 @@ def panel_wave_resistance(sections: Sections, draft, speed, *, rho: float = RHO_
     flat = jnp.reshape(speed, (-1,))
     r, s, t = jax.vmap(one)(flat)
     return PanelResult(r_wave=r.reshape(speed.shape), sinkage=s.reshape(speed.shape), trim=t.reshape(speed.shape))
+
+
+def wave_pattern(sections: Sections, draft, speed, x, y, *, g: float = G, stations: int = STATIONS,
+                 girth: int = GIRTH, angles: int = 600, theta_max: float = 1.35) -> Array:
+    """The Kelvin wave pattern ζ(x, y) [m] of the panel method's sources at ``speed``: each source's free waves
+    behind it (far-field, no local disturbance), from the linearised free surface with the radiation condition
+    (derivation: ζ = (U/g)φ_x, the pole of each Fourier mode),
+
+        ζ = (k₀/(πU)) Re ∫ sec³θ · conj(S_x(θ)) · e^{i k₀ sec²θ (x cos θ + y sin θ)} dθ,   |θ| < π/2,
+
+    with S_x the spectrum (:func:`kelvin_spectrum`, σ·U) of the panel columns ahead of x — the magnitude that
+    carries Havelock's R_w, so the pattern and R_w are one spectrum.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull.
+    draft : float
+        Draft T [m above the baseline].
+    speed : float
+        Ship speed U [m/s] > 0 (the ship moves to +x).
+    x, y : (P,) and (Q,) array_like
+        Where [m]: x from the AP (behind the stern is negative), y to port.
+    g : float
+        Gravity [m/s²].
+    stations, girth : int
+        Panelling (:func:`hull_panels`).
+    angles, theta_max : int, float
+        Gauss–Legendre points on |θ| < ``theta_max`` [rad] (the shortest divergent waves beyond it are left out).
+
+    Returns
+    -------
+    (P, Q) Array
+        Free-surface elevation ζ [m], up positive.
+    """
+    panels = hull_panels(sections, draft, stations, girth)
+    sigma, _ = double_body_flow(panels)
+    u = jnp.asarray(speed, dtype=panels.vertices.dtype)
+    k0 = g / (u * u)
+    t, w = (jnp.asarray(a) for a in np.polynomial.legendre.leggauss(angles))
+    theta, w = theta_max * t, theta_max * w
+    sec = 1.0 / jnp.cos(theta)
+    c, h1, h2 = _spectral_rectangles(panels)
+    q = sigma * u * panels.area * panels.real
+    k = k0 * sec * sec  # (A,)
+    cz = c.at[:, 2].add(-panels.draft)
+
+    def phase(r, sign):  # a·r with a = (i k cos θ, i k sin θ·sign, k) → (A, N)
+        return jax.lax.complex(k[:, None] * r[None, :, 2],
+                               k[:, None] * (jnp.cos(theta)[:, None] * r[None, :, 0]
+                                             + sign * jnp.sin(theta)[:, None] * r[None, :, 1]))
+
+    e = sum(jnp.exp(phase(cz, s)) * _shc(phase(h1, s)) * _shc(phase(h2, s)) for s in (1.0, -1.0))
+    e = e * q.astype(e.dtype)  # (A, N): each panel's part of S(θ), both sides
+    n_hull = (stations - 1) * girth
+    column = jnp.concatenate([jnp.arange(n_hull) // girth, jnp.zeros(girth, int), jnp.full(girth, stations - 2)])
+    xs = panels.centre[:n_hull:girth, 0]  # (stations − 1,) column centres
+    per = jax.ops.segment_sum(e.T, column, num_segments=stations - 1).T  # (A, stations − 1)
+    ahead = jnp.cumsum(per[:, ::-1], axis=1)[:, ::-1]  # S of the columns from j forward
+    ahead = jnp.concatenate([ahead, jnp.zeros_like(ahead[:, :1])], axis=1)
+    x = jnp.asarray(x, dtype=c.dtype)
+    y = jnp.asarray(y, dtype=c.dtype)
+    j = jnp.searchsorted(xs, x)  # the first column ahead of x
+    s = ahead[:, j]  # (A, P)
+    ph = k[:, None, None] * (jnp.cos(theta)[:, None, None] * x[None, :, None]
+                             + jnp.sin(theta)[:, None, None] * y[None, None, :])
+    wt = (w * sec**3)[:, None, None]
+    zeta = jnp.sum(wt * (jnp.conj(s)[:, :, None] * jnp.exp(jax.lax.complex(jnp.zeros_like(ph), ph))).real, axis=0)
+    return k0 / (jnp.pi * u) * zeta

@@ -14,7 +14,8 @@ import typer
 
 from ...constants import KNOT
 from ...errors import HullError
-from ...resistance import DISAGREE, METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity
+from ...resistance import (DISAGREE, METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity,
+                           wave_pattern)
 from .._app import app
 from ..hulls import load_hull
 from ..output import parse_range, print_json, table, warn
@@ -94,6 +95,8 @@ def resistance(
     levels: Annotated[int, typer.Option(help="Heights from the keel to the draft sampled by Michell's integral.")] = 33,
     plot: Annotated[Path | None, typer.Option(help="Draw R_T and P_E against speed and C_W against Fn, each "
                                                    "method's curve (.png, .svg, .pdf).")] = None,
+    pattern: Annotated[Path | None, typer.Option(help="Draw the panel method's Kelvin wave pattern at the first "
+                                                      "speed (.png, .svg, .pdf).")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: a list with one record per speed (SI: N, W, m/s).")] = False,
 ) -> None:
     """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
@@ -106,8 +109,9 @@ def resistance(
     methods = parse_methods(method)
     if levels < 2:
         raise HullError(f"--levels {levels}: expected at least 2 heights")
-    if plot is not None and plot.suffix.lower() not in (".png", ".svg", ".pdf"):
-        raise HullError(f"--plot {str(plot)!r}: expected a .png, .svg or .pdf file")
+    for opt, p in (("--plot", plot), ("--pattern", pattern)):
+        if p is not None and p.suffix.lower() not in (".png", ".svg", ".pdf"):
+            raise HullError(f"{opt} {str(p)!r}: expected a .png, .svg or .pdf file")
     h = load_hull(hull)
     if draft is None:
         if h.design_draft is None:
@@ -139,6 +143,14 @@ def resistance(
         from ..plots import plot_resistance
 
         plot_resistance(records, methods, plot, title=f"{h.name} — T {t:g} m")
+    if pattern is not None:
+        from ..plots import plot_wave_pattern
+
+        lpp = float(h.sections.lpp)
+        x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
+        zeta = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y))
+        plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — Kelvin waves by the panel method, "
+                          f"{knots[0]:g} kn (Fn {records[0]['fn']:.3f}), T {t:g} m")
     if json:
         print_json(records)
         return
