@@ -194,7 +194,7 @@ def test_objectives_registry_is_built_from_the_classes():
     assert {f.name for f in dataclasses.fields(m)} == {"speed", "hs", "tp", "heading", "smooth", "motion"}
     assert float(m.speed) == pytest.approx(10 * 1852 / 3600, rel=1e-15)
     assert float(m.heading) == pytest.approx(np.pi / 2, rel=1e-15)
-    assert {f.name for f in dataclasses.fields(CalmResistance)} == {"speed"}
+    assert {f.name for f in dataclasses.fields(CalmResistance)} == {"speed", "weights", "method", "n_levels", "panels"}
     with pytest.raises(ValueError, match="needs a sea state"):
         MeanAddedResistance.from_config({"speed_kn": 10.0, "hs": 0.0, "tp": 9.0})
     with pytest.raises(ValueError, match="needs wind_speed"):
