@@ -49,12 +49,18 @@ git -C "$SRC" checkout -q "$COMMIT" -- LICENSE README.md Makefile src scripts \
     examples/DTMB-5415/5415_90_25_fs.x examples/DTMB-5415/SBDF.nml examples/DTMB-5415/alfak.out \
     examples/DTMB-5415/variables.inp
 
-# Build out of the checkout (the upstream Makefile, already set for gfortran -O3 -fopenmp -llapack -lblas, writes
-# lib/*.a and bin/L2-Sea beside its sources; do not pass LIB= on the command line: the sub-makes use LIB too).
+# Build out of the checkout (the upstream Makefile, set for gfortran -llapack -lblas, writes lib/*.a and
+# bin/L2-Sea beside its sources; do not pass LIB= on the command line: the sub-makes use LIB too).
+# -fno-automatic -finit-local-zero: the Fortran 77 code relies on local variables keeping their values between
+# calls (and starting at zero). Built as upstream does (-O3 -fopenmp, locals on the stack) it reads garbage: two
+# grids 1 mm apart gave C_W 1.14e-3 and 3.87e-3, and a second Froude number crashed with heap corruption; with
+# static locals it agrees with an -O0 -fcheck=bounds build. Static locals are not thread-safe, so no OpenMP
+# (FCOPTOMP empty): L2-Sea runs on one core.
+FCOPT_L2SEA=${L2SEA_FCOPT:--O3 -fno-automatic -finit-local-zero}
 BUILD=$DIR/build
 rm -rf "$BUILD"; mkdir -p "$BUILD/lib" "$BUILD/bin"
 cp -r "$SRC/src" "$SRC/Makefile" "$BUILD/"
-( cd "$BUILD" && make > make.log 2>&1 ) || {
+( cd "$BUILD" && make FCOPT="$FCOPT_L2SEA" FCOPTOMP= > make.log 2>&1 ) || {
     echo "build.sh: make failed; see $BUILD/make.log" >&2; tail -20 "$BUILD/make.log" >&2; exit 4; }
 mkdir -p "$DIR/bin" "$DIR/examples"
 cp "$BUILD/bin/L2-Sea" "$BIN.tmp" && mv "$BIN.tmp" "$BIN"

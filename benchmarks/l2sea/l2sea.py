@@ -277,7 +277,7 @@ def _set(text: str, block: str, key: str, value: str) -> str:
 
 
 def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB5415_LPP,
-             draft: float = DTMB5415_DRAFT, threads: int = 1, keep: str | Path | None = None,
+             draft: float = DTMB5415_DRAFT, keep: str | Path | None = None,
              timeout: float = 1800.0) -> dict:
     """Run L2-Sea's WARP (double-body linearised potential flow, even keel) on the grid at ``grid_path``.
 
@@ -292,8 +292,6 @@ def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB54
     lpp, draft : float
         Length between perpendiculars and draft of the grid [m] (PANCA's ``dist_pp`` and ``-ztrasla``; the
         model length for the viscous part is ``lpp / SCALE``).
-    threads : int
-        OpenMP threads.
     keep : path, optional
         Copy the run folder (L2-Sea's ``CPU000``) here.
 
@@ -346,7 +344,7 @@ def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB54
         (run / "variables.inp").write_text("0.\n" * 14)
         # zero KLE eigenvectors: L2-Sea's morphing (igeomod = 2) leaves the grid as it is
         (run / "eigenvecto.out").write_text(("0. " * 14 + "\n") * (3 * ni * nj))
-        env = {**os.environ, "OMP_NUM_THREADS": str(int(threads))}
+        env = {**os.environ, "OMP_NUM_THREADS": "1"}  # built without OpenMP (build.sh: static locals)
         t0 = time.perf_counter()
         proc = subprocess.run(["bash", "-c", f"ulimit -s unlimited; exec '{exe}'"], cwd=run, env=env,
                               capture_output=True, text=True, timeout=timeout)
@@ -382,7 +380,6 @@ def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB54
         "seconds": seconds,
         "grid_level": int(grid_level),
         "nodes": list(NODES.get(int(grid_level), (ni, nj))),
-        "threads": int(threads),
     }
 
 
