@@ -80,41 +80,83 @@ def write_plot3d(path, X: np.ndarray, Y: np.ndarray, Z: np.ndarray) -> Path:
     return path
 
 
+def grid_to_sections(X: np.ndarray, Y: np.ndarray, Z: np.ndarray, lpp: float, n: int = 201):
+    """An L2-Sea hull grid (arrays (nj, ni), its axes: x from the AP, z from the baseline) as a hullopt
+    :class:`~hullopt.geometry.Sections`: ``n`` stations (hullopt's spacing, half even, half cosine), each cut
+    across the grid's rows (j) by linear interpolation along them, from the keel up; where rows do not reach
+    the station (the stem, the transom) the section runs on the centreline. Points are padded at the keel to
+    a common count. Used to check :func:`write_grid` on L2-Sea's own grid (a round trip)."""
+    import jax.numpy as jnp
+
+    from hullopt.geometry import Sections
+    from hullopt.models import station_positions
+
+    nj = X.shape[0]
+    xs = station_positions(float(X.min()), float(X.max()), n)
+    secs = []
+    for xq in xs:
+        pts: list[tuple[float, float]] = []
+        present = False
+        for j in range(nj - 1, -1, -1):  # keel row first
+            rx = X[j]
+            if rx.min() <= xq <= rx.max():
+                o = np.argsort(rx)
+                y = float(np.interp(xq, rx[o], Y[j][o]))
+                z = float(np.interp(xq, rx[o], Z[j][o]))
+                if not present:
+                    pts.append((0.0, z))
+                pts.append((max(y, 0.0), z))
+                present = True
+            elif present:
+                pts.append((0.0, pts[-1][1]))
+                present = False
+        if not pts:
+            pts = [(0.0, float(Z.max()))]
+        secs.append(np.array(pts))
+    m = max(len(p) for p in secs)
+    yz = np.stack([np.vstack([np.repeat(p[:1], m - len(p), axis=0), p]) for p in secs])
+    return Sections(x=jnp.asarray(xs), yz=jnp.asarray(yz), lpp=jnp.asarray(float(lpp)))
+
+
 # ---------------------------------------------------------------------------------------------------------
 # hullopt Sections -> L2-Sea grid
 
 
-def _outer_curve(yz: np.ndarray, z_top: float, eps: float):
-    """The part of a half-section (keel → deck, (m, 2)) from its keel point on the centreline up to its first
-    crossing of ``z_top``; None when it has no breadth. Also returns the number of separate pieces (runs off
-    the centreline) below ``z_top`` and whether it reaches ``z_top``."""
-    y, z = yz[:, 0], yz[:, 1]
+def _outer_curve(yz: np.ndarray, eps: float):
+    """The part of a half-section (keel → deck, (m, 2)) from its keel point on the centreline up to its deck
+    edge (a tail running inboard near the top — the deck — is dropped); None when it has no breadth. Also
+    returns the number of separate pieces: 1 when every point after the keel point is off the centreline."""
+    y = yz[:, 0]
     off = y > eps
     if not off.any():
-        return None, 0, False
-    start = max(int(np.argmax(off)) - 1, 0)
-    pts = [yz[start]]
-    reached = False
-    for k in range(start + 1, len(yz)):
-        p0, p1 = yz[k - 1], yz[k]
-        if p1[1] >= z_top and p0[1] < z_top:
-            s = (z_top - p0[1]) / (p1[1] - p0[1])
-            pts.append(p0 + s * (p1 - p0))
-            reached = True
-            break
-        pts.append(p1)
-    c = np.array(pts)
+        return None, 0
+    c = yz[max(int(np.argmax(off)) - 1, 0) :]
+    c = c[np.r_[True, np.any(np.diff(c, axis=0) != 0, axis=1)]]  # drop repeated points
+    tol = 0.02 * (c[:, 1].max() - c[:, 1].min())
+    k = len(c) - 1
+    while k > 1 and c[k - 1, 0] >= c[k, 0] and c[k - 1, 1] >= c[-1, 1] - tol:
+        k -= 1
+    c = c[: k + 1]
     on = c[:, 0] > eps
-    pieces = int(np.sum(on[1:] & ~on[:-1]) + (1 if on[0] else 0))
-    return c, pieces, reached
+    on[0] = True  # the keel point
+    pieces = 1 + int(np.sum(on[1:] & ~on[:-1])) + int(not on[-1])  # back on the centreline counts as a break
+    return c, pieces
 
 
-def _split_resample(c: np.ndarray, level: float, n_above: int, n_below: int) -> np.ndarray | None:
-    """Resample a curve running from a keel point (first) up to the top (last) into ``n_above + n_below``
-    points from the top down: ``n_below`` at or below ``level`` (the waterline), ``n_above`` above it, evenly
-    by arc length on each side, with the waterline half-way between the two nodes that straddle it. (A node
-    on the waterline gives PANCA, which cuts each line at the waterline, a panel of zero height and WARP a
-    wrong answer or a crash.) None when the curve does not cross ``level``."""
+def _line(c: np.ndarray, level: float, n_above: int, n_below: int, f: float = 0.25) -> np.ndarray | None:
+    """``n_above + n_below`` points along a curve that runs from a keel point (first) up past ``level`` (the
+    waterline), from the top down, **evenly spaced by arc length** with ``n_below`` of them at or below the
+    waterline, the last at the keel, and the waterline half-way between the two that straddle it. The line
+    ends above the waterline where that spacing puts its top, continued straight past the curve's end if
+    needed (only the immersed part matters to WARP). None when the curve does not cross ``level``.
+
+    Why: L2-Sea re-splines every grid line to even spacing (its regrid step, at every level), then PANCA cuts
+    each line at the waterline (and merges a sliver panel). Where the waterline falls between two nodes moves
+    its C_W by up to ±20 % at level 5 (DTMB 5415, Fr 0.28: f = 0.1, 0.25, 0.75, 0.9 gave 0.88–0.91e-3, f = 0.5
+    gave 0.72e-3; L2-Sea's own grid, the waterline anywhere, 1.13e-3). A grid already evenly spaced, with the
+    waterline at the same fraction f of a spacing on every line, keeps that cut the same on every line and
+    on every hull written this way: then changing the node count by 2 or the bow breadth by 1 % moves C_W by
+    0.3 % (with the waterline left where the nodes fall it moved by ±8 %)."""
     z = c[:, 1]
     k = np.flatnonzero((z[:-1] < level) & (z[1:] >= level))
     if len(k) == 0:
@@ -122,20 +164,22 @@ def _split_resample(c: np.ndarray, level: float, n_above: int, n_below: int) -> 
     k = int(k[-1])  # last upward crossing: the waterline of a flared or tumblehome side
     s = (level - z[k]) / (z[k + 1] - z[k])
     w = c[k] + s * (c[k + 1] - c[k])
-    below = np.vstack([w, c[: k + 1][::-1]])  # waterline → keel
-    above = np.vstack([w, c[k + 1 :]])  # waterline → top
 
     def arc(p):
         p = p[np.r_[True, np.any(np.diff(p, axis=0) != 0, axis=1)]]
         return p, np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
 
-    pb, sb = arc(below)
-    pa, sa = arc(above)
-    hb = sb[-1] / (n_below - 0.5)
-    db = (np.arange(n_below) + 0.5) * hb  # from the waterline down; the last at the keel
-    first = min(0.5 * hb, 0.5 * sa[-1])
-    da = np.linspace(first, sa[-1], n_above)[::-1]  # from the top down to half a spacing above the waterline
+    pb, sb = arc(np.vstack([w, c[: k + 1][::-1]]))  # waterline → keel
+    pa, sa = arc(np.vstack([w, c[k + 1 :]]))  # waterline → top
+    h = sb[-1] / (n_below - 1 + f)
+    db = (np.arange(n_below) + f) * h  # from the waterline down; the last at the keel
+    da = (np.arange(n_above)[::-1] + 1 - f) * h  # from the top down to (1 − f) spacing above the waterline
     up = np.stack([np.interp(da, sa, pa[:, d]) for d in range(2)], axis=1)
+    if len(pa) >= 2 and da[0] > sa[-1]:  # continue straight past the end of the curve
+        t = pa[-1] - pa[-2]
+        t = t / np.linalg.norm(t)
+        far = da > sa[-1]
+        up[far] = pa[-1] + (da[far] - sa[-1])[:, None] * t
     dn = np.stack([np.interp(db, sb, pb[:, d]) for d in range(2)], axis=1)
     return np.vstack([up, dn])
 
@@ -165,41 +209,40 @@ def _stem_profile(x: np.ndarray, yz: np.ndarray, zs: np.ndarray, eps: float) -> 
     return out
 
 
-def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, freeboard: float | None = None,
-                     n_below: int | None = None):
+def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, n_below: int | None = None,
+                     wl_fraction: float = 0.25):
     """A hullopt hull as L2-Sea's structured hull grid, arrays X, Y, Z of shape (nj, ni) [m, hullopt axes].
 
-    The grid covers the hull from its keel up to ``draft + freeboard`` (default 0.5·draft: only the immersed
-    part enters WARP, which cuts each line at the waterline). Line ``i = 0`` is the stem
-    profile (y = 0, the forward-most x of the hull at each height); lines ``i = 1 … ni−1`` are stations from
-    the forward-most station that is a single piece below the top and aft of the stem profile, back to the
-    aft-most station immersed below the waterline (a transom's edge), spaced half evenly, half by cosine (finer
-    at the ends, as L2-Sea's own grid), each interpolated node by node between the two hullopt stations
-    around it (both resampled first as below). Each line runs from its top (``j = 0``) down to its
-    keel point on the centreline (``j = nj − 1``), by arc length: ``n_below`` nodes below the waterline
-    (default ≈ 2/3 of them, as L2-Sea's grid has at midship), the others above it, the waterline half-way
-    between two nodes.
+    Line ``i = 0`` is the stem profile (y = 0, the forward-most x of the hull at each height); lines
+    ``i = 1 … ni−1`` are stations from the forward-most one that is a single piece and lies aft of the stem
+    profile, back to the aft-most station immersed below the waterline (a transom's edge), spaced half evenly,
+    half by cosine, each interpolated node by node between the two hullopt stations around it. Every line runs
+    from its top (``j = 0``) down to its keel point on the centreline (``j = nj − 1``), evenly spaced by arc
+    length, ``n_below`` nodes (default 2/3 of them, about what L2-Sea's own grid has below the waterline at
+    midship) below the waterline and the waterline ``wl_fraction`` of a spacing above the first node below it
+    on every line (see :func:`_line`); the tops follow from that spacing. Write it with the node counts of the grid level it will run at
+    (:data:`NODES`), so that L2-Sea's re-splining to even spacing leaves it as it is.
     """
     x = np.asarray(sections.x, dtype=float)
     yz = np.asarray(sections.yz, dtype=float)
     T = float(draft)
-    z_top = T + (0.5 * T if freeboard is None else float(freeboard))
     n_below = int(round(2 * nj / 3)) if n_below is None else int(n_below)
     n_above = nj - n_below
+    if n_above < 1 or n_below < 2:
+        raise ValueError(f"n_below = {n_below} of {nj} nodes a line: need at least 1 above and 2 below")
     eps = 1e-6 * max(float(yz[..., 0].max()), 1e-9)
 
     curves = []
     for k in range(len(x)):
-        c, pieces, reached = _outer_curve(yz[k], z_top, eps)
-        ok = c is not None and pieces == 1 and reached and c[0, 1] < T
-        r = _split_resample(c, T, n_above, n_below) if ok else None
-        curves.append(r)
+        c, pieces = _outer_curve(yz[k], eps)
+        ok = c is not None and pieces == 1 and c[0, 1] < T < c[:, 1].max()
+        curves.append(_line(c, T, n_above, n_below, wl_fraction) if ok else None)
     good = np.array([r is not None for r in curves])
     if not good.any():
         raise ValueError("no station crosses the waterline as a single piece")
-    # the contiguous run of usable stations around the deepest-midship one
-    mid = int(np.argmin(np.abs(x - 0.5 * (x[good].min() + x[good].max()))))
-    mid = mid if good[mid] else int(np.flatnonzero(good)[np.argmin(np.abs(np.flatnonzero(good) - mid))])
+    # the contiguous run of usable stations around the middle of the usable range
+    gi = np.flatnonzero(good)
+    mid = int(gi[np.argmin(np.abs(x[gi] - 0.5 * (x[gi].min() + x[gi].max())))])
     lo = mid
     while lo > 0 and good[lo - 1]:
         lo -= 1
@@ -207,15 +250,16 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, free
     while hi + 1 < len(x) and good[hi + 1]:
         hi += 1
 
-    # stem profile over the heights below the top, and the forward limit of the stations
+    # stem profile, and the forward-most station: aft of the stem at every height it spans below the top
     z_keel_fwd = min(curves[k][-1, 1] for k in range(max(lo, hi - 20), hi + 1))
-    zs = np.linspace(min(z_keel_fwd, T), z_top, 400)
+    z_hi = float(yz[max(lo, hi - 20) :, :, 1].max())
+    zs = np.linspace(min(z_keel_fwd, T), z_hi, 600)
     xs = _stem_profile(x, yz, zs, eps)
     valid = np.isfinite(xs)
     zs, xs = zs[valid], xs[valid]
-    while hi > lo:  # the forward-most station must lie aft of the stem at every height it spans
+    while hi > lo:
         zk = curves[hi][-1, 1]
-        if np.all(xs[zs >= zk - 1e-9] > x[hi] + 1e-6):
+        if np.all(xs[(zs >= zk - 1e-9) & (zs <= T + 0.5 * (z_hi - T))] > x[hi] + 1e-6):
             break
         hi -= 1
     x_a, x_b = x[lo], x[hi]
@@ -230,10 +274,10 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, free
     Y = np.empty((nj, ni))
     Z = np.empty((nj, ni))
     for q, xq in enumerate(xi):
-        k = int(np.clip(np.searchsorted(x[idx], xq) - 1, 0, len(idx) - 2)) if len(idx) > 1 else 0
         if len(idx) == 1:
-            w, c = 0.0, S[0]
+            c = S[0]
         else:
+            k = int(np.clip(np.searchsorted(x[idx], xq) - 1, 0, len(idx) - 2))
             w = (xq - x[idx[k]]) / (x[idx[k + 1]] - x[idx[k]])
             c = (1 - w) * S[k] + w * S[k + 1]
         X[:, q + 1] = xq
@@ -241,12 +285,11 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, free
         Z[:, q + 1] = c[:, 1]
     Y[-1, 1:] = 0.0  # keel points on the centreline
 
-    # stem line: the profile from the top down to the forward station's keel height, split at the waterline
+    # stem line: the profile from the forward station's keel height up, laid out as the stations are
     z_end = Z[-1, 1]
     keep = zs >= z_end
-    prof = np.stack([np.r_[xs[keep]], np.r_[zs[keep]]], axis=1)  # (x, z), bottom → top
-    prof = np.vstack([[X[-1, 1], z_end], prof])
-    stem = _split_resample(prof, T, n_above, n_below)
+    prof = np.vstack([[X[-1, 1], z_end], np.stack([xs[keep], zs[keep]], axis=1)])  # (x, z), bottom → top
+    stem = _line(prof, T, n_above, n_below, wl_fraction)
     if stem is None:
         raise ValueError("the stem profile does not cross the waterline")
     X[:, 0] = stem[:, 0]
