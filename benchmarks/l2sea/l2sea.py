@@ -215,13 +215,15 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, n_be
 
     Line ``i = 0`` is the stem profile (y = 0, the forward-most x of the hull at each height); lines
     ``i = 1 … ni−1`` are stations from the forward-most one that is a single piece and lies aft of the stem
-    profile, back to the aft-most station immersed below the waterline (a transom's edge), spaced half evenly,
-    half by cosine, each interpolated node by node between the two hullopt stations around it. Every line runs
-    from its top (``j = 0``) down to its keel point on the centreline (``j = nj − 1``), evenly spaced by arc
-    length, ``n_below`` nodes (default 2/3 of them, about what L2-Sea's own grid has below the waterline at
-    midship) below the waterline and the waterline ``wl_fraction`` of a spacing above the first node below it
-    on every line (see :func:`_line`); the tops follow from that spacing. Write it with the node counts of the grid level it will run at
-    (:data:`NODES`), so that L2-Sea's re-splining to even spacing leaves it as it is.
+    profile, back to the aft-most station immersed below the waterline (a transom's edge) — or, for a stern
+    that closes on the centreline below the waterline, to the aft-most station forward of it, the last line
+    then the stern profile — spaced half evenly, half by cosine, each interpolated node by node between the
+    two hullopt stations around it. Every line runs from its top (``j = 0``) down to its keel point on the
+    centreline (``j = nj − 1``), evenly spaced by arc length, ``n_below`` nodes (default 2/3 of them, about
+    what L2-Sea's own grid has below the waterline at midship) below the waterline and the waterline
+    ``wl_fraction`` of a spacing above the first node below it on every line (see :func:`_line`); the tops
+    follow from that spacing. Write it with the node counts of the grid level it will run at (:data:`NODES`),
+    so that L2-Sea's re-splining to even spacing changes little.
     """
     x = np.asarray(sections.x, dtype=float)
     yz = np.asarray(sections.yz, dtype=float)
@@ -262,12 +264,29 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, n_be
         if np.all(xs[(zs >= zk - 1e-9) & (zs <= T + 0.5 * (z_hi - T))] > x[hi] + 1e-6):
             break
         hi -= 1
+    # the stern: a transom ends the grid at the aft-most immersed station; a stern that closes on the
+    # centreline below the waterline (no transom) gets an aft profile line, as the bow
+    z_keel_aft = min(curves[k][-1, 1] for k in range(lo, min(hi, lo + 20) + 1))
+    z_hi_aft = float(yz[: min(hi, lo + 20) + 1, :, 1].max())
+    za = np.linspace(min(z_keel_aft, T), z_hi_aft, 600)
+    xa = -_stem_profile(-x[::-1], yz[::-1], za, eps)  # aft-most x of the hull at each height
+    valid = np.isfinite(xa)
+    za, xa = za[valid], xa[valid]
+    lpp = float(sections.lpp)
+    closed = bool(np.any(xa[za <= T] < x[lo] - 0.005 * lpp))
+    if closed:
+        while lo < hi:
+            zk = curves[lo][-1, 1]
+            if np.all(xa[(za >= zk - 1e-9) & (za <= T + 0.5 * (z_hi_aft - T))] < x[lo] - 1e-6):
+                break
+            lo += 1
     x_a, x_b = x[lo], x[hi]
 
     # stations: nodes interpolated between hullopt's stations along the length
+    n_st = ni - 1 - int(closed)
     idx = np.arange(lo, hi + 1)
     S = np.stack([curves[k] for k in idx])  # (K, nj, 2)
-    u = np.linspace(0.0, 1.0, ni - 1)
+    u = np.linspace(0.0, 1.0, n_st)
     t = 0.5 * u + 0.25 * (1.0 - np.cos(np.pi * u))  # half even, half cosine
     xi = x_b - t * (x_b - x_a)  # forward → aft
     X = np.empty((nj, ni))
@@ -285,16 +304,18 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, n_be
         Z[:, q + 1] = c[:, 1]
     Y[-1, 1:] = 0.0  # keel points on the centreline
 
-    # stem line: the profile from the forward station's keel height up, laid out as the stations are
-    z_end = Z[-1, 1]
-    keep = zs >= z_end
-    prof = np.vstack([[X[-1, 1], z_end], np.stack([xs[keep], zs[keep]], axis=1)])  # (x, z), bottom → top
-    stem = _line(prof, T, n_above, n_below, wl_fraction)
-    if stem is None:
-        raise ValueError("the stem profile does not cross the waterline")
-    X[:, 0] = stem[:, 0]
-    Y[:, 0] = 0.0
-    Z[:, 0] = stem[:, 1]
+    # stem line (and stern line): the profile from the end station's keel height up, laid out as the stations
+    ends = [(0, 1, xs, zs)] + ([(ni - 1, ni - 2, xa, za)] if closed else [])
+    for col, nxt, px, pz in ends:
+        z_end = Z[-1, nxt]
+        keep = pz >= z_end
+        prof = np.vstack([[X[-1, nxt], z_end], np.stack([px[keep], pz[keep]], axis=1)])  # (x, z), bottom → top
+        line = _line(prof, T, n_above, n_below, wl_fraction)
+        if line is None:
+            raise ValueError("the stem or stern profile does not cross the waterline")
+        X[:, col] = line[:, 0]
+        Y[:, col] = 0.0
+        Z[:, col] = line[:, 1]
     return X, Y, Z
 
 
