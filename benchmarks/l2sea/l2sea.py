@@ -420,12 +420,14 @@ def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB54
         stat = cpu / "coef-stat.out"
         if proc.returncode != 0 or not stat.is_file() or "unfeasible physic" in proc.stdout:
             raise RuntimeError(f"L2-Sea failed (rc {proc.returncode}):\n{proc.stdout[-3000:]}\n{proc.stderr[-2000:]}")
-        rows = [list(map(float, ln.split())) for ln in stat.read_text().splitlines()[1:] if ln.strip()]
-        dyn = [list(map(float, ln.split())) for ln in (cpu / "force-dyn.out").read_text().splitlines()[1:] if ln.strip()]
-        ct_rows = [list(map(float, ln.split())) for ln in (cpu / "Ct.out").read_text().splitlines()[1:] if ln.strip()]
+        def table(name):
+            return [list(map(float, ln.split())) for ln in (cpu / name).read_text().splitlines()[1:] if ln.strip()]
+
+        rows, dyn, ct_rows = table("coef-stat.out"), table("force-dyn.out"), table("Ct.out")
         aux = (cpu / "panca.aux").read_text().split()
     # coef-stat.out: Fr Cw_pi Cw_wc Ch Cf Cf_ittc Ct_pi Ct_wc Ct_ittc SinkG Trim WSurf_s WSurf_d
-    # force-dyn.out: Fr Rw_pi Rw_wc Rh Rf Rf_ittc Rt_pi Rt_wc Rt_ittc;  Ct.out: Fr Cw Ch Cf Cf_ittc Ct Ct_ittc Sink Trim WSurf
+    # force-dyn.out: Fr Rw_pi Rw_wc Rh Rf Rf_ittc Rt_pi Rt_wc Rt_ittc
+    # Ct.out: Fr Cw Ch Cf Cf_ittc Ct Ct_ittc Sink Trim WSurf
     one = np.isscalar(froude)
     pick = (lambda v: v[0]) if one else (lambda v: v)
     return {
