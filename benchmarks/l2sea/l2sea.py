@@ -265,7 +265,8 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, n_be
             break
         hi -= 1
     # the stern: a transom ends the grid at the aft-most immersed station; a stern that closes on the
-    # centreline below the waterline (no transom) gets an aft profile line, as the bow
+    # centreline below the waterline (no transom: the hull goes on aft of that station, which is narrow at the
+    # waterline, under a quarter of the largest breadth) gets an aft profile line, as the bow
     z_keel_aft = min(curves[k][-1, 1] for k in range(lo, min(hi, lo + 20) + 1))
     z_hi_aft = float(yz[: min(hi, lo + 20) + 1, :, 1].max())
     za = np.linspace(min(z_keel_aft, T), z_hi_aft, 600)
@@ -273,7 +274,9 @@ def sections_to_grid(sections, draft: float, ni: int = 90, nj: int = 25, *, n_be
     valid = np.isfinite(xa)
     za, xa = za[valid], xa[valid]
     lpp = float(sections.lpp)
-    closed = bool(np.any(xa[za <= T] < x[lo] - 0.005 * lpp))
+    y_wl = 0.5 * (curves[lo][n_above - 1, 0] + curves[lo][n_above, 0])  # its half-breadth at the waterline
+    b_wl = max(0.5 * (c[n_above - 1, 0] + c[n_above, 0]) for c in curves[lo : hi + 1])
+    closed = bool(np.any(xa[za <= T] < x[lo] - 0.005 * lpp)) and y_wl < 0.25 * b_wl
     if closed:
         while lo < hi:
             zk = curves[lo][-1, 1]
