@@ -147,6 +147,20 @@ def hullopt_cw(specs: list[dict], froude: float = FROUDE) -> list[float] | None:
     return out
 
 
+def michell_cw(specs: list[dict], froude: float = FROUDE) -> list[float]:
+    """hullopt's Michell thin-ship C_W = R_W/(½ρU²S) of the variants (S hullopt's wetted surface at rest): a
+    reference beside the panel method until that exists, not the comparison asked for."""
+    from hullopt.resistance import michell_wave_resistance, wave_resistance_coefficient
+
+    speed = froude * np.sqrt(G * LPP)
+    out = []
+    for v in specs:
+        rw = michell_wave_resistance(v["sections"], v["draft"], speed)
+        s = hydrostatics(v["sections"], v["draft"]).wetted_surface
+        out.append(float(wave_resistance_coefficient(rw, speed, s)))
+    return out
+
+
 def main() -> None:
     if l2sea.binary() is None:
         print(f"bench_l2sea: L2-Sea is not built (looked in {l2sea.l2sea_dir()}); run benchmarks/l2sea/build.sh "
@@ -214,7 +228,15 @@ def score(data: dict, specs: list[dict] | None = None) -> dict:
         data["spearman_l2sea_levels"] = rho
         goals.append(goal(f"L2-Sea C_W ranking of the {n} hulls, level {levels[0]} vs {levels[1]} (Spearman)",
                           rho, "", "—", None))
-    ours = hullopt_cw(specs if specs is not None else variant_specs())
+    specs = specs if specs is not None else variant_specs()
+    mich = michell_cw(specs)
+    data["hullopt_michell_cw"] = mich
+    for lv in levels:
+        rho = spearman(mich, cw[str(lv)])
+        data.setdefault("spearman_michell", {})[str(lv)] = rho
+        goals.append(goal(f"C_W ranking of {n} DTMB 5415 variants, hullopt Michell thin ship vs L2-Sea level {lv} "
+                          "(Spearman; reference)", rho, "", "—", None, "L2-Sea WARP"))
+    ours = hullopt_cw(specs)
     if ours is not None:
         data["hullopt_cw"] = ours
         for lv in levels:
@@ -237,7 +259,8 @@ def rescore() -> None:
 
     path = RESULTS / "l2sea.json"
     data = json.loads(path.read_text())
-    data.pop("machine", None)
+    run_machine = data.pop("machine", None)
+    data.setdefault("l2sea_run_machine", run_machine)  # where and when L2-Sea ran (its timings)
     data["hull"] = SPEC_REL
     print("wrote", save("l2sea", score(data)))
 
