@@ -1,0 +1,277 @@
+"""hullopt vs CNR-INM's L2-Sea (NATO AVT-331 L2 Sea benchmark, its WARP linear potential-flow solver): wave
+resistance of DTMB 5415 shape variants at Fr 0.28 (issue 27 item 5, the peer comparison).
+
+The hulls: the DTMB 5415 of examples/hulls (NavalToolbox's full-scale mesh, Lpp 142 m, sliced at 201 stations,
+a midship station added by interpolation for the Lackenby shift) at L2-Sea's draft 6.16 m, and variants made
+with hullopt's own differentiable modifications — Lackenby shifts of Cb (Cp) ±3 % and LCB ±1.5 % Lpp (combined
+both ways), :func:`hullopt.models.blunt_bow` over the fore body (p ±0.1) and over the bow region only (from
+0.75 Lpp, p ±0.15). :func:`variants` returns them as ``(name, Sections, draft)`` in full scale, so that any
+other wave-resistance code runs on exactly the same hulls.
+
+Each is written as an L2-Sea hull grid (benchmarks/l2sea/l2sea.py: ``write_grid``) and run through L2-Sea at
+Fr 0.28, even keel, at grid level 5 (90 × 25 nodes on the half hull; ~10 s a run; three grids of 88, 90 and 92
+stations, the median kept, as one grid in a few gives an outlier there) and, unless ``--quick``, level 3
+(127 × 35; ~40 s), recording its pressure-integral C_W (L2-Sea's Cw_pi, on the wetted surface at rest; its
+wave-cut value is recorded beside it but is not the one to compare). The writer is checked on the parent: the
+grid written from hullopt's sections against L2-Sea's own grid of the 5415 (5415_90_25_fs.x), at Fr 0.28 and
+0.41. When :func:`hullopt.resistance.panel_wave_resistance` exists, hullopt's own C_W of the same hulls is
+computed too and the Spearman rank correlation of the two lists recorded.
+
+Run: ``benchmarks/l2sea/build.sh`` once (gfortran, LAPACK), then ``cd benchmarks && ../.venv/bin/python
+bench_l2sea.py [--quick]``; results in results/l2sea.json. Without L2-Sea built the script says so and exits 0.
+``bench_l2sea.py --rescore`` recomputes hullopt's C_W, the rank correlations and the goals on the stored L2-Sea
+results without running L2-Sea (so also where it is not built).
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import jax
+
+jax.config.update("jax_enable_x64", True)
+
+import jax.numpy as jnp  # noqa: E402
+import numpy as np  # noqa: E402
+from _common import HULLS, goal, quick, save  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).parent / "l2sea"))
+import l2sea  # noqa: E402
+
+from hullopt.constants import G  # noqa: E402
+from hullopt.geometry import Sections  # noqa: E402
+from hullopt.hydro import hydrostatics  # noqa: E402
+from hullopt.models import blunt_bow, lackenby, load_hull  # noqa: E402
+
+SPEC_REL = "examples/hulls/dtmb5415_navaltoolbox_fullscale.stl.gz?lpp=142"  # as recorded
+SPEC = str(HULLS / "dtmb5415_navaltoolbox_fullscale.stl.gz") + "?lpp=142"
+LPP = 142.0
+DRAFT = 6.16  # L2-Sea's draft of the 5415 [m]
+FROUDE = 0.28
+FROUDE_HIGH = 0.41
+LEVELS = (5, 3)  # L2-Sea grid levels run for every variant (5 only with --quick)
+# grids written with ni + d stations a variant at each level, C_W the median: at level 5 one grid in a few gives an
+# outlier (bow_finer: 0.686e-3 at ni = 90, 0.861e-3 at ni = 88; the parent 0.8816-0.8841e-3 at ni = 88, 90, 92)
+SPREAD = {5: (-2, 0, 2), 3: (0,)}
+
+# (name, description, modification, its parameters); Lackenby targets are relative to the parent's Cb, LCB
+VARIANTS = [
+    ("parent", "DTMB 5415 as sliced from the mesh", "none", {}),
+    ("cp_plus3", "Lackenby: Cb (and Cp) +3 %, LCB held", "lackenby", {"cb_factor": 1.03}),
+    ("cp_minus3", "Lackenby: Cb (and Cp) −3 %, LCB held", "lackenby", {"cb_factor": 0.97}),
+    ("lcb_fwd1.5", "Lackenby: LCB 1.5 % Lpp forward, Cb held", "lackenby", {"d_lcb_pct": 1.5}),
+    ("lcb_aft1.5", "Lackenby: LCB 1.5 % Lpp aft, Cb held", "lackenby", {"d_lcb_pct": -1.5}),
+    ("cp_plus3_lcb_fwd1.5", "Lackenby: Cb +3 % and LCB 1.5 % Lpp forward", "lackenby",
+     {"cb_factor": 1.03, "d_lcb_pct": 1.5}),
+    ("cp_minus3_lcb_aft1.5", "Lackenby: Cb −3 % and LCB 1.5 % Lpp aft", "lackenby",
+     {"cb_factor": 0.97, "d_lcb_pct": -1.5}),
+    ("forebody_fuller", "blunt_bow p = +0.10 from midship: fore-body breadths × (1 + p sin²)", "blunt_bow",
+     {"p": 0.10, "x_start": 0.5 * LPP}),
+    ("forebody_finer", "blunt_bow p = −0.10 from midship", "blunt_bow", {"p": -0.10, "x_start": 0.5 * LPP}),
+    ("bow_fuller", "blunt_bow p = +0.15 from 0.75 Lpp: bow-region breadths only", "blunt_bow",
+     {"p": 0.15, "x_start": 0.75 * LPP}),
+    ("bow_finer", "blunt_bow p = −0.15 from 0.75 Lpp: bow-region breadths only", "blunt_bow",
+     {"p": -0.15, "x_start": 0.75 * LPP}),
+]
+
+
+def with_midship_station(s: Sections) -> Sections:
+    """``s`` with a station at Lpp/2 (Lackenby holds it), its points interpolated between its two neighbours."""
+    x = np.asarray(s.x, dtype=float)
+    yz = np.asarray(s.yz, dtype=float)
+    mid = 0.5 * float(s.lpp)
+    if np.any(np.abs(x - mid) <= 1e-9 * float(s.lpp)):
+        return s
+    k = int(np.searchsorted(x, mid))
+    w = (mid - x[k - 1]) / (x[k] - x[k - 1])
+    sec = (1 - w) * yz[k - 1] + w * yz[k]
+    return Sections(x=jnp.asarray(np.insert(x, k, mid)), yz=jnp.asarray(np.insert(yz, k, sec, axis=0)), lpp=s.lpp)
+
+
+def parent() -> Sections:
+    return with_midship_station(load_hull(SPEC).sections)
+
+
+def _particulars(s: Sections) -> dict:
+    h = hydrostatics(s, DRAFT)
+    return {k: float(getattr(h, k)) for k in ("volume", "cb", "cp", "cm", "lcb_pct", "wetted_surface", "lwl", "bwl")}
+
+
+def variant_specs() -> list[dict]:
+    """Every variant: name, description, modification and parameters, its Sections (full scale) and draft."""
+    s0 = parent()
+    h0 = hydrostatics(s0, DRAFT)
+    out = []
+    for name, desc, kind, params in VARIANTS:
+        if kind == "none":
+            s = s0
+        elif kind == "lackenby":
+            s = lackenby(s0, DRAFT, cb=float(h0.cb) * params.get("cb_factor", 1.0),
+                         lcb_pct=float(h0.lcb_pct) + params.get("d_lcb_pct", 0.0))
+        elif kind == "blunt_bow":
+            s = blunt_bow(s0, params["p"], params["x_start"])
+        else:
+            raise ValueError(kind)
+        out.append({"name": name, "description": desc, "modification": kind, "params": params, "sections": s,
+                    "draft": DRAFT})
+    return out
+
+
+def variants() -> list[tuple[str, Sections, float]]:
+    """The hulls compared, full scale: ``(name, Sections, draft [m])``; the first is the parent."""
+    return [(v["name"], v["sections"], v["draft"]) for v in variant_specs()]
+
+
+def spearman(a, b) -> float:
+    """Spearman's rank correlation of two equally long lists (average ranks for ties)."""
+    from scipy.stats import spearmanr
+
+    return float(spearmanr(a, b).statistic)
+
+
+def hullopt_cw(specs: list[dict], froude: float = FROUDE) -> list[float]:
+    """hullopt's panel-method C_W = R_W/(½ρU²S) of the variants (:func:`hullopt.resistance.panel_wave_resistance`
+    at its default panelling; S hullopt's wetted surface at rest, as :func:`michell_cw`)."""
+    from hullopt.resistance import panel_wave_resistance, wave_resistance_coefficient
+
+    speed = froude * np.sqrt(G * LPP)
+    f = jax.jit(lambda s, t: panel_wave_resistance(s, t, speed).r_wave)
+    out = []
+    for v in specs:
+        s = hydrostatics(v["sections"], v["draft"]).wetted_surface
+        out.append(float(wave_resistance_coefficient(f(v["sections"], v["draft"]), speed, s)))
+    return out
+
+
+def michell_cw(specs: list[dict], froude: float = FROUDE) -> list[float]:
+    """hullopt's Michell thin-ship C_W = R_W/(½ρU²S) of the variants (S hullopt's wetted surface at rest): a
+    reference beside the panel method until that exists, not the comparison asked for."""
+    from hullopt.resistance import michell_wave_resistance, wave_resistance_coefficient
+
+    speed = froude * np.sqrt(G * LPP)
+    out = []
+    for v in specs:
+        rw = michell_wave_resistance(v["sections"], v["draft"], speed)
+        s = hydrostatics(v["sections"], v["draft"]).wetted_surface
+        out.append(float(wave_resistance_coefficient(rw, speed, s)))
+    return out
+
+
+def main() -> None:
+    if l2sea.binary() is None:
+        print(f"bench_l2sea: L2-Sea is not built (looked in {l2sea.l2sea_dir()}); run benchmarks/l2sea/build.sh "
+              "(needs gfortran and LAPACK) and run this again. Skipped.")
+        return
+    levels = LEVELS[:1] if quick() else LEVELS
+    specs = variant_specs()
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="bench-l2sea-") as tmp:
+        # the writer checked on the parent: L2-Sea's own grid against the one written from hullopt's sections
+        check = {}
+        for level in levels:
+            ni, nj = l2sea.NODES[level]
+            own = l2sea.run_warp(l2sea.parent_grid(), [FROUDE, FROUDE_HIGH], level)
+            path = l2sea.write_grid(specs[0]["sections"], DRAFT, Path(tmp) / "parent.x", ni, nj)
+            ours = l2sea.run_warp(path, [FROUDE, FROUDE_HIGH], level)
+            check[str(level)] = {"l2sea_grid": own, "written_grid": ours,
+                                 "cw_rel_diff": [o / w - 1.0 for o, w in zip(ours["cw"], own["cw"])]}
+            print(f"level {level}: parent C_W at Fr {FROUDE}, {FROUDE_HIGH}: L2-Sea's grid {own['cw']}, "
+                  f"written {ours['cw']} ({own['seconds']:.0f} s, {ours['seconds']:.0f} s)")
+        for v in specs:
+            row = {k: v[k] for k in ("name", "description", "modification", "params", "draft")}
+            row["particulars"] = _particulars(v["sections"])
+            row["l2sea"] = {}
+            for level in levels:
+                ni, nj = l2sea.NODES[level]
+                runs = []
+                for d in SPREAD.get(level, (0,)):
+                    path = l2sea.write_grid(v["sections"], DRAFT, Path(tmp) / f"{v['name']}.x", ni + d, nj)
+                    runs.append(l2sea.run_warp(path, FROUDE, level))
+                r = dict(runs[list(SPREAD.get(level, (0,))).index(0)])
+                r["ni_runs"] = [ni + d for d in SPREAD.get(level, (0,))]
+                r["cw_runs"] = [x["cw"] for x in runs]
+                r["cw"] = float(np.median(r["cw_runs"]))
+                r["seconds"] = float(np.mean([x["seconds"] for x in runs]))
+                row["l2sea"][str(level)] = r
+                print(f"{v['name']:22s} level {level}: C_W {r['cw']:.4e} (runs {r['cw_runs']}; wave cut "
+                      f"{r['cw_wavecut']:.4e}) {r['seconds']:.1f} s a run")
+            rows.append(row)
+    names = [r["name"] for r in rows]
+    cw = {str(lv): [r["l2sea"][str(lv)]["cw"] for r in rows] for lv in levels}
+    data = {
+        "peer": "L2-Sea (CNR-INM, NATO AVT-331 L2 Sea benchmark), WARP linear potential flow, double-body "
+                "linearisation, even keel; github.com/MAORG-CNR-INM/NATO-AVT-331-L2-Sea-Benchmark",
+        "l2sea_commit": (l2sea.l2sea_dir() / "COMMIT").read_text().strip()
+        if (l2sea.l2sea_dir() / "COMMIT").is_file() else None,
+        "hull": SPEC_REL, "lpp": LPP, "draft": DRAFT, "froude": FROUDE, "levels": list(levels),
+        "nodes": {str(lv): l2sea.NODES[lv] for lv in levels},
+        "parent_check": check,
+        "variants": rows,
+        "names": names,
+        "l2sea_cw": cw,
+    }
+    score(data, specs)
+    print("wrote", save("l2sea", data))
+
+
+def score(data: dict, specs: list[dict] | None = None) -> dict:
+    """Add to ``data`` (the L2-Sea results) hullopt's own C_W of the same hulls when
+    :func:`hullopt.resistance.panel_wave_resistance` exists, the Spearman rank correlations and the goal rows."""
+    levels = data["levels"]
+    cw = data["l2sea_cw"]
+    n = len(data["names"])
+    goals = []
+    for lv in levels:
+        c = data["parent_check"][str(lv)]
+        goals.append(goal(f"L2-Sea C_W (pressure) of the parent at Fr {FROUDE}, level {lv}: hullopt's 5415 written "
+                          "vs L2-Sea's own grid (README: the waterline cut and the STL's facets)",
+                          c["cw_rel_diff"][0], "rel.", "—", None, f"L2-Sea's grid {c['l2sea_grid']['cw'][0]:.4e}"))
+    if len(levels) > 1:
+        rho = spearman(cw[str(levels[0])], cw[str(levels[1])])
+        data["spearman_l2sea_levels"] = rho
+        goals.append(goal(f"L2-Sea C_W ranking of the {n} hulls, level {levels[0]} vs {levels[1]} (Spearman)",
+                          rho, "", "—", None))
+    specs = specs if specs is not None else variant_specs()
+    mich = michell_cw(specs)
+    data["hullopt_michell_cw"] = mich
+    for lv in levels:
+        rho = spearman(mich, cw[str(lv)])
+        data.setdefault("spearman_michell", {})[str(lv)] = rho
+        goals.append(goal(f"C_W ranking of {n} DTMB 5415 variants, hullopt Michell thin ship vs L2-Sea level {lv} "
+                          "(Spearman; reference)", rho, "", "—", None, "L2-Sea WARP"))
+    ours = hullopt_cw(specs)
+    if ours is not None:
+        data["hullopt_cw"] = ours
+        for lv in levels:
+            rho = spearman(ours, cw[str(lv)])
+            data.setdefault("spearman", {})[str(lv)] = rho
+            goals.append(goal(f"C_W ranking of {n} DTMB 5415 variants, hullopt panel vs L2-Sea level {lv} (Spearman)",
+                              rho, "", "≥ 0.9", bool(rho >= 0.9), "L2-Sea WARP"))
+    else:
+        print("hullopt.resistance.panel_wave_resistance not available: L2-Sea's C_W recorded alone")
+    data["goals"] = goals
+    return data
+
+
+def rescore() -> None:
+    """``--rescore``: recompute hullopt's C_W, the correlations and the goals on the stored L2-Sea results
+    (results/l2sea.json), without running L2-Sea (so also where it is not built)."""
+    import json
+
+    from _common import RESULTS
+
+    path = RESULTS / "l2sea.json"
+    data = json.loads(path.read_text())
+    run_machine = data.pop("machine", None)
+    data.setdefault("l2sea_run_machine", run_machine)  # where and when L2-Sea ran (its timings)
+    data["hull"] = SPEC_REL
+    print("wrote", save("l2sea", score(data)))
+
+
+if __name__ == "__main__":
+    t0 = time.perf_counter()
+    rescore() if "--rescore" in sys.argv[1:] else main()
+    print(f"{time.perf_counter() - t0:.0f} s")
