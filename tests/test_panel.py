@@ -81,7 +81,7 @@ FNS = np.array([0.25, 0.3, 0.35, 0.4])
 
 def test_thin_wigley_is_michells():
     """On a thin Wigley hull (B/L 0.02) the double-body sources are Michell's thin-ship ones: the panel R_w
-    equals Michell's integral within 5 % at Fn 0.25–0.4 (at B/L 0.1 it is 1.3–1.5× Michell's: thickness)."""
+    equals Michell's integral within 5 % at Fn 0.25–0.4 (at B/L 0.1 it is 1.25–1.55× Michell's: thickness)."""
     h = wigley(100, 2.0, 6.25, 10, n=61, m=33)
     u = jnp.asarray(FNS * np.sqrt(G * 100.0))
     rp = panel_wave_resistance(h, 6.25, u, stations=32, girth=8).r_wave

@@ -120,7 +120,8 @@ def resistance(
     t = check_draft(h, draft)
     u = knots * KNOT
     out, hm = _evaluate(h.sections, t, jnp.asarray(u), methods, levels)
-    s = float(holtrop_hull(h.sections, t).S)
+    particulars = holtrop_hull(h.sections, t)
+    s = float(particulars.S)
     records = []
     for i, kn in enumerate(knots):
         rec = {"speed_kn": float(kn), "speed": float(u[i]), "draft": t, "fn": float(np.asarray(hm.fn)[i]),
@@ -136,7 +137,7 @@ def resistance(
         if "panel" in out:
             rec.update(sinkage_panel=float(out["panel"].sinkage[i]), trim_panel=float(out["panel"].trim[i]))
         records.append(rec)
-    invalid = outside_validity(holtrop_hull(h.sections, t), max(r["fn"] for r in records))
+    invalid = outside_validity(particulars, max(r["fn"] for r in records))
     for msg in disagreements(records, methods, invalid):
         warn(msg)
     if plot is not None:
