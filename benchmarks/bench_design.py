@@ -30,8 +30,8 @@ import numpy as np  # noqa: E402
 from _common import quick, save, timeit  # noqa: E402
 from jax.flatten_util import ravel_pytree  # noqa: E402
 
-from hullopt.app.config import load_config  # noqa: E402
-from hullopt.app.run import build_problem  # noqa: E402
+from hullopt.study import load_config  # noqa: E402
+from hullopt.study import load_study  # noqa: E402
 from hullopt.constants import KNOT  # noqa: E402
 from hullopt.hydro import hydrostatics  # noqa: E402
 from hullopt.models import wigley  # noqa: E402
@@ -60,7 +60,7 @@ def full_objective(sections, draft):
 
 def problem(overrides=()):
     cfg, _ = load_config(CONFIG, list(overrides))
-    prob = build_problem(cfg)
+    prob = load_study(cfg).problem
     flat, unravel = ravel_pytree(prob.p0)
     d = prob.design
     f = lambda x: full_objective(d.model(unravel(x)), d.draft)  # noqa: E731

@@ -40,8 +40,8 @@ from _common import quick, save, timeit  # noqa: E402
 from jax.flatten_util import ravel_pytree  # noqa: E402
 from scipy.optimize import minimize  # noqa: E402
 
-from hullopt.app.config import load_config  # noqa: E402
-from hullopt.app.run import build_problem  # noqa: E402
+from hullopt.study import load_config  # noqa: E402
+from hullopt.study import load_study  # noqa: E402
 from hullopt.errors import HullError  # noqa: E402
 from hullopt.fairing import unfairness  # noqa: E402
 from hullopt.geometry import section_integrals  # noqa: E402
@@ -84,7 +84,7 @@ def quality(s, parent, draft, targets: dict, tol: dict) -> dict:
 
 def run_case(name: str, overrides: list[str]) -> dict:
     cfg, _ = load_config(CONFIG, overrides)
-    prob = build_problem(cfg)
+    prob = load_study(cfg).problem
     d, p0, lower, upper = prob.design, prob.p0, prob.lower, prob.upper
     draft = float(d.draft)
     targets = {k: float(v) for k, v in zip(d.targets.names, np.asarray(d.targets.values))}
@@ -123,7 +123,7 @@ def run_case(name: str, overrides: list[str]) -> dict:
 
     # ours with the fairness penalty of the design problems (weight 1 on U/U_parent; targets in tolerance units)
     cfg_f, _ = load_config(CONFIG, overrides + ["solver.fairness=1.0"])
-    d_f = with_objective_scale(build_problem(cfg_f).design, p0)  # U/U_parent
+    d_f = with_objective_scale(load_study(cfg_f).problem.design, p0)  # U/U_parent
     solve = eqx.filter_jit(lambda p0: fit(d_f.residuals, p0, lower, upper, tol=d_f.fit_tolerances(p0),
                                           max_steps=cfg.solver.max_steps))
     t0 = time.perf_counter()

@@ -98,7 +98,7 @@ def main() -> None:
     t_obj_grad = timeit(lambda: jax.block_until_ready(fog(1.0)), 5)
 
 
-    from hullopt.app.hulls import load_hull
+    from hullopt.study import load_hull
 
     kcs = load_hull(str(HULLS / "kcs_model_closed_from_igs.stl.gz") + "?scale=31.6&lpp=230&n=61").sections
     lam = np.array([0.3, 0.5, 0.7, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4, 1.6, 2.0])

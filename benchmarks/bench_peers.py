@@ -44,7 +44,7 @@ T1 = TP * (691.0 / (1.25 * (2 * np.pi) ** 4)) ** 0.25  # ITTC 1978's B = 691/T1â
 
 
 def kcs():
-    from hullopt.app.hulls import load_hull
+    from hullopt.study import load_hull
 
     return load_hull(str(HULLS / "kcs_model_closed_from_igs.stl.gz") + "?scale=31.6&lpp=230&n=61").sections
 

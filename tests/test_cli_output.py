@@ -178,7 +178,7 @@ def test_fair_not_converged_exit_code(cli, capsys, monkeypatch, wide):
 def test_run_summary_parent_to_design_with_units_and_warnings(capsys, wide):
     """The summary of ``hullopt run`` from a report: targets and particulars parent → design with units, the
     objective in kN, and the report's warnings on stderr."""
-    from hullopt.app.commands.run import _summary
+    from hullopt.app.commands.run import summary
 
     parent = {"displacement": 2844021.0, "volume": 2774.6, "cb": 0.444201, "lcb_pct": 2.3e-15, "kb": 3.907}
     design = {"displacement": 2843900.0, "volume": 2774.5, "cb": 0.444210, "lcb_pct": -1.79e-9, "kb": 3.7986}
@@ -192,7 +192,7 @@ def test_run_summary_parent_to_design_with_units_and_warnings(capsys, wide):
         "message": "the targets cannot be met within the bounds: lcb_pct is off by 0.03 (tolerance 0.01)",
         "warnings": ["a warning the report holds"], "parent": parent, "achieved": design,
     }
-    _summary(report, output.Path("runs/x"))
+    summary(report, output.Path("runs/x"))
     out, err = capsys.readouterr()
     text = " ".join(out.split())
     assert "Displacement Δ [t] │ 2844.0 │ 2843.9" in text and "Volume ∇ [m³]" in text and "KB [m]" in text

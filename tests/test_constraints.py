@@ -11,7 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.app.config import FAIRNESS, RunConfig, SolverConfig, parse_bound
+from hullopt.study import FAIRNESS, RunConfig, SolverConfig, parse_bound
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
@@ -63,9 +63,14 @@ def test_objective_constraints_take_the_objectives_options():
     raw.update(kind="fit", objective=None)
     with pytest.raises(ValueError, match="a fit holds targets only"):
         RunConfig.model_validate({k: v for k, v in raw.items() if v is not None})
-    solver = SolverConfig()  # fairness on by default, but for fits
-    assert solver.fairness_for("minimise") == solver.fairness_for("pareto") == FAIRNESS > 0
-    assert solver.fairness_for("fit") == 0 and SolverConfig(fairness=0.2).fairness_for("fit") == 0.2
+    from hullopt.study import Fit, Minimise, Pareto, load_study
+
+    assert Minimise.fairness == Pareto.fairness == FAIRNESS > 0 and Fit.fairness == 0  # on, but for fits
+    fit = {"kind": "fit", "hull": {"parent": "wigley"}, "targets": {"cb": 0.45},
+           "design": {"distribution": [{"x_a": 0.0, "x_b": 100.0}]}}
+    assert load_study(RunConfig.model_validate(fit)).problem.design.fairness == 0
+    fit["solver"] = {"fairness": 0.2}
+    assert load_study(RunConfig.model_validate(fit)).problem.design.fairness == 0.2
 
 
 def test_inequalities_meet_the_kkt_point_by_hand():
@@ -117,16 +122,17 @@ def _ribbed(a):
 
 
 def test_roughness_constraints_are_parsed_and_reach_the_limits():
-    from hullopt.app import run
+    from hullopt import fairing
+    from hullopt.study import limits_from
 
     cfg = RunConfig.model_validate(_raw(sac_roughness="<= 2 * parent", section_roughness="<= 2 * parent",
                                         unfairness="<= 1.5 * parent"))
     assert cfg.constraints.bounds()["sac_roughness"] == (1, 2.0, True)
-    lim = run.limits_from(cfg)
+    lim = limits_from(cfg)
     assert lim.names == ("sac_roughness", "section_roughness", "unfairness")
-    assert lim.measures[:2] == (run.sac_roughness, run.section_roughness)
-    per_station = run.limits_from(RunConfig.model_validate(_raw(station_knuckles="<= 2 * parent")))
-    assert per_station.measures == (run.station_knuckles,) and per_station.relative == (True,)
+    assert lim.measures[:2] == (fairing.sac_roughness, fairing.section_roughness)
+    per_station = limits_from(RunConfig.model_validate(_raw(station_knuckles="<= 2 * parent")))
+    assert per_station.measures == (fairing.station_knuckles,) and per_station.relative == (True,)
     shipped = RunConfig.model_validate(tomllib.loads((CONFIGS / "min_added_resistance.toml").read_text()))
     assert {"sac_roughness", "section_roughness"} <= set(shipped.constraints.bounds())
 
@@ -134,21 +140,23 @@ def test_roughness_constraints_are_parsed_and_reach_the_limits():
 def test_sac_roughness_by_hand_and_against_the_report():
     """Σ (A'')² Δx of the ribbed hull against the second differences of 4a·sin(πx/5) written out, and the
     report's numpy measure on the same hull."""
-    from hullopt.app.run import _sac_roughness, sac_roughness
+    from helpers import np_sac_roughness
+    from hullopt.fairing import sac_roughness
     from hullopt.hydro import sectional_areas
 
     s = _ribbed(0.3)
     w = np.sin(np.pi * np.arange(11) / 5.0)
     by_hand = np.sum((4 * 0.3 * (w[2:] - 2 * w[1:-1] + w[:-2])) ** 2)
     assert float(sac_roughness(s, 2.0)) == pytest.approx(by_hand, rel=1e-12)
-    assert float(sac_roughness(s, 2.0)) == pytest.approx(_sac_roughness(s.x, sectional_areas(s, 2.0)), rel=1e-12)
+    assert float(sac_roughness(s, 2.0)) == pytest.approx(np_sac_roughness(s.x, sectional_areas(s, 2.0)), rel=1e-12)
 
 
 def test_section_roughness_zero_on_arcs_positive_at_a_knuckle_and_as_the_report():
     """Circular-arc half-sections have equal turns over equal chords (Δκ = 0); a knuckle is rough; with
     centreline and repeated points the JAX measure equals the report's numpy one (which drops them), and its
     gradient is finite there."""
-    from hullopt.app.run import _section_roughness, section_roughness
+    from helpers import np_section_roughness
+    from hullopt.fairing import section_roughness
     from hullopt.geometry import Sections
 
     t = np.linspace(-np.pi / 2, 0.0, 9)
@@ -162,7 +170,7 @@ def test_section_roughness_zero_on_arcs_positive_at_a_knuckle_and_as_the_report(
     odd = np.concatenate([[[0.0, 0.0]], odd[:-1]])  # and a second centreline point
     rough = Sections(jnp.array([0.0, 5.0]), jnp.array([knuckle, odd]), 5.0)
     value = float(jax.jit(section_roughness)(rough))
-    assert value > 1e-3 and value == pytest.approx(_section_roughness(rough.yz), rel=1e-12)
+    assert value > 1e-3 and value == pytest.approx(np_section_roughness(rough.yz), rel=1e-12)
     g = jax.jit(jax.grad(lambda yz: section_roughness(Sections(rough.x, yz, 5.0))))(rough.yz)
     assert bool(jnp.all(jnp.isfinite(g)))
 
@@ -170,7 +178,8 @@ def test_section_roughness_zero_on_arcs_positive_at_a_knuckle_and_as_the_report(
 def test_section_measures_ignore_a_sub_millimetre_stub():
     """Feature points that coincide at the parent drift apart under a deformation; a stub of 0.5 mm turning
     any way is one point to the section measures (it multiplied the KCS's roughness 1e8-fold), not a knuckle."""
-    from hullopt.app.run import MERGE, _section_roughness, section_knuckle, section_roughness
+    from helpers import np_section_roughness
+    from hullopt.fairing import MERGE, section_knuckle, section_roughness
     from hullopt.geometry import Sections
 
     t = np.linspace(-np.pi / 2, 0.0, 12)
@@ -180,7 +189,7 @@ def test_section_measures_ignore_a_sub_millimetre_stub():
     s_stub, s_clean = (Sections(jnp.zeros(1), jnp.asarray(p)[None], 5.0) for p in (stub, clean))
     for measure in (section_roughness, section_knuckle):
         assert float(measure(s_stub)) == pytest.approx(float(measure(s_clean)), rel=1e-2)
-    assert _section_roughness(stub[None]) == pytest.approx(_section_roughness(clean[None]), rel=1e-2)
+    assert np_section_roughness(stub[None]) == pytest.approx(np_section_roughness(clean[None]), rel=1e-2)
     assert float(section_roughness(s_clean)) > 1e-3
 
 
@@ -189,7 +198,7 @@ def test_section_knuckle_by_hand_and_its_gradient():
     centreline left out, a repeated point too; finite gradient there), a section straight up to a 20° knuckle
     and then vertical (the optimiser's knuckle of issue 16) gives (20°)⁴; the gradient matches central
     differences."""
-    from hullopt.app.run import section_knuckle
+    from hullopt.fairing import section_knuckle
     from hullopt.geometry import Sections
     from tests.helpers import check_grad
 
@@ -213,7 +222,7 @@ def test_station_knuckles_hold_each_station_to_the_parents():
     """A parent with one sharp turn (70°, a skeg's) and a fair station; the design adds a 25° knuckle to the
     fair one. The mean over stations barely moves (under 2x, as on the KCS), the station bound sees it at
     that station only; stations flatter than the floor (one 5° turn) count as the floor."""
-    from hullopt.app.run import KNUCKLE_FLOOR, section_knuckle, station_knuckles
+    from hullopt.fairing import KNUCKLE_FLOOR, section_knuckle, station_knuckles
     from hullopt.geometry import Sections
     from hullopt.optimise import Limits
 
@@ -238,7 +247,7 @@ def test_station_knuckles_hold_each_station_to_the_parents():
 def test_sac_roughness_constraint_binds_in_the_solver():
     """min (a − 1)² with the SAC no rougher than twice the parent's (a₀ = 0.5): roughness ∝ a², so the
     bound is a² ≤ 2·0.25, the solution a = 1/√2 on it (the free minimum a = 1 is twice as rough again)."""
-    from hullopt.app.run import sac_roughness
+    from hullopt.fairing import sac_roughness
     from hullopt.optimise import Limits, minimise_constrained
 
     lim = Limits(names=("sac_roughness",), measures=(sac_roughness,), sense=np.ones(1), values=np.full(1, 2.0),
@@ -260,11 +269,12 @@ def test_the_roughness_warning_names_a_distribution_that_blends_frames(curves, h
     """The DTC's segments change in number between stations (its bulb, its stern): a distribution that re-reads
     frames there blends frames of different make-up into new shapes (the KCS fit of configs/fit_own_hull.toml
     had sections 26600x rougher); the roughness warning then says to move the frames instead."""
-    from hullopt.app.run import _blend_hint, build_problem
+    from hullopt.study import load_study
+    from hullopt.study._assess import blend_hint
 
     raw = {"kind": "fit", "hull": {"parent": "dtc"}, "targets": {"cb": 0.66},
            "design": {"distribution": [{"x_a": 150.0, "x_b": 340.0, "curves": curves}]}}
     cfg = RunConfig.model_validate(raw)
-    hint = _blend_hint(cfg, build_problem(cfg))
+    hint = blend_hint(cfg, load_study(cfg).problem)
     assert ('curves = "stations"' in hint and "design.distribution[0]" in hint) == hinted
     assert bool(hint) == hinted

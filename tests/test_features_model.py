@@ -390,8 +390,7 @@ def test_deform_and_run_build_the_same_hull_from_the_same_tables(tmp_path):
     """The same [[apex_move]]/[[distribution]]/[[contour_edit]] tables (defaults included: profile, modes)
     give the same start parameters, bounds and hull in `hullopt deform` and in a run config's [design]."""
     from hullopt.app.commands.features import read_design
-    from hullopt.app.config import load_config
-    from hullopt.app.run import build_problem
+    from hullopt.study import load_config, load_study
 
     tables = ("[[{p}apex_move]]\nsegment = -1\nx_fixed1 = 50.0\nx_moved = 80.0\nx_fixed2 = 100.0\nd = [0.4, -0.3]\n"
               "[[{p}distribution]]\nx_a = 0.0\nx_b = 100.0\nc = [0.06]\n")
@@ -400,8 +399,8 @@ def test_deform_and_run_build_the_same_hull_from_the_same_tables(tmp_path):
                                      + tables.format(p="design."))
     model, p, name = read_design(tmp_path / "d.toml")
     cfg, _ = load_config(tmp_path / "r.toml")
-    prob = build_problem(cfg)
-    from hullopt.app.config import load_design
+    prob = load_study(cfg).problem
+    from hullopt.study import load_design
 
     assert name == "wigley" and load_design(tmp_path / "d.toml").apex_move[0].profile == "smooth"  # one default
     for a, b in zip(jax.tree.leaves(p), jax.tree.leaves(prob.p0)):
@@ -415,7 +414,7 @@ def test_deform_design_parent_is_a_spec_relative_to_the_toml(tmp_path):
     """A design TOML's ``parent`` may be any run-config parent spec, a file resolved beside the TOML."""
     import shutil
 
-    from hullopt.app.config import load_design
+    from hullopt.study import load_design
     from hullopt.models import save_features
 
     save_features(load_parent("wigley"), tmp_path / "w.json")

@@ -1,6 +1,6 @@
 """The floors of the house (README "Layout"): data flows one way, checked on the source.
 
-geometry (the kernel) ← models ← analyses (hydro, waves, wind, resistance, fairing, drawing) ← optimise ← app.
+geometry (the kernel) ← models ← analyses (hydro, waves, wind, resistance, fairing, drawing) ← optimise ← study ← app.
 Every ``import``/``from … import`` of every module under ``hullopt/`` is parsed (also those inside functions)
 and resolved to the package it reaches; ``hullopt.errors`` and ``hullopt.constants`` are the ground floor,
 importable from anywhere. A departure that exists today is listed in :data:`KNOWN`, so the test fails on any
@@ -25,7 +25,8 @@ ALLOWED = {
     "models": BASE | {"geometry"},
     **{a: BASE | {"geometry"} for a in ANALYSES},
     "optimise": BASE | {"geometry", "models"} | ANALYSES,
-    "app": BASE | {"geometry", "models", "optimise"} | ANALYSES,
+    "study": BASE | {"geometry", "models", "optimise"} | ANALYSES,
+    "app": BASE | {"geometry", "models", "optimise", "study"} | ANALYSES,
     "__main__": {"app"},  # ``python -m hullopt``: the CLI's entry point, part of the app floor
     "__init__": BASE,  # ``import hullopt`` stays light: subpackages load lazily (importlib)
 }
@@ -132,6 +133,50 @@ def test_no_cycles_between_packages():
     for start in sorted(graph):
         visit(start, [start])
     assert not cycles, "import cycles between packages:\n" + "\n".join(sorted(set(cycles)))
+
+
+def test_no_cycles_within_a_package():
+    """The modules of one package import each other one way too (a package's ``__init__`` imports its
+    modules, so a module importing its own package closes a circle)."""
+    modules = _modules()
+    graph = {m: {t for t in ts if t in modules and t != m and t.rpartition(".")[0] == m.rpartition(".")[0]
+                 or t == m.rpartition(".")[0] and m.rpartition(".")[2] != "__init__"}
+             for m, ts in modules.items()}
+    cycles = set()
+
+    def visit(node, path):
+        for nxt in sorted(graph.get(node, ())):
+            if nxt in path:
+                cycles.add(" → ".join(path[path.index(nxt):] + [nxt]))
+            elif len(path) < 12:
+                visit(nxt, path + [nxt])
+
+    for start in sorted(graph):
+        visit(start, [start])
+    assert not cycles, "import cycles within a package:\n" + "\n".join(sorted(cycles))
+
+
+def test_no_private_name_is_used_across_files():
+    """A name with a leading underscore stays in its file, and a private module in its package: what another
+    file needs is public (exported from the package)."""
+    bad = []
+    for path in sorted(PKG.rglob("*.py")):
+        name = _module_name(path)
+        package = name if _is_package(path) else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if not isinstance(node, ast.ImportFrom) or not (node.level or (node.module or "").startswith("hullopt")):
+                continue
+            base = package.split(".")[: len(package.split(".")) - (node.level - 1)] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else [])) if node.level else node.module
+            private = [a.name for a in node.names if a.name.startswith("_") and a.name != "__version__"]
+            parts = target.split(".")
+            owner = ".".join(parts[:-1])  # a private module is used within its package (and subpackages)
+            foreign = any(p.startswith("_") and not p.startswith("__") for p in parts[2:-1]) or (
+                parts[-1].startswith("_") and not parts[-1].startswith("__")
+                and not (package == owner or package.startswith(owner + ".")))
+            if private or foreign:
+                bad.append(f"{name}: from {target} import {', '.join(a.name for a in node.names)}")
+    assert not bad, "private names used across files:\n" + "\n".join(bad)
 
 
 def test_the_parser_sees_imports_inside_functions_and_resolves_relative_ones():

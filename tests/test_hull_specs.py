@@ -42,7 +42,7 @@ def test_parent_specs_from_the_console(cli, tmp_path):
 
 def test_the_library_reads_every_spec_but_run_folders(tmp_path):
     """hullopt.models.load_hull needs no app: the same errors as the CLI's; a folder is the CLI's to read."""
-    with pytest.raises(HullError, match="run folders are read by hullopt.app.hulls.load_hull"):
+    with pytest.raises(HullError, match="run folders are read by hullopt.study.load_hull"):
         load_hull(str(tmp_path))
     for spec, message in (("builtin:wigley?L=100&B=10&T=6.25", "missing parameter D"),
                           ("builtin:box?L=100&B=20&D=x", "parameter D='x' is not a valid float"),

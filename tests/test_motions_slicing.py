@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.app.hulls import load_hull
+from hullopt.study import load_hull
 from hullopt.constants import G, KNOT, RHO_SEA
 from hullopt.waves import motions, omega_from_wavelength
 

@@ -176,7 +176,7 @@ def test_other_objectives_differentiate_through_the_design(wigley_design, kind):
 def test_objectives_registry_is_built_from_the_classes():
     """One class per kind, each registered by its name with an SI unit and a description; the config accepts
     exactly the registered kinds; a new subclass is one class (registered on definition)."""
-    from hullopt.app.config import ObjectiveConfig
+    from hullopt.study import OPTIONS
 
     assert OBJECTIVES == {"k_aw": KAw, "mean_added_resistance": MeanAddedResistance,
                           "calm_resistance": CalmResistance, "calm_resistance_michell": MichellCalmResistance,
@@ -185,7 +185,8 @@ def test_objectives_registry_is_built_from_the_classes():
                                                           "calm_resistance": "N", "calm_resistance_michell": "N",
                                                           "wind_added_resistance": "N"}
     assert all(c.name == k and c.description and issubclass(c, Objective) for k, c in OBJECTIVES.items())
-    assert set(ObjectiveConfig.model_fields["kind"].annotation.__args__) == set(OBJECTIVES)
+    assert {k: o.model_fields["kind"].annotation.__args__ for k, o in OPTIONS.items()} == {k: (k,) for k in OBJECTIVES}
+    assert all(set(o.model_fields) == {"kind", *OBJECTIVES[k].options} for k, o in OPTIONS.items())
     with pytest.raises(TypeError):
         Objective()  # abstract
     # only the fields a kind needs; the config's units (knots, degrees) converted to SI
@@ -204,6 +205,7 @@ def test_objectives_registry_is_built_from_the_classes():
         name: ClassVar[str] = "test_draft_only"
         unit: ClassVar[str] = "m"
         description: ClassVar[str] = "the draft"
+        options: ClassVar[tuple[str, ...]] = ()
 
         def __call__(self, sections, draft):
             return jnp.asarray(draft, dtype=float)

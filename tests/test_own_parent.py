@@ -8,7 +8,7 @@ import jax
 import numpy as np
 import pytest
 
-from hullopt.app import parents
+from hullopt.study import _hulls as parents
 from hullopt.hydro import hydrostatics
 from hullopt.models import load_hull, load_parent
 from hullopt.models._feature_library import extract_faithful, recipe_sections
@@ -69,7 +69,7 @@ def own_config(tmp_path, hulls, monkeypatch):
     """A fit config beside a folder ``hulls`` (a link to the example hulls) whose parent is the KCS mesh given
     relative to the config, coarse (31 stations); kept parents go to ``tmp_path/parents``."""
     (tmp_path / "hulls").symlink_to(hulls)
-    monkeypatch.setattr(parents, "cache_folder", lambda: tmp_path / "parents")
+    monkeypatch.setattr(parents, "cache_folder", lambda what="parents": tmp_path / what)
 
     def write(draft="draft = 10.8", n=31):
         cfg = tmp_path / "own.toml"
@@ -121,9 +121,7 @@ def test_the_program_key_follows_the_parent_content(hulls, tmp_path):
 
 
 def test_a_mesh_parent_without_a_draft_is_refused(cli, tmp_path, own_config, monkeypatch):
-    from hullopt.models import _feature_library
-
-    monkeypatch.setattr(_feature_library, "extract_faithful", lambda *a, **k: pytest.fail("extracted before the check"))
+    monkeypatch.setattr(parents, "extract_faithful", lambda *a, **k: pytest.fail("extracted before the check"))
     cfg = own_config(draft="", n=11)
     code, _, err = cli("run", cfg, "--out", tmp_path / "o")
     assert code == 2 and "hull.draft" in err and "no known design draft" in err and "Traceback" not in err, err

@@ -6,7 +6,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.app import programs
+from hullopt.study import _programs as programs
 
 
 class Out(eqx.Module):

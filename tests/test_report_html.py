@@ -138,8 +138,8 @@ def test_report_command_rebuilds_the_hulls_from_the_run_folder(cli, tmp_path):
     the parameters — the parent's sectional-area curve integrates to the Wigley's closed-form volume
     ∇ = (4/9)·L·B·T (the library's feature-curve Wigley, trapezoid over 41 stations: measured 0.18 % below);
     the design's is moved aft."""
-    from hullopt.app.config import load_config
-    from hullopt.app.parents import run_parent
+    from hullopt.study import load_config
+    from hullopt.study import run_parent
     from hullopt.app.report import read_run, run_hulls
     from hullopt.models import save_features
 

@@ -58,9 +58,9 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, mo
     assert code == 2 and "?design applies to sweeps" in err
     # ... from the parent the run deformed, kept in the folder, not from the config's parent as it is now (a
     # library file rebuilt, an edited mesh, a cleared cache).
-    from hullopt.app import run
+    from hullopt.study import _hulls
 
-    monkeypatch.setattr(run, "run_parent", lambda *a: pytest.fail("the config's parent was read"))
+    monkeypatch.setattr(_hulls, "run_parent", lambda *a: pytest.fail("the config's parent was read"))
     code, stdout, err = cli("hydro", str(out), "--json")
     assert code == 0 and json.loads(stdout)["cb"] == again["cb"], err
 
@@ -68,7 +68,7 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, mo
 def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, tmp_path, monkeypatch):
     """The second run of a config neither traces nor compiles (kept program + compilation cache): the module's
     fit run again, with the export (trace and lower) forbidden."""
-    from hullopt.app import programs
+    from hullopt.study import _programs as programs
 
     first_out, first = fit_run
     monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("the kept program was not used"))
@@ -152,7 +152,7 @@ def test_missing_config_file(cli, tmp_path):
 def test_every_shipped_config_is_valid():
     """Each file in configs/ reads and validates as what it is (run, wind, or a deform design)."""
     from hullopt.app.commands.features import read_design
-    from hullopt.app.config import load_config
+    from hullopt.study import load_config
     from hullopt.app.wind_config import read_wind_config
     from hullopt.models import parent_names
 

@@ -116,7 +116,7 @@ def test_real_hulls_no_negative_mean_behind_the_beam(hulls, spec, draft, speed_k
     """The issue's cases: KCS 24 kn and DTC 16 kn, H_s 3 m, T_p 9 s: the mean R_AW by NMRI was −418 kN (KCS,
     180°), −271 kN (150°), −106 kN (135°). Now ≥ 0 at every heading, exactly 0 in following seas (no part of
     the entrance lit), and head seas unchanged by the lit-range rule (no aft-facing element lit there)."""
-    from hullopt.app.hulls import load_hull
+    from hullopt.study import load_hull
 
     h = load_hull(spec if spec.startswith("parent:") else str(hulls / spec))
     t = draft or h.design_draft

@@ -32,6 +32,9 @@ import numpy as np
 from ..drawing import station_sections
 from ..errors import HullError
 from ..geometry import Sections, atomic_write_bytes, grid_triangles, surface_grid
+from ..hydro import sectional_areas
+from ..optimise import TARGETS
+from ..study import VIOLATION, cached_call, folder_study, params_from_dict, read_run_config
 from .output import displayed, fmt, label, quantity, to_builtin, unit_scale
 
 REPORT_NAME = "report.html"
@@ -67,22 +70,9 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
     the parameters in its report (a sweep: the designs on the front, at most :data:`MAX_SWEEP_HULLS`), in
     one jitted program; :class:`HullError` if the folder's files do not fit each other."""
     import jax
-    from pydantic import ValidationError
 
-    from ..models import read_features
-    from .config import RunConfig
-    from .parents import parent_digest
-    from .programs import cached_call
-    from .run import build_problem, params_from_dict
-
-    try:
-        cfg = RunConfig.model_validate(raw)
-    except ValidationError as e:
-        err = e.errors()[0]
-        raise HullError(f"{folder / 'config.json'} is not a valid run config "
-                        f"({'.'.join(map(str, err['loc'])) or 'config'}: {err['msg']})") from None
-    kept = folder / "parent.json"  # the parent the run deformed (the config's may have changed since)
-    prob = build_problem(cfg, read_features(kept) if kept.is_file() else None)
+    cfg = read_run_config(folder)
+    prob = folder_study(folder, cfg).problem
     picked = sweep_picks(report) if "designs" in report else []
     if "designs" in report:
         values = [report["designs"][k]["params"] for k in picked]
@@ -95,8 +85,8 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
     stacked = jax.tree.map(lambda *a: np.stack([np.asarray(x, float) for x in a]), *params)
     draft = float(prob.design.draft)
 
-    # the program's key: the config and the parent's content (kept file, else the config's spec as a run keys it)
-    digest = hashlib.sha256(kept.read_bytes()).hexdigest() if kept.is_file() else parent_digest(cfg.hull.parent)
+    # the program's key: the config and the parent's content
+    digest = hashlib.sha256(json.dumps(prob.design.model.hull.to_dict(), sort_keys=True).encode()).hexdigest()
     sections, areas = jax.device_get(cached_call("report", _evaluate, (prob.design.model, stacked), (draft,),
                                                  key=[raw, digest]))
     one = [_numpy(jax.tree.map(lambda a, i=i: a[i], sections)) for i in range(len(params))]
@@ -107,8 +97,6 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
 def _evaluate(model, params, draft: float):
     """The sections and sectional-area curves [m²] at ``draft`` of a model at stacked parameters."""
     import jax
-
-    from ..hydro import sectional_areas
 
     s = jax.vmap(model)(params)
     return s, jax.vmap(lambda one: sectional_areas(one, draft))(s)
@@ -296,27 +284,6 @@ def history_series(report: dict) -> tuple[str, dict[str, np.ndarray]]:
     return str(hist.get("iteration", "iteration")), out
 
 
-def history_record(kind: str, result) -> dict:
-    """The ``history`` a run keeps in ``report.json``: ``{"iteration": label, "series": {name: values}}`` of
-    what its solver recorded (a :class:`~hullopt.optimise.SolveResult`): a fit, the cost after each
-    Levenberg–Marquardt step; a minimum, the objective (scaled to 1 at the parent) and the largest constraint
-    violation ``|residual| / tolerance`` after each augmented-Lagrangian round where the solver keeps them,
-    else the augmented Lagrangian. Steps not taken (NaN) are left out (``None``)."""
-    if kind == "fit":
-        x, series = "Levenberg–Marquardt step", {"cost Σ (residual / tolerance)²": result.history}
-    else:
-        x = "augmented-Lagrangian round"
-        f, v = getattr(result, "objective_history", None), getattr(result, "violation_history", None)
-        series = ({"objective / parent's": f} if f is not None else {"augmented Lagrangian": result.history})
-        if v is not None:
-            series[VIOLATION] = v
-    return {"iteration": x, "series": {k: to_builtin(np.asarray(v, float).ravel()) for k, v in series.items()
-                                       if v is not None}}
-
-
-VIOLATION = "max constraint violation |residual| / tolerance"
-
-
 def fig_convergence(report: dict):
     """Each recorded series against the iteration, one panel each, log scale (|value|; the value itself on
     hover); a constraint violation with its tolerance line (≤ 1: met)."""
@@ -468,7 +435,6 @@ def targets_table(report: dict) -> str:
 def _error_scale(key: str) -> tuple[float, str]:
     """How a target's error and tolerance read: a relative target's in %, the others in the particular's
     unit (as the solvers measure them; :data:`hullopt.optimise.TARGETS`)."""
-    from ..optimise import TARGETS
 
     if TARGETS.get(key, (False,))[0]:
         return 100.0, "%"

@@ -15,3 +15,11 @@ from ._unfairness import line_residuals as line_residuals
 from ._unfairness import mean_residuals as mean_residuals
 from ._unfairness import measure as measure
 from ._unfairness import unfairness as unfairness
+from ._shape import KNUCKLE_FLOOR as KNUCKLE_FLOOR
+from ._shape import MERGE as MERGE
+from ._shape import SHAPE_MEASURES as SHAPE_MEASURES
+from ._shape import sac_roughness as sac_roughness
+from ._shape import section_knuckle as section_knuckle
+from ._shape import section_roughness as section_roughness
+from ._shape import station_knuckles as station_knuckles
+from ._shape import SHAPE_UNITS as SHAPE_UNITS

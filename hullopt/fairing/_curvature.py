@@ -96,7 +96,7 @@ def curve_curvature(dy, d2y) -> Array:
     return -d2y / (1.0 + dy**2) ** 1.5
 
 
-def _safe_unit(e, eps):
+def safe_unit(e, eps):
     """Unit vectors of the edges ``e (..., d)`` and a mask of the edges longer than ``eps`` (double where:
     degenerate edges give 0 with finite gradients)."""
     length2 = jnp.sum(e * e, -1)
@@ -133,7 +133,7 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
     ok : Array, (..., k−2) bool
         Where ``kappa`` is defined.
     """
-    t, length, ok_e = _safe_unit(jnp.diff(points, axis=-2), eps)
+    t, length, ok_e = safe_unit(jnp.diff(points, axis=-2), eps)
     if edge_ok is not None:
         ok_e = ok_e & edge_ok
     ds = 0.5 * (length[..., :-1] + length[..., 1:])
@@ -161,9 +161,9 @@ def section_curvature(sections: Sections, eps: float = 1e-9) -> Float[Array, "n 
         Signed curvature [1/m] at every point, positive at a convex bilge.
     """
     kappa, _, _ = polyline_curvature(sections.yz, eps)
-    t, _, _ = _safe_unit(jnp.diff(sections.yz, axis=-2), eps)
+    t, _, _ = safe_unit(jnp.diff(sections.yz, axis=-2), eps)
     # component along the left normal of the bisector t_{i−1} + t_i, to which κ is parallel: exactly ±|κ|
-    b, _, ok = _safe_unit(t[..., :-1, :] + t[..., 1:, :], eps)
+    b, _, ok = safe_unit(t[..., :-1, :] + t[..., 1:, :], eps)
     normal = jnp.stack([-b[..., 1], b[..., 0]], -1)
     signed = jnp.where(ok, jnp.sum(kappa * normal, -1), 0.0)
     pad = jnp.zeros(signed.shape[:-1] + (1,), signed.dtype)

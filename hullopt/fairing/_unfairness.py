@@ -51,7 +51,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..geometry import CoonsSurface, Sections, safe_div
-from ._curvature import _safe_unit, graph_curvatures, polyline_curvature
+from ._curvature import safe_unit, graph_curvatures, polyline_curvature
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(3)
 GAUSS_T, GAUSS_W = (_GL_X + 1.0) / 2.0, _GL_W / 2.0  # 3-point Gauss–Legendre on [0, 1]
@@ -343,7 +343,7 @@ def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
         dk = kappa[..., 1:, :] - kappa[..., :-1, :]
         # dκ⃗/ds = κ' n − κ² t: drop the part along the edge joining the two vertices (turning of a
         # constant curvature), keep the change of curvature (and, in 3-D, of the osculating plane)
-        t, _, _ = _safe_unit(jnp.diff(points, axis=-2)[..., 1:-1, :], eps)
+        t, _, _ = safe_unit(jnp.diff(points, axis=-2)[..., 1:-1, :], eps)
         dk2 = jnp.sum(dk**2, -1) - jnp.sum(dk * t, -1) ** 2
         return jnp.sum(safe_div(dk2, 0.5 * (ds[..., :-1] + ds[..., 1:]), pair), -1)
 

@@ -39,5 +39,7 @@ from ._features import load_parent as load_parent
 from ._features import parent_names as parent_names
 from ._features import read_features as read_features
 from ._features import save_features as save_features
+from ._feature_library import FAITHFUL as FAITHFUL
+from ._feature_library import extract_faithful as extract_faithful
 from ._feature_library import extract_parent as extract_parent
 from ._feature_library import generate_hull as generate_hull

@@ -100,10 +100,25 @@ def extract_faithful(sections: Sections, name: str = "hull", design_draft: float
     """Extract a parent that holds its source: the cheapest level of auxiliary apexes (``FAITHFUL["levels"]``
     in turn) whose rebuilt hull matches ``sections`` within ``tol_volume`` in ∇ and ``tol_lcb`` (fraction of
     Lpp) in LCB at the drafts ``fractions`` of the depth above the keel and at ``design_draft`` [m] when given.
-    If no level meets them, the most faithful one is kept. ``settings`` override :data:`FAITHFUL`.
+    If no level meets them, the most faithful one is kept.
 
-    Returns the hull and a report: ``level``, ``drafts`` [m], ``volume_error`` (relative) and ``lcb_error``
-    (fraction of Lpp), the worst over the drafts, and ``met``."""
+    Parameters
+    ----------
+    sections : Sections
+        The source hull.
+    name : str
+        The parent's name.
+    design_draft : float, optional
+        Design draft [m above the baseline], also checked when given.
+    **settings
+        Overrides of :data:`FAITHFUL`.
+
+    Returns
+    -------
+    tuple of (FeatureHull, dict)
+        The hull and a report: ``level``, ``drafts`` [m], ``volume_error`` (relative) and ``lcb_error``
+        (fraction of Lpp), the worst over the drafts, and ``met``.
+    """
     cfg = {**FAITHFUL, **settings}
     yz = np.asarray(sections.yz)
     z_lo, z_hi = float(yz[..., 1].min()), float(yz[..., 1].max())

@@ -1,5 +1,5 @@
 """Hull specs: one string names a hull and how to read it (the library's reader of hulls; the CLI and configs
-take the same strings, and add run folders: :func:`hullopt.app.hulls.load_hull`).
+take the same strings, and add run folders: :func:`hullopt.study.load_hull`).
 
 * ``builtin:wigley?L=100&B=10&T=6.25&D=10`` or ``builtin:box?L=100&B=20&D=10`` (``n``, ``m``: resolution);
 * ``parent:dtc`` — a feature-curve parent: the library's (``dtc``, ``tanker``, ``wigley``, ``seed003``) or a
@@ -171,7 +171,7 @@ def load_hull(spec: str, cache: str | Path | None = None) -> LoadedHull:
     ------
     HullError
         On any problem with the spec or the file, naming the spec (a folder too: run folders are the CLI's,
-        :func:`hullopt.app.hulls.load_hull`).
+        :func:`hullopt.study.load_hull`).
     """
     base, params = split_spec(spec)
     if base.startswith("parent:"):
@@ -180,7 +180,7 @@ def load_hull(spec: str, cache: str | Path | None = None) -> LoadedHull:
         return _builtin(base.removeprefix("builtin:"), params, spec)
     path = Path(base)
     if path.is_dir():
-        raise HullError(f"hull {spec!r}: {base!r} is a folder; run folders are read by hullopt.app.hulls.load_hull")
+        raise HullError(f"hull {spec!r}: {base!r} is a folder; run folders are read by hullopt.study.load_hull")
     if not path.is_file():
         from ._features import parent_names
 

@@ -49,13 +49,15 @@ class Objective(eqx.Module):
     :attr:`unit`.
 
     Subclasses set the class variables (annotated ``ClassVar[str]``) ``name`` (unique; the config's ``kind``),
-    ``unit`` (SI, ``"-"`` for a coefficient) and ``description`` (one line), hold their parameters as fields (SI, radians) and implement
+    ``unit`` (SI, ``"-"`` for a coefficient), ``description`` (one line) and ``options`` (the config options
+    ``from_config`` reads: a config giving another is refused, naming this kind), hold their parameters as fields (SI, radians) and implement
     ``__call__`` and ``from_config``. Defining one registers it in :data:`OBJECTIVES`.
     """
 
     name: eqx.AbstractClassVar[str]
     unit: eqx.AbstractClassVar[str]
     description: eqx.AbstractClassVar[str]
+    options: eqx.AbstractClassVar[tuple[str, ...]]
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -84,6 +86,7 @@ class KAw(Objective):
     name: ClassVar[str] = "k_aw"
     unit: ClassVar[str] = "-"
     description: ClassVar[str] = "K_AW in short head waves (patent; smooth C_U)"
+    options: ClassVar[tuple[str, ...]] = ("speed_kn", "smooth")
 
     speed: Scalar
     smooth: float = eqx.field(static=True, default=1.0)
@@ -106,6 +109,7 @@ class MeanAddedResistance(Objective):
     name: ClassVar[str] = "mean_added_resistance"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "sea-state mean R_AW (NMRI, long-crested)"
+    options: ClassVar[tuple[str, ...]] = ("speed_kn", "hs", "tp", "heading_deg", "smooth", "motion")
 
     speed: Scalar
     hs: Scalar
@@ -138,6 +142,7 @@ class CalmResistance(Objective):
     name: ClassVar[str] = "calm_resistance"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "calm-water R_T = (1 + k1)·R_F + R_APP + R_W(method) + R_A"
+    options: ClassVar[tuple[str, ...]] = ("speed_kn", "method", "speeds_kn", "weights")
     default_method: ClassVar[str] = "holtrop"
 
     speed: Float[ArrayLike, "*k"]
@@ -185,6 +190,7 @@ class WindAddedResistance(Objective):
     name: ClassVar[str] = "wind_added_resistance"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "ISO 15016 wind added resistance"
+    options: ClassVar[tuple[str, ...]] = ("speed_kn", "wind_speed", "wind_angle_deg")
 
     speed: Scalar
     wind_speed: Scalar

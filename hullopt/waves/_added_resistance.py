@@ -185,7 +185,7 @@ class NMRIResult(eqx.Module):
     beam: Float[Array, ""]
 
 
-def _outer(omega, heading):
+def outer_grid(omega, heading):
     omega = jnp.asarray(omega, dtype=float)
     heading = jnp.asarray(heading, dtype=float)
     return omega.reshape(omega.shape + (1,) * heading.ndim), heading
@@ -243,7 +243,7 @@ def nmri_added_resistance(
         ``fn`` and ``beam`` [m] scalars.
     """
     wl = waterline(sections, draft)
-    om, hd = _outer(omega, heading)
+    om, hd = outer_grid(omega, heading)
     bf = bluntness_of_waterline(wl, hd, aft)
     fn = froude_number(speed, sections.lpp, g)
     bfp = positive_part(bf, smooth)

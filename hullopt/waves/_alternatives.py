@@ -14,7 +14,7 @@ from jaxtyping import Array, Float
 
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, longitudinal_integrals
-from ._added_resistance import BF_KINK, _outer, froude_number, nmri_added_resistance
+from ._added_resistance import BF_KINK, outer_grid, froude_number, nmri_added_resistance
 from ._motions import motion_added_resistance, motion_response
 from ._bessel import alpha_t
 from ._spectra import spectral_mean
@@ -121,7 +121,7 @@ def stawave1(p: Particulars, omega, heading=0.0, amplitude=1.0, rho=RHO_SEA, g=G
     WaveResistance
         ``motion`` (0) and ``reflection`` [N], shape W + H.
     """
-    om, hd = _outer(omega, heading)
+    om, hd = outer_grid(omega, heading)
     r = 0.5 * rho * g * amplitude**2 * p.beam * jnp.sqrt(p.beam / p.l_bwl)
     r = jnp.where(_within_45(hd), r, 0.0) * jnp.ones_like(om)
     return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
@@ -155,7 +155,7 @@ def stawave2(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25,
     WaveResistance
         ``motion`` (R_AWML) and ``reflection`` (R_AWRL) [N], shape W + H; 0 beyond ±45° of the bow.
     """
-    om, hd = _outer(omega, heading)
+    om, hd = outer_grid(omega, heading)
     lpp, b, t, cb = p.lpp, p.beam, p.draft, p.cb
     fr = froude_number(speed, lpp, g)
     wbar = jnp.sqrt(lpp / g) * kyy ** (1.0 / 3.0) * om * _pos_pow(fr, 0.143) / 1.17
@@ -198,7 +198,7 @@ def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho
     WaveResistance
         ``motion`` and ``reflection`` [N], shape W + H.
     """
-    om, hd = _outer(omega, heading)
+    om, hd = outer_grid(omega, heading)
     a = _fold(hd)
     lpp, b, t, cb = p.lpp, p.beam, p.draft, p.cb
     fr = froude_number(speed, lpp, g)

@@ -20,7 +20,7 @@ from ...hydro import hydrostatics
 from ...models import OffsetTable, offset_surface, read_offsets
 from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
 from .._app import app
-from ..hulls import load_hull
+from ...study import load_hull
 from ..output import EXIT_NOT_CONVERGED, busy, fmt, print_json, quantity, say, table, warn, write_json
 
 FAIR_HULL_HELP = ("offsets .csv (faired as given), or any other hull spec (builtin:…, mesh): its sections are "

@@ -14,17 +14,15 @@ from ...geometry import EXPORT_FORMATS
 from ...hydro import hydrostatics
 from ...models import check_design, extract_parent, load_parent, parent_names
 from .._app import app
-from ..hulls import load_hull
+from ...study import load_hull
 from ..output import console, write_hull_file, write_json
 
 def read_design(path: Path, parent: str | None = None, draft: float | None = None):
     """A design TOML → ``(model, params, parent spec)``, validated by the run config's models
-    (:func:`~hullopt.app.config.load_design`) and built as ``hullopt run`` builds its start point
-    (:func:`~hullopt.app.run.design_params`); ``parent`` (the PARENT argument) before the TOML's ``parent``.
+    (:func:`~hullopt.study.load_design`) and built as ``hullopt run`` builds its start point
+    (:func:`~hullopt.study.design_params`); ``parent`` (the PARENT argument) before the TOML's ``parent``.
     :class:`HullError` naming the file and the field on bad input."""
-    from ..config import load_design
-    from ..parents import run_parent
-    from ..run import design_params
+    from ...study import design_params, load_design, run_parent
 
     cfg = load_design(path)
     name = parent or cfg.parent

@@ -1,6 +1,6 @@
 """``hullopt hydro`` (hydrostatics at a draft, a displacement or over drafts) and ``hullopt export``.
 
-The table is one kept program (:func:`~hullopt.app.programs.cached_call`): a warm ``hullopt hydro`` neither
+The table is one kept program (:func:`~hullopt.study.cached_call`): a warm ``hullopt hydro`` neither
 imports the hydrostatics nor traces or compiles them."""
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
 from .._app import app
-from ..hulls import LoadedHull, load_hull
+from ...models import LoadedHull
+from ...study import load_hull
 from ..output import PARTICULARS, parse_range, print_json, say, table, unit_places, write_hull_file
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
@@ -114,7 +115,7 @@ def hydro_table(sections, drafts: np.ndarray, rho: float) -> dict[str, list[floa
     (the hydrostatics are imported only when the program is built)."""
     import jax.numpy as jnp
 
-    from ..programs import cached_call
+    from ...study import cached_call
 
     # ρ is a Python float in the program (as hydrostatic_table declares it): one program per density
     res = cached_call("hydrostatic_table", _table, (sections, jnp.asarray(drafts, dtype=float)), (float(rho),),

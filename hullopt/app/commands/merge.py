@@ -9,7 +9,7 @@ import typer
 
 from .._app import app
 from ..output import print_json
-from .run import _summary
+from .run import summary
 
 
 @app.command("merge")
@@ -26,6 +26,6 @@ def merge_command(
     if json:
         print_json(report)
     else:
-        _summary(report, out)
+        summary(report, out)
     if not report["met"]:
         raise typer.Exit(3)

@@ -15,7 +15,7 @@ from ...errors import HullError
 from ...waves import motions as strip_motions
 from ...waves import motion_validity_warning, nmri_added_resistance, omega_from_wavelength
 from .._app import app
-from ..hulls import load_hull
+from ...study import load_hull
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP, check_draft
 

@@ -17,7 +17,7 @@ from ...errors import HullError
 from ...resistance import (DISAGREE, METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity,
                            wave_pattern)
 from .._app import app
-from ..hulls import load_hull
+from ...study import load_hull
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP, check_draft
 

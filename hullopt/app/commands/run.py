@@ -10,7 +10,7 @@ import typer
 from ...errors import HullError
 from ...optimise import TARGETS
 from .._app import app
-from ..config import load_config
+from ...study import load_config
 from ..output import displayed, fmt, label, print_json, quantity, say, styled, table, unit_scale, warn
 
 
@@ -29,7 +29,7 @@ def run_command(
 ) -> None:
     """Run a design config; exit code 3 when the targets cannot be met (the closest design is written)."""
     from ..run import run
-    from ..sweep import parse_shard
+    from ...study import parse_shard
 
     cfg, raw = load_config(config, set_ or [])
     k_n = parse_shard(shard)
@@ -44,7 +44,7 @@ def run_command(
     if json:
         print_json(report)
     else:
-        _summary(report, folder)
+        summary(report, folder)
     if not report["met"]:
         raise typer.Exit(3)
 
@@ -59,7 +59,7 @@ def _signed(v: float, sig: int = 3, ref: float | None = None) -> str:
     return text if text.startswith("-") or float(text.replace("−", "-")) == 0 else f"+{text}"
 
 
-def _summary(report: dict, folder: Path) -> None:
+def summary(report: dict, folder: Path) -> None:
     """What a run did, as a naval architect reads it: the targets with their units, the particulars and the
     objective parent → design with the change, and the report's warnings."""
     if report.get("partial"):

@@ -1,7 +1,7 @@
 """``hullopt stability`` (GZ curve, cross curves, IS Code criteria), ``hullopt lines`` (lines plan, curves,
 offset tables) and ``hullopt print`` (a scaled model in watertight pieces for 3D printing).
 
-``stability`` runs one kept program (:func:`~hullopt.app.programs.cached_call`) and imports the hydrostatics
+``stability`` runs one kept program (:func:`~hullopt.study.cached_call`) and imports the hydrostatics
 only while it computes: a warm call neither traces nor compiles, and the imports overlap the solve."""
 
 from __future__ import annotations
@@ -18,7 +18,8 @@ from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import export_mesh, split_for_print, to_trimesh
 from .._app import app
-from ..hulls import LoadedHull, load_hull
+from ...models import LoadedHull
+from ...study import load_hull
 from ..output import (EXIT_CRITERIA, busy, fmt, parse_range, print_json, quantity, say, styled, table, unit_places,
                       warn)
 from .hydro import HULL_HELP, check_draft, parse_displacement
@@ -72,7 +73,7 @@ def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: 
     """Dispatch :func:`_stability_program` through a kept program (no tracing or compiling when warm; angles in
     radians, lengths in m) and return at once: ``(curve fields, criteria fields, volume at the deck)``, arrays
     still being computed."""
-    from ..programs import cached_call
+    from ...study import cached_call
 
     def arr(v):  # arrays, not Python floats: a float would be baked into the program
         return None if v is None else jnp.asarray(v, dtype=float)

@@ -18,7 +18,7 @@ from ...waves import (
     nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
 )
 from .._app import app
-from ..hulls import load_hull
+from ...study import load_hull
 from ..output import busy, console, parse_range, print_json, table, warn
 from .hydro import HULL_HELP, check_draft
 

@@ -13,7 +13,7 @@ import typer
 from ...errors import HullError
 from ...wind import MODELS, check_parts, drawing_variables, ship_type, wind_coefficients, wind_variables
 from .._app import app
-from ..hulls import load_hull
+from ...study import load_hull
 from ..output import print_json, say, table
 from ..wind_config import DrawingsConfig, config_parts, read_wind_config
 from .hydro import check_draft

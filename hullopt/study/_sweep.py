@@ -26,9 +26,11 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import HullError
+from ..geometry import atomic_write_bytes
+from ..models import feature_hull
 from ..optimise import make_targets, solve_pareto
-from .config import RunConfig
-from .output import write_json
+from ._config import RunConfig
+from ._problem import Problem, build_problem, params_to_dict
 
 PARTICULARS = ("volume", "cb", "lcb_pct", "cp", "cwp", "wetted_surface", "bwl", "lwl")
 
@@ -85,15 +87,13 @@ class SweepPlan:
     """The ε-constraint sweep of a config: at each Bf* minimise the objective with the targets and
     Bf = Bf* held. ``values(k)`` are chunk k's Bf*, ``solve(k)`` its rows."""
 
-    def __init__(self, cfg: RunConfig, prob):
-        from .run import objective_from
-
+    def __init__(self, cfg: RunConfig, prob: Problem):
         sw = cfg.sweep
         targets = dict(cfg.targets) | {"bf": 0.5 * (sw.start + sw.stop)}
         tgt = make_targets(targets, cfg.tolerances, cfg.kg)
         self.cfg, self.prob = cfg, prob
         self.design = eqx.tree_at(lambda x: x.targets, prob.design, tgt)
-        self.measure = objective_from(sw.measure)
+        self.measure = sw.measure.build()
         self.chunk = sw.chunk
         self.n_chunks = -(-sw.count // sw.chunk)
         self.key = sweep_key(cfg)
@@ -105,8 +105,6 @@ class SweepPlan:
         """Rows of chunk ``k``: ``bf_target``, ``objective``, ``measure``, ``met``, ``max_violation``,
         ``iterations``, ``params``, ``particulars``. The chunk is padded (with its last value) to a multiple
         of the device count, so every chunk has one shape and compiles once."""
-        from .run import _params_dict
-
         mesh = mesh or device_mesh()
         values = self.values(k)
         size = -(-self.chunk // mesh.size) * mesh.size
@@ -123,7 +121,7 @@ class SweepPlan:
             "met": bool(r.met[i]),
             "max_violation": float(r.max_violation[i]),
             "iterations": int(r.steps[i]),
-            "params": _params_dict(jax.tree.map(lambda a: a[i], r.params)),
+            "params": params_to_dict(jax.tree.map(lambda a: a[i], r.params)),
             "particulars": {n: float(hd[n][i]) for n in PARTICULARS},
         } for i, e in enumerate(values)]
 
@@ -134,8 +132,8 @@ class SweepPlan:
         return load_chunk(path, self.key, self.values(k))
 
     def write(self, chunks: Path, k: int, rows: list[dict]) -> None:
-        write_json(self.path(chunks, k), {"key": self.key, "index": k, "values": self.values(k).tolist(),
-                                          "designs": rows})
+        data = {"key": self.key, "index": k, "values": self.values(k).tolist(), "designs": rows}
+        atomic_write_bytes(self.path(chunks, k), (json.dumps(data, indent=2) + "\n").encode())
 
 
 def run_chunks(plan: SweepPlan, out: Path, shard=(1, 1), executor: str = "local", address: str | None = None,
@@ -168,17 +166,18 @@ def run_chunks(plan: SweepPlan, out: Path, shard=(1, 1), executor: str = "local"
 
 
 @functools.lru_cache(maxsize=4)
-def _worker_plan(raw_json: str) -> SweepPlan:
-    from .run import build_problem
+def _worker_plan(task_json: str) -> SweepPlan:
+    task = json.loads(task_json)
+    cfg = RunConfig.model_validate(task["config"])
+    p = task["parent"]
+    parent = feature_hull(p, p["name"], p["design_draft"], p["q"])
+    return SweepPlan(cfg, build_problem(cfg, parent, task["fairness"], True))
 
-    cfg = RunConfig.model_validate(json.loads(raw_json))
-    return SweepPlan(cfg, build_problem(cfg))
 
-
-def _dask_chunk(raw_json: str, k: int) -> list[dict]:
-    """A Dask task: chunk ``k`` of the sweep of a config (as JSON), solved on the worker's devices."""
+def _dask_chunk(task_json: str, k: int) -> list[dict]:
+    """A Dask task: chunk ``k`` of the sweep of a config on a parent (as JSON), solved on the worker's devices."""
     jax.config.update("jax_enable_x64", True)  # a fresh worker process; a no-op in the client's
-    return _worker_plan(raw_json).solve(k)
+    return _worker_plan(task_json).solve(k)
 
 
 def _run_dask(plan: SweepPlan, chunks: Path, todo: list[int], address: str | None, progress) -> None:
@@ -199,8 +198,10 @@ def _run_dask(plan: SweepPlan, chunks: Path, todo: list[int], address: str | Non
             cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None)
             client = Client(cluster)
         with client:
-            raw_json = json.dumps(plan.cfg.model_dump(), sort_keys=True)
-            futures = {client.submit(_dask_chunk, raw_json, k, pure=False): k for k in todo}
+            task = {"config": plan.cfg.model_dump(), "parent": plan.prob.design.model.hull.to_dict(),
+                    "fairness": float(plan.prob.design.fairness)}
+            task_json = json.dumps(task, sort_keys=True)
+            futures = {client.submit(_dask_chunk, task_json, k, pure=False): k for k in todo}
             for fut in as_completed(futures):
                 plan.write(chunks, futures[fut], fut.result())
                 if progress:

@@ -1,5 +1,5 @@
 """The parent of a design run (``[hull] parent``): a library parent (``dtc``, ``parent:dtc``), a parent ``.json``,
-or any hull spec :func:`~hullopt.app.hulls.load_hull` reads — a mesh ``hull.stl?scale=…&lpp=…``, an offsets
+or any hull spec :func:`~hullopt.study.load_hull` reads — a mesh ``hull.stl?scale=…&lpp=…``, an offsets
 ``.csv``, a ``builtin:…``, a run folder. A hull spec's contour lines and feature curves are extracted on first use
 (:func:`~hullopt.models._feature_library.extract_faithful`: the cheapest level of auxiliary apexes whose rebuilt
 hull holds ∇ to 0.05 % and LCB to 0.01 % Lpp) and kept in the cache folder::
@@ -25,16 +25,82 @@ from pathlib import Path
 from urllib.parse import parse_qsl
 
 from ..errors import HullError
-from ..models import FeatureHull, load_parent, parent_names
+from ..geometry import atomic_write_bytes
+from ..models import (FAITHFUL, FeatureHull, LoadedHull, check_params_used, extract_faithful, load_parent,
+                      parent_names, read_features, split_spec, take_param)
+from ..models import load_hull as load_spec
+from ._config import RunConfig
+from ._study import STUDIES, Study
 
 #: Bump to re-extract every kept parent (a change of what is stored, not of the code: that is in the key).
 EXTRACTION_VERSION = 1
 _PACKAGE = Path(__file__).resolve().parents[1]
 
 
-def cache_folder() -> Path:
-    """Where extracted parents are kept: ``$HULLOPT_CACHE/parents`` (default ``~/.cache/hullopt/parents``)."""
-    return Path(os.environ.get("HULLOPT_CACHE", Path.home() / ".cache" / "hullopt")) / "parents"
+def cache_folder(what: str = "parents") -> Path:
+    """Where hullopt keeps ``what``: ``$HULLOPT_CACHE/<what>`` (default ``~/.cache/hullopt/<what>``): extracted
+    parents, and the sections sliced from mesh and CAD hulls (``"sections"``)."""
+    return Path(os.environ.get("HULLOPT_CACHE", Path.home() / ".cache" / "hullopt")) / what
+
+
+def load_hull(spec: str) -> LoadedHull:
+    """Read the hull named by ``spec``: a run folder (its design hull, rebuilt exactly from ``config.json`` and
+    ``report.json``; ``?design=K`` picks design K of a sweep), any other spec by
+    :func:`hullopt.models.load_hull` (a mesh's sections kept in ``cache_folder("sections")``);
+    :class:`HullError` on any problem."""
+    base, params = split_spec(spec)
+    if not base.startswith(("parent:", "builtin:")) and Path(base).is_dir():
+        return _run_folder(Path(base), params, spec)
+    return load_spec(spec, cache=cache_folder("sections"))
+
+
+def read_run_config(folder: Path, what: str = "") -> RunConfig:
+    """The validated ``config.json`` of a run folder; :class:`HullError` naming the file (``what``: a prefix
+    for the message, e.g. the hull spec) if it is missing or not a run config."""
+    from pydantic import ValidationError
+
+    path = folder / "config.json"
+    try:
+        raw = json.loads(path.read_text())
+    except (OSError, ValueError) as e:
+        raise HullError(f"{what}{folder} is not a run folder (config.json: {type(e).__name__}: {e})") from None
+    try:
+        return RunConfig.model_validate(raw)
+    except ValidationError as e:
+        err = e.errors()[0]
+        raise HullError(f"{what}{path} is not a valid run config "
+                        f"({'.'.join(map(str, err['loc'])) or 'config'}: {err['msg']})") from None
+
+
+def load_study(cfg: RunConfig) -> Study:
+    """The study of a config (:data:`~hullopt.study.STUDIES` by its ``kind``) on the parent it names."""
+    return STUDIES[cfg.kind](cfg, run_parent(cfg.hull.parent, cfg.hull.draft))
+
+
+def folder_study(folder: Path, cfg: RunConfig) -> Study:
+    """The study of a run folder: its config on the parent the run deformed (the kept ``parent.json``; the
+    config's parent may have changed since), else on the config's parent."""
+    kept = folder / "parent.json"
+    parent = read_features(kept) if kept.is_file() else run_parent(cfg.hull.parent, cfg.hull.draft)
+    return STUDIES[cfg.kind](cfg, parent)
+
+
+def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
+    """The design hull of a run folder: the run's model at its final parameters (a sweep: ``design=K``)."""
+    design = take_param(params, "design", spec, int, -1)
+    check_params_used(params, spec, ["design"])
+    cfg = read_run_config(folder, f"hull {spec!r}: ")
+    try:
+        report = json.loads((folder / "report.json").read_text())
+    except (OSError, ValueError) as e:
+        raise HullError(f"hull {spec!r}: {folder} is not a run folder with config.json and report.json "
+                        f"({type(e).__name__}: {e})") from None
+    study = folder_study(folder, cfg)
+    try:
+        p, label = study.final_params(report, design)
+    except ValueError as e:
+        raise HullError(f"hull {spec!r}: {e}") from None
+    return LoadedHull(study.problem.design.model(p), f"{folder.name}{label}", float(study.problem.design.draft))
 
 
 def _library(spec: str) -> str | None:
@@ -45,24 +111,12 @@ def _library(spec: str) -> str | None:
     return None
 
 
-def resolve_spec(spec: str, folder: Path) -> str:
-    """``spec`` with a relative file path made relative to ``folder`` (a config's folder), as the wind
-    config's ``hull``: only when the file or run folder exists there; library names and builtins unchanged."""
-    prefix = "parent:" if spec.startswith("parent:") else ""
-    base, sep, query = spec.removeprefix(prefix).partition("?")
-    if base.startswith("builtin:") or base in parent_names() or Path(base).is_absolute():
-        return spec
-    if not (folder / base).exists():
-        return spec
-    return prefix + str(folder / base) + sep + query
-
-
 @functools.cache
 def _code_digest() -> str:
     """Digest of the code that turns a spec into feature curves (models, geometry, the spec parser)."""
     h = hashlib.sha256(f"extraction v{EXTRACTION_VERSION}".encode())
     files = [*sorted((_PACKAGE / "models").glob("*.py")), *sorted((_PACKAGE / "geometry").glob("*.py")),
-             _PACKAGE / "app" / "hulls.py"]
+             Path(__file__)]
     for path in files:
         h.update(path.name.encode())
         h.update(path.read_bytes())
@@ -88,8 +142,6 @@ def parent_key(spec: str, draft: float | None = None) -> dict:
     kind (its suffixes), the spec's parameters (sorted), the config's draft [m] (the fidelity is checked there
     when the spec has no design draft), the extraction settings and the code digest.
     :class:`HullError` if ``spec`` names no file, run folder or builtin."""
-    from ..models._feature_library import FAITHFUL
-
     base, _, query = spec.partition("?")
     digest = _content_digest(base)
     if digest is None and not base.startswith("builtin:"):
@@ -118,8 +170,6 @@ def parent_digest(spec: str, draft: float | None = None) -> str | None:
 
 def _read_kept(path: Path, key: dict) -> FeatureHull | None:
     """The kept parent at ``path`` if it is one for ``key``, else None (absent, corrupt or another key's)."""
-    from ..models import read_features
-
     try:
         stored = json.loads(path.read_text()).get("key")
         if json.loads(json.dumps(key, default=list)) != stored:
@@ -137,9 +187,6 @@ def extract_spec(spec: str, draft: float | None = None) -> tuple[FeatureHull, di
     the spec's (a builtin's T), else ``draft`` [m]. Returns the hull and the
     extraction report of :func:`~hullopt.models._feature_library.extract_faithful`. :class:`HullError` when
     neither the spec nor ``draft`` gives a design draft."""
-    from ..models._feature_library import extract_faithful
-    from .hulls import load_hull
-
     loaded = load_hull(spec)
     if draft is None and loaded.design_draft is None:
         raise HullError(_no_draft(spec))
@@ -170,8 +217,6 @@ def run_parent(spec: str, draft: float | None = None) -> FeatureHull:
 
 
 def _keep(path: Path, hull: FeatureHull, key: dict, spec: str, report: dict) -> None:
-    from ..geometry import atomic_write_bytes
-
     data = {"key": key, "source": spec, "fidelity": report, **hull.to_dict()}
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

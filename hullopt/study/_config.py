@@ -20,19 +20,21 @@ from __future__ import annotations
 import re
 import tomllib
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model, model_validator
 
 from ..errors import HullError
+from ..fairing import SHAPE_MEASURES
+from ..hydro import Hydrostatics
+from ..models import parent_names
 from ..optimise import OBJECTIVES, TARGETS, Objective, make_targets
 from ..resistance import METHODS
 
 
 FAIRNESS = 0.05
 """The default weight of the fairness penalty (``[solver] fairness``) of minimise and Pareto runs, where an
-objective pulls the shape (a fit's default is 0: it already deforms the least needed); see the README's
-"Fairness"."""
+objective pulls the shape (a fit's default is 0: it already deforms the least needed)."""
 
 
 class _Strict(BaseModel):
@@ -98,26 +100,48 @@ class DeformConfig(DesignConfig):
     parent: str | None = None
 
 
-class ObjectiveConfig(_Strict):
-    """An ``[objective]`` table: ``kind`` one of :data:`~hullopt.optimise.OBJECTIVES` (the registered classes)
-    and the options, in config units, that its ``from_config`` reads (it names what a kind needs and lacks)."""
+#: Every objective option a config may give, in config units; an objective kind takes those its class names
+#: in ``options`` (:class:`~hullopt.optimise.Objective`).
+OPTION_FIELDS: dict[str, tuple] = {
+    "speed_kn": (float, Field(gt=0, description="ship speed [kn]")),
+    "hs": (float, Field(default=0.0, ge=0, description="significant wave height [m]")),
+    "tp": (float, Field(default=10.0, gt=0, description="peak period [s]")),
+    "heading_deg": (float, Field(default=0.0, ge=-360, le=360, description="wave heading [deg, 0 head seas]")),
+    "smooth": (float, Field(default=1.0, gt=0, description="width of the smooth max in C_U")),
+    "motion": (bool, Field(default=True, description="include the motion part R_AWM (strip theory)")),
+    "wind_speed": (float, Field(default=0.0, ge=0, description="true wind [m/s]")),
+    "wind_angle_deg": (float, Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")),
+    "method": (Literal[METHODS] | None, Field(  # type: ignore[valid-type]
+        default=None, description="the wave-resistance method (default: the kind's)")),
+    "speeds_kn": (list[Annotated[float, Field(gt=0)]] | None, Field(
+        default=None, min_length=1, description="an operating profile's speeds [kn]")),
+    "weights": (list[Annotated[float, Field(ge=0)]] | None, Field(
+        default=None, description="the profile's weights, one a speed")),
+}
 
-    kind: Literal[tuple(OBJECTIVES)]  # type: ignore[valid-type]
-    speed_kn: float = Field(gt=0)
-    hs: float = Field(default=0.0, ge=0)
-    tp: float = Field(default=10.0, gt=0)
-    heading_deg: float = Field(default=0.0, ge=-360, le=360)
-    smooth: float = Field(default=1.0, gt=0, description="width of the smooth max in C_U")
-    motion: bool = Field(default=True, description="mean_added_resistance: include the motion part R_AWM (strip theory)")
-    wind_speed: float = Field(default=0.0, ge=0, description="true wind [m/s] (wind_added_resistance)")
-    wind_angle_deg: float = Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")
-    method: Literal[METHODS] | None = Field(  # type: ignore[valid-type]
-        default=None, description="calm_resistance: the wave-resistance method (default holtrop; michell for "
-                                  "calm_resistance_michell)")
-    speeds_kn: list[Annotated[float, Field(gt=0)]] | None = Field(
-        default=None, min_length=1, description="calm_resistance: an operating profile's speeds [kn]")
-    weights: list[Annotated[float, Field(ge=0)]] | None = Field(
-        default=None, description="calm_resistance: the profile's weights, one a speed")
+
+def _owners(key: str) -> list[str]:
+    return [k for k, cls in OBJECTIVES.items() if key in cls.options]
+
+
+class ObjectiveOptions(_Strict):
+    """An ``[objective]`` table: ``kind`` one of :data:`~hullopt.optimise.OBJECTIVES` and the options its class
+    takes (:data:`OPTION_FIELDS`); an option of another kind is an error naming the kinds that take it."""
+
+    kind: str
+
+    @model_validator(mode="before")
+    @classmethod
+    def _own_options(cls, data):
+        if isinstance(data, dict):
+            own = cls.model_fields
+            for key in data:
+                if key not in own:
+                    owners = _owners(key)
+                    where = (f"it is an option of {', '.join(owners)}" if owners
+                             else f"expected one of {', '.join(k for k in own if k != 'kind')}")
+                    raise ValueError(f"{key}: kind = {data.get('kind')!r} takes no {key!r} ({where})")
+        return data
 
     @model_validator(mode="after")
     def _options(self):
@@ -127,6 +151,32 @@ class ObjectiveConfig(_Strict):
     def build(self) -> Objective:
         """The :class:`~hullopt.optimise.Objective` of this table (SI; no JAX op runs)."""
         return OBJECTIVES[self.kind].from_config(self.model_dump())
+
+
+OPTIONS: dict[str, type[ObjectiveOptions]] = {
+    kind: create_model(f"{cls.__name__}Options", __base__=ObjectiveOptions, __doc__=cls.description,
+                       kind=(Literal[kind], ...), **{k: OPTION_FIELDS[k] for k in cls.options})
+    for kind, cls in OBJECTIVES.items()
+}
+"""One options model per objective kind (pydantic, strict)."""
+
+ObjectiveConfig = Annotated[Union[tuple(OPTIONS.values())], Field(discriminator="kind")]  # noqa: UP007
+"""An ``[objective]`` table: the options model of its ``kind`` (a discriminated union of :data:`OPTIONS`)."""
+
+_OBJECTIVE = TypeAdapter(ObjectiveConfig)
+
+
+def objective_options(table: dict) -> ObjectiveOptions:
+    """The validated options model of an ``[objective]``-like table (``ValidationError`` on a problem)."""
+    return _OBJECTIVE.validate_python(table)
+
+
+def options_as(options: ObjectiveOptions, kind: str) -> ObjectiveOptions:
+    """``options`` as those of the objective ``kind``: the options that kind takes, the rest dropped
+    (``ValidationError`` when it lacks one it needs, e.g. a sea state)."""
+    take = OBJECTIVES[kind].options
+    return objective_options({k: v for k, v in options.model_dump().items() if k in take}
+                             | {"kind": kind})
 
 
 class SweepConfig(_Strict):
@@ -158,18 +208,9 @@ def parse_bound(name: str, text) -> tuple[int, float, bool]:
 
 def measure_names() -> tuple[str, ...]:
     """What a ``[constraints]`` key may name: the objectives (:data:`~hullopt.optimise.OBJECTIVES`), the
-    upright hydrostatics' fields (``hullopt hydro --json``), ``bf`` and the fairness measures
-    (:data:`FAIRNESS_MEASURES`, as ``"<= 2 * parent"``)."""
-    from ..hydro import Hydrostatics
-
-    return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf", *FAIRNESS_MEASURES)
-
-
-FAIRNESS_MEASURES = ("unfairness", "sac_roughness", "section_roughness", "section_knuckle", "station_knuckles")
-"""Fairness measures a ``[constraints]`` key may name (built in :data:`hullopt.app.run.ROUGHNESS_MEASURES`):
-the unfairness U (:func:`hullopt.fairing.unfairness`), the roughness of the sectional-area curve and of the
-sections (those the report compares and warns of) and the sections' knuckles (their sharpest turns: in the
-mean over stations, and each station against the parent's same station)."""
+    upright hydrostatics' fields (``hullopt hydro --json``), ``bf`` and the shape measures
+    (:data:`~hullopt.fairing.SHAPE_MEASURES`, as ``"<= 2 * parent"``)."""
+    return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf", *SHAPE_MEASURES)
 
 
 class ConstraintsConfig(_Strict):
@@ -209,13 +250,8 @@ class SolverConfig(_Strict):
     max_steps: int = Field(default=200, ge=1)
     smoothness: float = Field(default=1e-6, ge=0)
     fairness: float | None = Field(default=None, ge=0, description="weight of the unfairness penalty U/U_parent "
-                                   "(default: FAIRNESS for minimise and pareto runs, 0 for fits)")
+                                   "(default: the study's, FAIRNESS for minimise and pareto runs, 0 for fits)")
 
-    def fairness_for(self, kind: str) -> float:
-        """The fairness weight of a run of ``kind``: as given, else :data:`FAIRNESS` (0 for a fit)."""
-        if self.fairness is not None:
-            return self.fairness
-        return 0.0 if kind == "fit" else FAIRNESS
     outer: int = Field(default=8, ge=1, le=50)
 
 
@@ -231,7 +267,7 @@ class RunConfig(_Strict):
     solver: SolverConfig = SolverConfig()
     constraints: ConstraintsConfig = ConstraintsConfig()
 
-    def constraint_options(self, name: str) -> ObjectiveConfig:
+    def constraint_options(self, name: str) -> ObjectiveOptions:
         """The options of the objective ``name`` as a constraint: the sweep's measure's if it is that kind,
         else the ``[objective]`` table's with this kind (``ValueError`` naming the constraint)."""
         if self.sweep is not None and self.sweep.measure.kind == name:
@@ -240,7 +276,7 @@ class RunConfig(_Strict):
             raise ValueError(f"constraints.{name}: an objective as a constraint takes its options (speed_kn, …) "
                              "from [objective]; give one")
         try:
-            return ObjectiveConfig.model_validate(self.objective.model_dump() | {"kind": name})
+            return options_as(self.objective, name)
         except ValidationError as e:
             raise ValueError(f"constraints.{name}: {e.errors()[0]['msg'].removeprefix('Value error, ')}") from None
 
@@ -294,8 +330,6 @@ def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig,
         cfg = RunConfig.model_validate(raw)
     except ValidationError as e:
         raise _invalid(path, e) from None
-    from .parents import resolve_spec
-
     parent = resolve_spec(cfg.hull.parent, path.resolve().parent)  # a file beside the config, as wind's hull
     if parent != cfg.hull.parent:
         cfg.hull.parent = raw["hull"]["parent"] = parent  # config.json then names the file wherever it is read
@@ -315,7 +349,7 @@ def _read_toml(path: Path, what: str) -> dict:
 def _invalid(path: Path, e: ValidationError) -> HullError:
     """One line naming the file and the field of the first problem."""
     err = e.errors()[0]
-    where = ".".join(str(p) for p in err["loc"])
+    where = ".".join(str(p) for p in err["loc"] if p not in OPTIONS)  # a union's tag: the message names the kind
     msg = err["msg"].removeprefix("Value error, ")
     more = f" (and {len(e.errors()) - 1} more)" if len(e.errors()) > 1 else ""
     return HullError(f"{path}: {where + ': ' if where else ''}{msg}{more}")
@@ -332,7 +366,17 @@ def load_design(path: str | Path) -> DeformConfig:
     except ValidationError as e:
         raise _invalid(path, e) from None
     if cfg.parent is not None:
-        from .parents import resolve_spec
-
         cfg.parent = resolve_spec(cfg.parent, path.resolve().parent)
     return cfg
+
+
+def resolve_spec(spec: str, folder: Path) -> str:
+    """``spec`` with a relative file path made relative to ``folder`` (a config's folder), as the wind
+    config's ``hull``: only when the file or run folder exists there; library names and builtins unchanged."""
+    prefix = "parent:" if spec.startswith("parent:") else ""
+    base, sep, query = spec.removeprefix(prefix).partition("?")
+    if base.startswith("builtin:") or base in parent_names() or Path(base).is_absolute():
+        return spec
+    if not (folder / base).exists():
+        return spec
+    return prefix + str(folder / base) + sep + query

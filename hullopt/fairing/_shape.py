@@ -1,0 +1,165 @@
+"""Shape measures of a hull's sections and sectional-area curve, as differentiable constraint measures
+``measure(sections, draft) -> Array`` (the draft unused where a measure does not need one). Each is compared
+with the parent's only (``"<= 2 * parent"``): the values are dimensional and their scale is the hull's own."""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..geometry import Sections, safe_norm, section_integrals
+from ._unfairness import unfairness
+
+MERGE = 1e-3
+"""m: section offsets closer than this are one point in the section measures. Feature points that coincide at
+the parent (a collapsed segment, the deck edge where there is no flat of side) drift apart by 1e-9 m under a
+deformation, and a segment that short turns any way. No hull's offsets resolve a millimetre."""
+
+CENTRELINE = 1e-9
+"""m: offsets with a half-breadth at most this are on the centreline (left out of the section measures)."""
+
+KNUCKLE_FLOOR = np.deg2rad(5.0) ** 4
+"""rad⁴: a station's Σ θ⁴ counts at least this (one 5° turn) in :func:`station_knuckles`, so that a bound
+relative to a parent's nearly straight station still allows it a gentle turn."""
+
+
+def sac_roughness(sections: Sections, draft) -> Float[Array, ""]:
+    """Σ (A'')² Δx [m] of the sectional-area curve A(x) at ``draft`` [m above the baseline] (second divided
+    differences over the stations): a fuller or hollower shoulder raises it.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, scalar
+        Σ (A'')² Δx [m].
+    """
+    x, a = sections.x, 2.0 * section_integrals(sections, draft).area
+    h0, h1 = jnp.diff(x)[:-1], jnp.diff(x)[1:]
+    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
+    return jnp.sum(d2**2 * 0.5 * (h0 + h1))
+
+
+def _compact(keep, *arrays):
+    """The rows of ``arrays`` where ``keep``, moved to the front in order (the rest after them), and how
+    many there are: a fixed-shape stand-in for ``array[keep]``."""
+    order = jnp.argsort(~keep, stable=True)
+    return (*(v[order] for v in arrays), jnp.sum(keep))
+
+
+def _turns(p):
+    """Turning angles [rad] between neighbouring segments of a half-section polyline ``p (m, 2)`` [m] and the
+    segment lengths [m], its centreline points and segments under :data:`MERGE` left out, as fixed-shape
+    arrays: ``(turn (m−2,), ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded: turns 0,
+    lengths 1 m). Finite gradients: the left-out entries are replaced before any division or angle."""
+    p, k = _compact(jax.lax.stop_gradient(p[:, 0] > CENTRELINE), p)
+    d = jnp.diff(p, axis=0)
+    ds = safe_norm(d)
+    idx = jnp.arange(d.shape[0])
+    d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > MERGE)), d, ds)
+    ok = idx < s
+    ds = jnp.where(ok, ds, 1.0)
+    t = jnp.where(ok[:, None], d / ds[:, None], jnp.array([1.0, 0.0]))
+    cross = t[:-1, 0] * t[1:, 1] - t[:-1, 1] * t[1:, 0]
+    return jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1)), ds, s
+
+
+def section_roughness(sections: Sections, draft=None) -> Float[Array, ""]:
+    """The sections' variation of curvature [m⁻³]: the mean over stations of Σ (Δκ)²/Δs of each half-section
+    polyline (κ the turning angle over the mean neighbouring segment length). A wavy section raises it.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar, optional
+        Waterline height [m above the baseline] (unused).
+
+    Returns
+    -------
+    Array, scalar
+        The mean over stations [m⁻³].
+    """
+
+    def one(p):
+        turn, ds, s = _turns(p)
+        kappa = turn / (0.5 * (ds[:-1] + ds[1:]))
+        terms = jnp.diff(kappa) ** 2 / ds[1:-1]
+        return jnp.sum(jnp.where(jnp.arange(terms.shape[0]) + 2 < s, terms, 0.0))
+
+    return jnp.mean(jax.vmap(one)(sections.yz))
+
+
+def _turns4(sections: Sections) -> Float[Array, " n"]:
+    """Σ θ⁴ [rad⁴] of each station's turning angles (:func:`_turns`)."""
+
+    def one(p):
+        turn, _, s = _turns(p)
+        return jnp.sum(jnp.where(jnp.arange(turn.shape[0]) + 1 < s, turn**4, 0.0))
+
+    return jax.vmap(one)(sections.yz)
+
+
+def section_knuckle(sections: Sections, draft=None) -> Float[Array, ""]:
+    """The sections' knuckles [rad⁴]: the mean over stations of Σ θ⁴, θ the turning angle between neighbouring
+    segments of each half-section polyline — a soft maximum of the sharpest turn, which
+    :func:`section_roughness` misses where a knuckle sits beside a long segment. ``"<= 2 * parent"`` lets no
+    turn grow by more than about 2^(1/4) ≈ 1.19× the parent's sharpest where that is one turn.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar, optional
+        Waterline height [m above the baseline] (unused).
+
+    Returns
+    -------
+    Array, scalar
+        The mean over stations of Σ θ⁴ [rad⁴].
+    """
+    return jnp.mean(_turns4(sections))
+
+
+def station_knuckles(sections: Sections, draft=None) -> Float[Array, " n"]:
+    """Each station's knuckles ``(n,)`` [rad⁴]: Σ θ⁴ as :func:`section_knuckle`, floored at
+    :data:`KNUCKLE_FLOOR`. As a constraint every station is held against the parent's same station: the mean
+    over stations is ruled by a real hull's sharpest turns (on the KCS, 99 % of it is a 66° turn at the skeg
+    and a 72° one at the forefoot), so that twice it allowed a new 60° knuckle anywhere else.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar, optional
+        Waterline height [m above the baseline] (unused).
+
+    Returns
+    -------
+    Array, (n,)
+        Each station's Σ θ⁴ [rad⁴], at least :data:`KNUCKLE_FLOOR`.
+    """
+    return jnp.maximum(_turns4(sections), KNUCKLE_FLOOR)
+
+
+def unfairness_measure(sections: Sections, draft=None) -> Float[Array, ""]:
+    """:func:`~hullopt.fairing.unfairness` as a measure (the draft unused)."""
+    return unfairness(sections)
+
+
+SHAPE_MEASURES = {"unfairness": unfairness_measure, "sac_roughness": sac_roughness,
+                  "section_roughness": section_roughness, "section_knuckle": section_knuckle,
+                  "station_knuckles": station_knuckles}
+"""The shape measures a design's ``[constraints]`` may name (``name = "<= 2 * parent"``), by name: each
+``measure(sections, draft)``. ``station_knuckles`` is one value per station (a constraint, not a report value)."""
+
+SHAPE_UNITS = {"unfairness": "-", "sac_roughness": "m", "section_roughness": "m⁻³", "section_knuckle": "rad⁴",
+         "station_knuckles": "rad⁴"}
+"""The units of :data:`SHAPE_MEASURES` (``"-"``: dimensionless)."""

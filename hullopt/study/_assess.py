@@ -1,0 +1,147 @@
+"""A study's second look at its designs: every measure a report compares (each objective kind the config's
+options build, the constraints' measures, Bf, the shape measures) of the parent and each design, in one kept
+program, and the warnings a naval architect needs (active or violated constraints, a rougher hull than the
+parent's, calm-water methods that disagree)."""
+
+from __future__ import annotations
+
+import jax
+import numpy as np
+from pydantic import ValidationError
+
+from ..constants import G, KNOT
+from ..fairing import SHAPE_MEASURES, SHAPE_UNITS
+from ..geometry import Sections
+from ..models import FeatureParams
+from ..optimise import OBJECTIVES, Design, Particular, with_objective_scale
+from ..resistance import DISAGREE, holtrop_hull, outside_validity
+from ._config import RunConfig, options_as
+from ._problem import Problem, constraint_measure
+from ._programs import cached_call
+
+SI_UNITS = {"volume": "m³", "displacement": "kg", "wetted_surface": "m²", "lcb": "m", "lcf": "m", "kb": "m",
+            "awp": "m²", "bmt": "m", "bml": "m", "kmt": "m", "tpc": "t/cm", "mct": "t·m/cm", "lwl": "m", "bwl": "m",
+            "lcb_pct": "% Lpp", "lcf_pct": "% Lpp", "draft": "m", **SHAPE_UNITS}
+"""The units of the particulars and shape measures a report tables (an objective carries its own)."""
+
+ROUGHNESS = 2.0
+"""A design's sectional-area curve or sections rougher than this many times the parent's is warned of."""
+
+COMPARED = ("unfairness", "sac_roughness", "section_roughness")
+"""The shape measures every report compares, parent and design (the roughness warnings read the last two)."""
+
+
+def report_measures(cfg: RunConfig, d: Design) -> dict:
+    """``{name: measure(sections, draft)}`` that a report compares, parent and design: every objective kind the
+    ``[objective]`` table's options build (the sweep's measure with its own), the constraints' measures
+    (``station_knuckles``, one value a station, left out), Bf and :data:`COMPARED`."""
+    out = {}
+    base = cfg.objective
+    if base is not None:
+        for kind in OBJECTIVES:
+            try:
+                out[kind] = options_as(base, kind).build()
+            except ValidationError:
+                pass  # e.g. a sea state for mean_added_resistance when the objective is calm-water resistance
+        out[base.kind] = d.objective
+    if cfg.sweep is not None:
+        out[cfg.sweep.measure.kind] = cfg.sweep.measure.build()
+    for name in cfg.constraints.bounds():
+        if name != "station_knuckles":
+            out.setdefault(name, constraint_measure(cfg, name))
+    out.setdefault("bf", Particular("bf"))
+    for name in COMPARED:
+        out.setdefault(name, SHAPE_MEASURES[name])
+    return out
+
+
+def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
+    """The measures of the parent and of each design (params stacked on a leading axis), each limit group's
+    largest normalised value per design, and the parent and its sectional-area curve [m²]."""
+    parent = d.model(p0)
+    d = with_objective_scale(d, p0)
+    out_p = {k: m(parent, d.draft) for k, m in measures.items()}
+
+    def one(params):
+        s = d.model(params)
+        g = {} if d.limits is None else {k: jax.numpy.max(v) for k, v in d.limits.groups(s, d.draft).items()}
+        return {k: m(s, d.draft) for k, m in measures.items()}, g
+
+    vals, groups = jax.vmap(one)(designs)
+    return out_p, vals, groups, parent
+
+
+def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> tuple[dict, list[str]]:
+    """``(objectives, warnings)`` of a study's designs: every measure of :func:`report_measures` of the parent
+    and the design(s) as ``{name: {"parent", "design" (or "designs", a list for several), "unit"}}`` (SI), and
+    warnings of the constraints that are active (within their tolerance of the bound) or violated, of a
+    sectional-area curve or sections more than :data:`ROUGHNESS` times as rough as the parent's and of
+    calm-water methods that disagree. ``key``: the study's (what the kept program depends on)."""
+    d = prob.design
+    measures = report_measures(cfg, d)
+    stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
+    p, vals, groups, parent = jax.device_get(
+        cached_call("assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key))
+    one = len(designs) == 1
+    objectives = {}
+    for k, m in measures.items():
+        unit = getattr(m, "unit", SI_UNITS.get(k, "-"))
+        v = [float(x) for x in np.asarray(vals[k])]
+        objectives[k] = {"parent": float(p[k]), "design" if one else "designs": v[0] if one else v, "unit": unit}
+    warnings = []
+    tol = cfg.constraints.tolerance
+    blend = blend_hint(cfg, prob)
+    extra = cfg.constraints.model_extra or {}
+    for i in range(len(designs)):
+        who = "" if one else f"design {i}: "
+        for k, g in groups.items():
+            g = float(np.asarray(g)[i])
+            what = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline"}.get(
+                k, f"{k} {extra[k]}" if k in extra else k)
+            if g > tol:
+                warnings.append(f"{who}constraint violated: {what} (by {g:.3g} of its bound)")
+            elif g >= -tol and k not in ("max_half_breadth", "bulge"):  # those are on their bound at the parent
+                warnings.append(f"{who}constraint active: {what}")
+        for k, what in (("sac_roughness", "sectional-area curve is"), ("section_roughness", "sections are")):
+            r0, r = float(p[k]), float(np.asarray(vals[k])[i])
+            if r > ROUGHNESS * r0 * (1.0 + tol):  # as a constraint at the bound is met
+                warnings.append(f"{who}the {what} rougher than the parent's: {r / r0:.2f}× "
+                                f"(more than {ROUGHNESS:g}×); raise [solver] fairness"
+                                + blend * (k == "section_roughness"))
+    warnings += calm_disagreement(cfg, objectives, parent, d.draft)
+    return objectives, warnings
+
+
+def calm_disagreement(cfg: RunConfig, objectives: dict, parent: Sections, draft) -> list[str]:
+    """A warning when the parent's calm-water R_T by Holtrop–Mennen and by Michell (both in every report with an
+    objective) differ by more than :data:`~hullopt.resistance.DISAGREE`, naming the method outside
+    its validity (``hullopt resistance --method all`` shows the panel method beside them)."""
+    ho, mi = objectives.get("calm_resistance"), objectives.get("calm_resistance_michell")
+    if ho is None or mi is None or cfg.objective is None:
+        return []
+    ratio = max(ho["parent"], mi["parent"]) / max(min(ho["parent"], mi["parent"]), 1e-300)
+    if ratio <= DISAGREE:
+        return []
+    hull = holtrop_hull(parent, draft)
+    u = cfg.objective.speed_kn * KNOT
+    invalid = outside_validity(hull, u / np.sqrt(G * float(hull.L)))
+    high = "michell" if mi["parent"] > ho["parent"] else "holtrop"
+    why = "; ".join(f"{m} is outside its validity ({invalid[m]})" for m in ("michell", "holtrop") if m in invalid)
+    return [f"calm-water R_T of the parent by {high} is {ratio:.1f}× the other's (holtrop vs michell) at "
+            f"{cfg.objective.speed_kn:g} kn" + (f": {why}" if why else "")
+            + "; compare the methods with hullopt resistance --method all"]
+
+
+def blend_hint(cfg: RunConfig, prob: Problem) -> str:
+    """A hint for the section-roughness warning: the distributions that re-read frames where the parent's
+    segments change in number (a bulb, a forefoot), which blend frames of different make-up into new shapes."""
+    real = np.asarray(prob.design.model.hull.real)
+    x = np.asarray(prob.design.model.hull.x)
+    changes = x[1:][np.any(real[1:] != real[:-1], -1)]
+    bad = [i for i, g in enumerate(cfg.design.distribution)
+           if g.curves != "stations" and np.any((changes > g.x_a) & (changes < g.x_b))]
+    if not bad:
+        return ""
+    return (f", or move the frames themselves (curves = \"stations\") in design.distribution[{bad[0]}]: it re-reads "
+            f"frames across stations where the parent's segments change in number (x = {changes.min():.0f}…"
+            f"{changes.max():.0f} m)")

@@ -1,0 +1,140 @@
+"""The design problem of a config: the feature model, its start point and bounds, the targets, the objective and
+the limits (:class:`~hullopt.optimise.Design`). No hull is evaluated here; the parent comes in built."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import jax
+import numpy as np
+
+from ..errors import HullError
+from ..fairing import SHAPE_MEASURES
+from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model
+from ..optimise import OBJECTIVES, Design, Limits, Particular, make_targets
+from ._config import DesignConfig, RunConfig
+
+
+@dataclass
+class Problem:
+    """A design problem built from a config, with its start point and bounds."""
+
+    design: Design
+    p0: FeatureParams
+    lower: FeatureParams
+    upper: FeatureParams
+    parent: str  # the config's ``[hull] parent``
+
+
+def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") -> tuple:
+    """``(model, p0, half)``: the feature model of a design's tables on ``hull``, its start parameters and the
+    half-widths of its bounds (numpy leaves); :class:`HullError` naming the field (``where`` + table) when a
+    start value is not inside its bound. Shared by ``hullopt run`` and ``hullopt deform``."""
+    model = feature_model(
+        hull,
+        [ApexMove(m.segment, m.x_fixed1, m.x_moved, m.x_fixed2, m.profile) for m in d.apex_move],
+        [Distribution(g.x_a, g.x_b, g.curves if isinstance(g.curves, str) else tuple(g.curves), g.modes)
+         for g in d.distribution],
+        [ContourEdit(e.line, e.x_a, e.x_b, e.shape) for e in d.contour_edit],
+    )
+    modes = max((g.modes for g in d.distribution), default=0)
+    dist0 = np.zeros((len(d.distribution), modes))
+    dist_b = np.ones((len(d.distribution), modes))
+    for i, g in enumerate(d.distribution):
+        c = g.c or []
+        if len(c) > g.modes:
+            raise HullError(f"{where}distribution[{i}].c: {len(c)} values for {g.modes} modes")
+        dist0[i, : len(c)] = c
+        dist_b[i] = g.bound
+    # numpy leaves: building a problem runs no JAX op (each eager op costs a compile or a cache read)
+    p0 = FeatureParams(np.array([m.d for m in d.apex_move], float).reshape(-1, 2), dist0,
+                       np.array([e.amplitude for e in d.contour_edit], float))
+    half = FeatureParams(np.array([[m.bound] * 2 for m in d.apex_move], float).reshape(-1, 2), dist_b,
+                         np.array([e.bound for e in d.contour_edit], float))
+    for name, v, b in (("apex_move d", p0.apex, half.apex), ("distribution c", p0.distribution, half.distribution),
+                       ("contour_edit amplitude", p0.contour, half.contour)):
+        if np.any(np.abs(np.asarray(v)) >= np.asarray(b)):
+            raise HullError(f"{where.rstrip('.') or 'design'}: a start value of {name} is not inside its bound")
+    return model, p0, half
+
+
+def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: bool) -> Problem:
+    """The :class:`~hullopt.optimise.Design`, start and bounds of a config on the feature hull ``parent``, with
+    the fairness weight ``fairness`` and, when ``limits``, the ``[constraints]`` (a study decides both);
+    :class:`HullError` on a bad design.
+
+    The objective and fairness scales (their values at the parent) are set by
+    :func:`~hullopt.optimise.with_objective_scale` inside the jitted solve programs."""
+    draft = cfg.hull.draft or parent.design_draft
+    if draft is None:
+        raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
+    model, p0, half = design_params(cfg.design, parent)
+    lower = jax.tree.map(lambda h: -h, half)
+    try:
+        targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg)
+    except ValueError as e:
+        raise HullError(f"targets: {e}") from None
+    design = Design(model=model, draft=np.asarray(float(draft)), targets=targets,
+                    objective=cfg.objective.build() if cfg.objective else None,
+                    smoothness=cfg.solver.smoothness, param_scale=half, fairness=float(fairness),
+                    limits=limits_from(cfg) if limits else None)
+    return Problem(design, p0, lower, half, cfg.hull.parent)
+
+
+def constraint_measure(cfg: RunConfig, name: str):
+    """The measure a ``[constraints]`` key names: an objective (with the options of
+    :meth:`~hullopt.study.RunConfig.constraint_options`), a shape measure
+    (:data:`~hullopt.fairing.SHAPE_MEASURES`) or a :class:`~hullopt.optimise.Particular`."""
+    if name in SHAPE_MEASURES:
+        return SHAPE_MEASURES[name]
+    return cfg.constraint_options(name).build() if name in OBJECTIVES else Particular(name)
+
+
+def limits_from(cfg: RunConfig) -> Limits:
+    """The :class:`~hullopt.optimise.Limits` of a config's ``[constraints]`` (defaults: half-breadths within
+    the parent's, no new bulge below the waterline)."""
+    c = cfg.constraints
+    bounds = c.bounds()
+    mhb = {"parent": np.nan, "none": None}.get(c.max_half_breadth, c.max_half_breadth)
+    return Limits(names=tuple(bounds), measures=tuple(constraint_measure(cfg, k) for k in bounds),
+                  sense=np.array([b[0] for b in bounds.values()], float),
+                  values=np.array([b[1] for b in bounds.values()], float),
+                  relative=tuple(b[2] for b in bounds.values()),
+                  max_half_breadth=None if mhb is None else np.asarray(float(mhb)),
+                  bulge=c.bulge == "forbid", tol=c.tolerance)
+
+
+PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude")
+"""The keys of a report's ``params``: the leaves of :class:`~hullopt.models.FeatureParams` in order."""
+
+
+def params_to_dict(p: FeatureParams) -> dict:
+    """A design's parameters as a report's ``params`` (nested lists, :data:`PARAM_KEYS`)."""
+    return {k: np.asarray(v).tolist() for k, v in zip(PARAM_KEYS, (p.apex, p.distribution, p.contour))}
+
+
+def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
+    """The parameters of a report's ``params`` (the inverse of :func:`params_to_dict`), shaped ``like`` the
+    problem's start point; :class:`HullError` if they do not fit the problem."""
+    try:
+        leaves = [np.asarray(values[k], float).reshape(np.shape(ref)) for k, ref in
+                  zip(PARAM_KEYS, (like.apex, like.distribution, like.contour))]
+    except (KeyError, ValueError, TypeError) as e:
+        raise HullError(f"the report's params do not fit the run's design ({type(e).__name__}: {e})") from None
+    return FeatureParams(*leaves)
+
+
+def bound_warnings(prob: Problem, params: list[FeatureParams], who: str = "") -> list[str]:
+    """Warnings of parameters within 1 % of their bound (the bound, not the physics, stopped the design);
+    ``who`` is formatted with ``k``, the design's index."""
+    out = []
+    half = prob.upper
+    for k, p in enumerate(params):
+        for name, v, b in (("apex_move", p.apex, half.apex), ("distribution", p.distribution, half.distribution),
+                           ("contour_edit", p.contour, half.contour)):
+            v, b = np.asarray(v, float), np.asarray(b, float)
+            for idx in zip(*np.nonzero(np.abs(v) >= 0.99 * b)):
+                out.append(f"{who.format(k=k)}design.{name}[{idx[0]}]"
+                           f"{'' if len(idx) == 1 else f' component {idx[1]}'} = {v[idx]:.4g} is within 1 % of its "
+                           f"bound ±{b[idx]:.4g}")
+    return out

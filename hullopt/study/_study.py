@@ -1,0 +1,277 @@
+"""Design studies: one class per run kind (``fit``, ``minimise``, ``pareto``), like the objectives. A study is
+built from a validated :class:`~hullopt.study.RunConfig` and the parent's feature curves; ``solve`` returns a
+:class:`Solution` (the report's data, the parent and final hull measured, the designs to assess). Writing files
+and printing are the app's.
+
+Defining a subclass with a ``kind`` registers it in :data:`STUDIES`.
+"""
+
+from __future__ import annotations
+
+import abc
+import hashlib
+import json
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..geometry import Sections
+from ..hydro import Hydrostatics, hydrostatics, sectional_areas
+from ..models import FeatureHull, FeatureParams
+from ..optimise import Design, achieved, non_dominated, solve_fit, solve_minimum, target_errors, with_objective_scale
+from ._assess import assess
+from ._config import FAIRNESS, RunConfig
+from ._problem import Problem, bound_warnings, build_problem, params_from_dict, params_to_dict
+from ._programs import cached_call
+from ._sweep import SweepPlan, run_chunks
+
+STUDIES: dict[str, type[Study]] = {}
+"""The studies by run kind (the config's ``kind``), filled by defining a subclass of :class:`Study`."""
+
+VIOLATION = "max constraint violation |residual| / tolerance"
+"""The name of the constraint-violation series in a study's history (≤ 1: met)."""
+
+
+class Outcome(eqx.Module):
+    """Everything a run folder shows of a parent and a final design, computed in one jitted program."""
+
+    before: Sections  # the parent
+    after: Sections  # the final design
+    parent: Hydrostatics  # of the parent at the draft
+    final: Hydrostatics  # of the final design
+    achieved: Float[Array, " t"]  # the target particulars of the final design
+    errors: Float[Array, " t"]  # ... their errors (optimise.target_errors: the solvers' residuals, normalised units)
+    areas: Float[Array, "2 n"]  # sectional-area curves [m²]: parent, final
+    objective: Float[Array, ""] | None  # the objective of the final design (None without one)
+    objective_parent: Float[Array, ""] | None  # ... and of the parent
+
+
+def measure(d: Design, p0: FeatureParams, final: FeatureParams) -> Outcome:
+    """The :class:`Outcome` of the parameters ``p0`` (the parent) and ``final`` at the design's draft."""
+    before, after = d.model(p0), d.model(final)
+    h0, h1 = hydrostatics(before, d.draft), hydrostatics(after, d.draft)
+    areas = jnp.stack([sectional_areas(before, d.draft), sectional_areas(after, d.draft)])
+    obj = (d.objective(after, d.draft), d.objective(before, d.draft)) if d.objective is not None else (None, None)
+    a = achieved(h1, after, d.targets.names, d.targets.kg)
+    return Outcome(before, after, h0, h1, a, target_errors(a, d.targets), areas, *obj)
+
+
+@dataclass
+class Solution:
+    """What a study's solve found.
+
+    ``report``: the JSON-able results (``kind``, ``converged``, ``met``, ``iterations``, …; see
+    :func:`hullopt.app.run.run`); ``outcome``: the parent and the final design measured (a sweep: the parent
+    twice); ``designs``: the parameters of the designs to assess and write (one, or the sweep's); ``final``:
+    whether there is one final hull (a sweep's hulls are its designs); ``partial``: a shard of a sweep whose other
+    chunks are not done yet (nothing to assess or write)."""
+
+    report: dict
+    outcome: Outcome | None
+    designs: list[FeatureParams] = field(default_factory=list)
+    final: bool = True
+    partial: bool = False
+
+
+def _digest(parent: FeatureHull) -> str:
+    """The parent's content, for the keys of the kept programs."""
+    return hashlib.sha256(json.dumps(parent.to_dict(), sort_keys=True).encode()).hexdigest()
+
+
+class Study(abc.ABC):
+    """A design study of a config on a parent: :attr:`problem` (the :class:`~hullopt.study.Problem`) and
+    :meth:`solve`. Subclasses set ``kind`` (the config's), ``title`` (what the progress display shows),
+    ``limits`` (whether ``[constraints]`` hold) and ``fairness`` (the default fairness weight)."""
+
+    kind: ClassVar[str]
+    title: ClassVar[str]
+    limits: ClassVar[bool] = True
+    fairness: ClassVar[float] = FAIRNESS
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if "kind" in cls.__dict__:
+            STUDIES[cls.kind] = cls
+
+    def __init__(self, cfg: RunConfig, parent: FeatureHull):
+        self.cfg = cfg
+        fairness = self.fairness if cfg.solver.fairness is None else cfg.solver.fairness
+        self.problem: Problem = build_problem(cfg, parent, fairness, self.limits)
+        self.key = [cfg.model_dump(mode="json"), _digest(parent)]  # what a kept program depends on
+
+    @abc.abstractmethod
+    def solve(self, out: Path, progress: Callable[[int], None] | None = None, **options) -> Solution:
+        """Solve the study; ``out`` the run folder (a sweep keeps its chunks there), ``progress(n)`` told of
+        ``n`` more units of work done (a sweep's chunks), ``options`` the kind's (a sweep's shard, executor,
+        address)."""
+
+    def units(self, options: dict) -> int | None:
+        """How many units of work :meth:`solve` reports to ``progress`` (None: one, uncounted)."""
+        return None
+
+    def final_params(self, report: dict, design: int = -1) -> tuple[FeatureParams, str]:
+        """The parameters of a finished run's design (its report's ``params``; a sweep: design ``design``) and a
+        label for it; ``ValueError`` when the report has none."""
+        if design != -1:
+            raise ValueError(f"?design applies to sweeps; this is a {self.kind!r} run")
+        if "params" not in report:
+            raise ValueError("the report has no params (an unfinished run?)")
+        return params_from_dict(report["params"], self.problem.p0), ""
+
+    def assess(self, solution: Solution) -> tuple[dict, list[str]]:
+        """The report's ``objectives`` and ``warnings`` of a solution's designs (:func:`~hullopt.study.assess`,
+        plus parameters stopped by their bounds)."""
+        objectives, warnings = assess(self.cfg, self.problem, solution.designs, self.key)
+        who = "" if solution.final else "design {k}: "
+        return objectives, bound_warnings(self.problem, solution.designs, who) + warnings
+
+
+class _Single(Study):
+    """A study with one final design, solved and measured in one kept program."""
+
+    @abc.abstractmethod
+    def _solve(self, d: Design, p0, lower, upper):
+        """The solver's result (a :class:`~hullopt.optimise.SolveResult`) from ``p0`` within the bounds."""
+
+    @abc.abstractmethod
+    def history(self, result) -> dict:
+        """``{"iteration": label, "series": {name: values}}``: what the solver recorded, for the report's plot."""
+
+    def _program(self, d: Design, p0, lower, upper):
+        d = with_objective_scale(d, p0)
+        res = self._solve(d, p0, lower, upper)
+        return res, measure(d, p0, res.params)
+
+    def solve(self, out: Path, progress=None, **options) -> Solution:
+        prob = self.problem
+        d = prob.design
+        res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
+                                            (), key=self.key))
+        met = bool(res.met)
+        report = {
+            "kind": self.kind,
+            "converged": bool(res.solver_ok) and met,
+            "met": met,
+            "iterations": int(res.steps),
+            "max_violation": float(res.max_violation),
+            "targets": target_report(d, m.achieved, m.errors),
+            "params": params_to_dict(res.params),
+        }
+        if d.objective is not None:
+            report["objective"] = {"name": d.objective.name, "value": float(m.objective),
+                                   "parent": float(m.objective_parent)}
+        if not met:
+            worst = max(report["targets"].items(), key=lambda kv: abs(kv[1]["error"]) / kv[1]["tolerance"])
+            report["message"] = (f"the targets cannot be met within the bounds: {worst[0]} is off by "
+                                 f"{worst[1]['error']:.3g} (tolerance {worst[1]['tolerance']:.3g}); "
+                                 "the closest design found is saved")
+        report["history"] = self.history(res)
+        return Solution(report, m, [res.params])
+
+
+def _series(values) -> list:
+    """Recorded values as a JSON list (steps not taken, NaN, as None)."""
+    return [None if not np.isfinite(v) else float(v) for v in np.asarray(values, float).ravel()]
+
+
+class Fit(_Single):
+    """Deform the parent the least needed to meet the targets (Levenberg–Marquardt; no constraints)."""
+
+    kind: ClassVar[str] = "fit"
+    title: ClassVar[str] = "fit (Levenberg–Marquardt)"
+    limits: ClassVar[bool] = False
+    fairness: ClassVar[float] = 0.0
+
+    def _solve(self, d, p0, lower, upper):
+        return solve_fit(d, p0, lower, upper, traced=True, max_steps=self.cfg.solver.max_steps)
+
+    def history(self, result) -> dict:
+        """The cost Σ (residual / tolerance)² after each Levenberg–Marquardt step."""
+        return {"iteration": "Levenberg–Marquardt step",
+                "series": {"cost Σ (residual / tolerance)²": _series(result.history)}}
+
+
+class Minimise(_Single):
+    """Minimise the objective with the targets and ``[constraints]`` held (augmented Lagrangian)."""
+
+    kind: ClassVar[str] = "minimise"
+    title: ClassVar[str] = "minimise (augmented Lagrangian)"
+
+    def _solve(self, d, p0, lower, upper):
+        c = self.cfg.solver
+        return solve_minimum(d, p0, lower, upper, outer=c.outer, max_steps=c.max_steps)
+
+    def history(self, result) -> dict:
+        """The objective (scaled to 1 at the parent) and the largest constraint violation after each round."""
+        return {"iteration": "augmented-Lagrangian round",
+                "series": {"objective / parent's": _series(result.objective_history),
+                           VIOLATION: _series(result.violation_history)}}
+
+
+class Pareto(Study):
+    """An ε-constraint sweep on Bf: at each Bf* of ``[sweep]`` minimise the objective with the targets and
+    Bf = Bf* held, in resumable chunks (:mod:`hullopt.study._sweep`); the front of the sweep's measure against
+    the objective."""
+
+    kind: ClassVar[str] = "pareto"
+    title: ClassVar[str] = "Pareto sweep"
+
+    def units(self, options: dict) -> int:
+        k, n = options.get("shard", (1, 1))
+        return len(range(k - 1, SweepPlan(self.cfg, self.problem).n_chunks, n))
+
+    def final_params(self, report: dict, design: int = -1) -> tuple[FeatureParams, str]:
+        designs = report.get("designs", [])
+        if not 0 <= design < len(designs):
+            raise ValueError(f"a sweep's run folder needs ?design=K with K in 0…{len(designs) - 1}")
+        return params_from_dict(designs[design]["params"], self.problem.p0), f" design {design}"
+
+    def solve(self, out: Path, progress=None, shard=(1, 1), executor: str = "local",
+              address: str | None = None) -> Solution:
+        cfg, prob = self.cfg, self.problem
+        plan = SweepPlan(cfg, prob)
+        designs = run_chunks(plan, out, shard, executor, address, progress=progress)
+        if designs is None:
+            done = [k for k in range(plan.n_chunks) if plan.load(plan.path(out / "chunks", k), k) is not None]
+            rows = [r for k in done for r in plan.load(plan.path(out / "chunks", k), k)]
+            met = all(r["met"] for r in rows)
+            report = {"kind": self.kind, "partial": True, "shard": f"{shard[0]}/{shard[1]}", "converged": met,
+                      "met": met, "chunks_done": done, "chunks_total": plan.n_chunks, "designs": rows}
+            return Solution(report, None, final=False, partial=True)
+        pts = jnp.asarray([[r["measure"], r["objective"]] if r["met"] else [np.nan, np.nan] for r in designs])
+        front = np.asarray(non_dominated(pts))
+        for r, f in zip(designs, front):
+            r["pareto"] = bool(f)
+        met = all(r["met"] for r in designs)
+        report = {"kind": self.kind, "converged": met, "met": met,
+                  "iterations": sum(r["iterations"] for r in designs),
+                  "targets": {k: float(v) for k, v in cfg.targets.items()}, "designs": designs,
+                  "objective": {"name": cfg.objective.kind, "measure": cfg.sweep.measure.kind},
+                  "pareto_count": int(front.sum())}
+        m = jax.device_get(eqx.filter_jit(measure)(prob.design, prob.p0, prob.p0))
+        params = [params_from_dict(r["params"], prob.p0) for r in designs]
+        return Solution(report, m, params, final=False)
+
+
+def target_report(d: Design, achieved_values, errors) -> dict:
+    """Target, achieved value, error (:func:`~hullopt.optimise.target_errors`), tolerance and met per target."""
+    out = {}
+    for k, t, tol, v, err in zip(d.targets.names, np.asarray(d.targets.values), np.asarray(d.targets.tol),
+                                 np.asarray(achieved_values), np.asarray(errors)):
+        out[k] = {"target": float(t), "achieved": float(v), "error": float(err), "tolerance": float(tol),
+                  "met": bool(abs(err) <= tol)}
+    return out
+
+
+def design_outcomes(study: Study, params: list[FeatureParams]) -> list[Outcome]:
+    """Each design measured against the parent (:func:`measure`), one jitted program for all."""
+    m = eqx.filter_jit(measure)
+    prob = study.problem
+    return [jax.device_get(m(prob.design, prob.p0, p)) for p in params]
