@@ -13,7 +13,8 @@ import pytest
 from rich.cells import cell_len
 
 from hullopt.app import output
-from hullopt.app.output import EXIT_CODES, change, fmt, quantity
+from hullopt.app.output import EXIT_CODES
+from hullopt.report import change, fmt, quantity
 
 BOX = "builtin:box?L=100&B=20&D=10"
 WIGLEY = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=41"

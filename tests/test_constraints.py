@@ -2,7 +2,6 @@
 problem solved by hand (KKT), the section limits against offsets worked out by hand, and a small run whose
 constraints hold, with the report's ``objectives`` and ``warnings`` and the parent's offsets in the folder."""
 
-import json
 import tomllib
 from pathlib import Path
 
@@ -11,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.study import FAIRNESS, RunConfig, SolverConfig, parse_bound
+from hullopt.study import FAIRNESS, RunConfig, parse_bound
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 

@@ -9,7 +9,8 @@ import re
 
 import pytest
 
-PACKAGES = ["geometry", "models", "hydro", "waves", "wind", "resistance", "fairing", "drawing", "optimise"]
+PACKAGES = ["geometry", "models", "hydro", "waves", "wind", "resistance", "fairing", "drawing", "optimise", "study",
+            "report"]
 
 
 def _exported_functions():

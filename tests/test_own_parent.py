@@ -5,7 +5,6 @@ kept file rebuilt, and a hull spec without a design draft refused with a clear m
 import json
 
 import jax
-import numpy as np
 import pytest
 
 from hullopt.study import _hulls as parents

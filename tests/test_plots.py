@@ -22,9 +22,9 @@ def hull():
 @pytest.fixture
 def drawn(monkeypatch):
     """The figures saved through drawing.save_figure (drawn, then saved as usual): a list."""
-    import hullopt.app.plots
     import hullopt.drawing
     from hullopt.drawing import _curves, _lines, _save
+    from hullopt.report import _plots
 
     figures, save = [], _save.save_figure
 
@@ -34,7 +34,7 @@ def drawn(monkeypatch):
         figures.append(fig)
         return save(fig, path, **kw)
 
-    for mod in (hullopt.drawing, _curves, _lines, hullopt.app.plots):
+    for mod in (hullopt.drawing, _curves, _lines, _plots):
         monkeypatch.setattr(mod, "save_figure", keep)
     return figures
 
@@ -133,7 +133,7 @@ def test_lines_plan_labels_dwl_and_a_true_scale(hull, tmp_path, drawn):
 
 
 def test_body_plans_title_stations_and_dwl(hull, tmp_path, drawn):
-    from hullopt.app.plots import plot_body_plans
+    from hullopt.report import plot_body_plans
 
     after = Sections(hull.x, hull.yz * jnp.array([1.1, 1.0]), hull.lpp)
     plot_body_plans(hull, after, Path(tmp_path / "b.png"), draft=T, title="Body plan: run x")
@@ -147,7 +147,7 @@ def test_body_plans_title_stations_and_dwl(hull, tmp_path, drawn):
 
 
 def test_convergence_shows_objective_and_violation_on_log_scales(tmp_path, drawn):
-    from hullopt.app.plots import plot_convergence
+    from hullopt.report import plot_convergence
 
     f, v = np.array([1.0, 0.8, 0.7, 0.69]), np.array([3.0, 0.5, 1e-3, 1e-6])
     plot_convergence(f, tmp_path / "c.png", "augmented-Lagrangian round", violation=v)
@@ -165,7 +165,7 @@ def test_convergence_shows_objective_and_violation_on_log_scales(tmp_path, drawn
 
 def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):
     """Forces in kN (N / 1000), each design's Bf to 4 significant digits once, a title that says what is plotted."""
-    from hullopt.app.plots import plot_pareto
+    from hullopt.report import plot_pareto
 
     bf = [0.3, 0.3125, 0.325, 0.3375]  # two decimals would make 0.31/0.31 and 0.33/0.34, three 0.312/0.338
     designs = [dict(bf_target=b, measure=5e5 - 1e5 * i, objective=3e4 + 1e4 * i, met=True, pareto=True)

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hullopt.app.report import Hulls, write_report
+from hullopt.report import Hulls, write_report
 from hullopt.models import wigley
 
 CHROMIUM = next((p for p in (shutil.which(n) for n in ("chromium", "chromium-browser")) if p), None)
@@ -140,7 +140,7 @@ def test_report_command_rebuilds_the_hulls_from_the_run_folder(cli, tmp_path):
     the design's is moved aft."""
     from hullopt.study import load_config
     from hullopt.study import run_parent
-    from hullopt.app.report import read_run, run_hulls
+    from hullopt.report import read_run, run_hulls
     from hullopt.models import save_features
 
     folder = tmp_path / "run"

@@ -153,7 +153,7 @@ def test_every_shipped_config_is_valid():
     """Each file in configs/ reads and validates as what it is (run, wind, or a deform design)."""
     from hullopt.app.commands.features import read_design
     from hullopt.study import load_config
-    from hullopt.app.wind_config import read_wind_config
+    from hullopt.study import read_wind_config
     from hullopt.models import parent_names
 
     for path in sorted(CONFIGS.glob("*.toml")):

@@ -14,7 +14,8 @@ import typer
 from rich.markup import escape
 from typer.core import HAS_RICH, TyperCommand, TyperGroup
 
-from .output import JSON_UNITS, exit_code_help
+from ..report import JSON_UNITS
+from .output import exit_code_help
 
 HELP = "Differentiable hull-form optimiser: hydrostatics, added resistance, wind, fitting, fairing."
 EPILOG = f"{JSON_UNITS}\n\n{exit_code_help()}"

@@ -12,14 +12,36 @@ from __future__ import annotations
 import contextlib
 from pathlib import Path
 
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    SpinnerColumn,
+    TextColumn,
+    TimeElapsedColumn,
+)
 
 from ..drawing import write_offsets_wide
 from ..models import save_features
-from ..study import VIOLATION, Outcome, RunConfig, Study, collect_chunks, design_outcomes, load_study
-from .output import console, write_hull_file, write_json
-from .plots import plot_body_plans, plot_convergence, plot_pareto, plot_sectional_areas
-from .report import Hulls, write_report
+from ..report import (
+    Hulls,
+    plot_body_plans,
+    plot_convergence,
+    plot_pareto,
+    plot_sectional_areas,
+    write_json,
+    write_report,
+)
+from ..study import (
+    VIOLATION,
+    Outcome,
+    RunConfig,
+    Study,
+    collect_chunks,
+    design_outcomes,
+    load_study,
+)
+from .output import console, write_hull_file
 
 
 def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) -> dict:

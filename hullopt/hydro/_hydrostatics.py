@@ -75,7 +75,7 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
     Exact for the polyline sections; along x, Simpson's rule on the station positions (the kernel's
     :func:`~hullopt.geometry.longitudinal_integrals`).
     The draft must lie above the keel and at most at the deck, where the waterplane is the deck edge's (the
-    caller checks: see :func:`check_draft`).
+    caller checks: see :meth:`hullopt.models.LoadedHull.check_draft`).
 
     Parameters
     ----------

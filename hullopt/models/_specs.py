@@ -55,6 +55,23 @@ class LoadedHull:
     name: str
     design_draft: float | None = None
 
+    def keel_and_depth(self) -> tuple[float, float]:
+        """The lowest and highest points of the sections [m above the baseline] (numpy: no JAX op)."""
+        z = np.asarray(self.sections.yz)[..., 1]
+        return float(z.min()), float(z.max())
+
+    def check_draft(self, draft: float, what: str = "--draft") -> float:
+        """``draft`` [m above the baseline] as a float when it lies above the baseline (and the keel) and at most at
+        the deck (there the waterplane is the deck edge's: the deck closes the sections; above it the hull is
+        submerged); :class:`HullError` naming ``what`` (the option or field) otherwise."""
+        keel, hi = self.keel_and_depth()
+        lo = max(0.0, keel)
+        if not (np.isfinite(draft) and lo < draft <= hi):
+            where = "above the deck" if np.isfinite(draft) and draft > hi else "outside the hull"
+            raise HullError(f"{what} {draft:g} m is {where}: expected a draft in ({lo:g}, {hi:g}] m "
+                            f"(keel or baseline to deck)")
+        return float(draft)
+
 
 def split_spec(spec: str) -> tuple[str, dict[str, str]]:
     """Split a hull spec ``BASE?k=v&…`` into its base and its parameters.

@@ -9,7 +9,7 @@ import jax
 import numpy as np
 from pydantic import ValidationError
 
-from ..constants import G, KNOT
+from ..constants import KNOT, G
 from ..fairing import SHAPE_MEASURES, SHAPE_UNITS
 from ..geometry import Sections
 from ..models import FeatureParams

@@ -22,7 +22,15 @@ import tomllib
 from pathlib import Path
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, create_model, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    ValidationError,
+    create_model,
+    model_validator,
+)
 
 from ..errors import HullError
 from ..fairing import SHAPE_MEASURES
@@ -30,7 +38,6 @@ from ..hydro import Hydrostatics
 from ..models import parent_names
 from ..optimise import OBJECTIVES, TARGETS, Objective, make_targets
 from ..resistance import METHODS
-
 
 FAIRNESS = 0.05
 """The default weight of the fairness penalty (``[solver] fairness``) of minimise and Pareto runs, where an

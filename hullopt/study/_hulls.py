@@ -26,8 +26,18 @@ from urllib.parse import parse_qsl
 
 from ..errors import HullError
 from ..geometry import atomic_write_bytes
-from ..models import (FAITHFUL, FeatureHull, LoadedHull, check_params_used, extract_faithful, load_parent,
-                      parent_names, read_features, split_spec, take_param)
+from ..models import (
+    FAITHFUL,
+    FeatureHull,
+    LoadedHull,
+    check_params_used,
+    extract_faithful,
+    load_parent,
+    parent_names,
+    read_features,
+    split_spec,
+    take_param,
+)
 from ..models import load_hull as load_spec
 from ._config import RunConfig
 from ._study import STUDIES, Study

@@ -10,7 +10,14 @@ import numpy as np
 
 from ..errors import HullError
 from ..fairing import SHAPE_MEASURES
-from ..models import ApexMove, ContourEdit, Distribution, FeatureHull, FeatureParams, feature_model
+from ..models import (
+    ApexMove,
+    ContourEdit,
+    Distribution,
+    FeatureHull,
+    FeatureParams,
+    feature_model,
+)
 from ..optimise import OBJECTIVES, Design, Limits, Particular, make_targets
 from ._config import DesignConfig, RunConfig
 

@@ -25,10 +25,24 @@ from jaxtyping import Array, Float
 from ..geometry import Sections
 from ..hydro import Hydrostatics, hydrostatics, sectional_areas
 from ..models import FeatureHull, FeatureParams
-from ..optimise import Design, achieved, non_dominated, solve_fit, solve_minimum, target_errors, with_objective_scale
+from ..optimise import (
+    Design,
+    achieved,
+    non_dominated,
+    solve_fit,
+    solve_minimum,
+    target_errors,
+    with_objective_scale,
+)
 from ._assess import assess
 from ._config import FAIRNESS, RunConfig
-from ._problem import Problem, bound_warnings, build_problem, params_from_dict, params_to_dict
+from ._problem import (
+    Problem,
+    bound_warnings,
+    build_problem,
+    params_from_dict,
+    params_to_dict,
+)
 from ._programs import cached_call
 from ._sweep import SweepPlan, run_chunks
 

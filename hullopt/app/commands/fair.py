@@ -19,9 +19,10 @@ from ...geometry import coons_surface
 from ...hydro import hydrostatics
 from ...models import OffsetTable, offset_surface, read_offsets
 from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
-from .._app import app
+from ...report import fmt, quantity, write_json
 from ...study import load_hull
-from ..output import EXIT_NOT_CONVERGED, busy, fmt, print_json, quantity, say, table, warn, write_json
+from .._app import app
+from ..output import EXIT_NOT_CONVERGED, busy, print_json, say, table, warn
 
 FAIR_HULL_HELP = ("offsets .csv (faired as given), or any other hull spec (builtin:…, mesh): its sections are "
                   "resampled on --stations × --waterlines offsets")

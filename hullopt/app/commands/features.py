@@ -13,9 +13,11 @@ from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
 from ...hydro import hydrostatics
 from ...models import check_design, extract_parent, load_parent, parent_names
-from .._app import app
+from ...report import write_json
 from ...study import load_hull
-from ..output import console, write_hull_file, write_json
+from .._app import app
+from ..output import console, write_hull_file
+
 
 def read_design(path: Path, parent: str | None = None, draft: float | None = None):
     """A design TOML → ``(model, params, parent spec)``, validated by the run config's models

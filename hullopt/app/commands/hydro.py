@@ -14,10 +14,10 @@ import typer
 from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
-from .._app import app
-from ...models import LoadedHull
+from ...report import PARTICULARS, unit_places
 from ...study import load_hull
-from ..output import PARTICULARS, parse_range, print_json, say, table, unit_places, write_hull_file
+from .._app import app
+from ..output import parse_range, print_json, say, table, write_hull_file
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
              "a run folder, offsets .csv, a mesh (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=&half=) "
@@ -25,24 +25,6 @@ HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigl
 
 # (key, label, unit, scale for display)
 ROWS = [(key, *v) for key, v in PARTICULARS.items()]
-
-
-def keel_and_depth(hull: LoadedHull) -> tuple[float, float]:
-    """The lowest and highest points of the hull's sections [m above the baseline] (numpy: no JAX op)."""
-    z = np.asarray(hull.sections.yz)[..., 1]
-    return float(z.min()), float(z.max())
-
-
-def check_draft(hull: LoadedHull, draft: float, what: str = "--draft") -> float:
-    """A draft must lie above the baseline (and the keel) and at most at the deck (there the waterplane is the
-    deck edge's: the deck closes the sections); above the deck the hull is submerged."""
-    keel, hi = keel_and_depth(hull)
-    lo = max(0.0, keel)
-    if not (np.isfinite(draft) and lo < draft <= hi):
-        where = "above the deck" if np.isfinite(draft) and draft > hi else "outside the hull"
-        raise HullError(f"{what} {draft:g} m is {where}: expected a draft in ({lo:g}, {hi:g}] m "
-                        f"(keel or baseline to deck)")
-    return float(draft)
 
 
 def parse_displacement(text: str) -> float:
@@ -62,7 +44,7 @@ def resolve_drafts(hull, draft, displacement, drafts, rho) -> np.ndarray:
     if len(chosen) > 1:
         raise HullError(f"give only one of --draft, --displacement, --drafts (got {', '.join(chosen)})")
     if drafts is not None:
-        return np.array([check_draft(hull, t, "--drafts value") for t in parse_range(drafts, "--drafts")])
+        return np.array([hull.check_draft(t, "--drafts value") for t in parse_range(drafts, "--drafts")])
     if displacement is not None:
         from ...hydro import draft_for_volume, hydrostatic_table
 
@@ -75,7 +57,7 @@ def resolve_drafts(hull, draft, displacement, drafts, rho) -> np.ndarray:
         if hull.design_draft is None:
             raise HullError("give --draft, --displacement or --drafts (this hull has no design draft)")
         draft = hull.design_draft
-    return np.array([check_draft(hull, draft)])
+    return np.array([hull.check_draft(draft)])
 
 
 @app.command()

@@ -10,14 +10,18 @@ import jax.numpy as jnp
 import numpy as np
 import typer
 
-from ...constants import G, KNOT, RHO_SEA
+from ...constants import KNOT, RHO_SEA, G
 from ...errors import HullError
-from ...waves import motions as strip_motions
-from ...waves import motion_validity_warning, nmri_added_resistance, omega_from_wavelength
-from .._app import app
 from ...study import load_hull
+from ...waves import (
+    motion_validity_warning,
+    nmri_added_resistance,
+    omega_from_wavelength,
+)
+from ...waves import motions as strip_motions
+from .._app import app
 from ..output import parse_range, print_json, table, warn
-from .hydro import HULL_HELP, check_draft
+from .hydro import HULL_HELP
 
 
 def _lambdas(text: str) -> np.ndarray:
@@ -69,7 +73,7 @@ def motions(
         if h.design_draft is None:
             raise HullError("give --draft (this hull has no design draft)")
         draft = h.design_draft
-    t = check_draft(h, draft)
+    t = h.check_draft(draft)
     s = h.sections
     lpp = float(s.lpp)
     u = speed * KNOT

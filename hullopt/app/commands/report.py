@@ -19,7 +19,7 @@ def report_command(
     with the parent and design hulls in 3D, the body plan, the sectional-area curves, the targets, the
     objectives parent → design with their units, convergence, warnings and, for a sweep, the Pareto front.
     The hulls are rebuilt from the folder's config, parent and report, never from its meshes."""
-    from ..report import write_report
+    from ...report import write_report
 
     with busy(f"writing {run_dir}/report.html"):
         path = write_report(run_dir)

@@ -14,12 +14,19 @@ import typer
 
 from ...constants import KNOT
 from ...errors import HullError
-from ...resistance import (DISAGREE, METHODS, calm_water, holtrop_hull, holtrop_mennen, outside_validity,
-                           wave_pattern)
-from .._app import app
+from ...resistance import (
+    DISAGREE,
+    METHODS,
+    calm_water,
+    holtrop_hull,
+    holtrop_mennen,
+    outside_validity,
+    wave_pattern,
+)
 from ...study import load_hull
+from .._app import app
 from ..output import parse_range, print_json, table, warn
-from .hydro import HULL_HELP, check_draft
+from .hydro import HULL_HELP
 
 NAMES = {"holtrop": "H-M", "michell": "Michell", "panel": "panel"}
 
@@ -117,7 +124,7 @@ def resistance(
         if h.design_draft is None:
             raise HullError("give --draft (this hull has no design draft)")
         draft = h.design_draft
-    t = check_draft(h, draft)
+    t = h.check_draft(draft)
     u = knots * KNOT
     out, hm = _evaluate(h.sections, t, jnp.asarray(u), methods, levels)
     particulars = holtrop_hull(h.sections, t)
@@ -141,11 +148,11 @@ def resistance(
     for msg in disagreements(records, methods, invalid):
         warn(msg)
     if plot is not None:
-        from ..plots import plot_resistance
+        from ...report import plot_resistance
 
         plot_resistance(records, methods, plot, title=f"{h.name} — T {t:g} m")
     if pattern is not None:
-        from ..plots import plot_wave_pattern
+        from ...report import plot_wave_pattern
 
         lpp = float(h.sections.lpp)
         x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)

@@ -9,9 +9,10 @@ import typer
 
 from ...errors import HullError
 from ...optimise import TARGETS
-from .._app import app
+from ...report import displayed, fmt, label, quantity, unit_scale
 from ...study import load_config
-from ..output import displayed, fmt, label, print_json, quantity, say, styled, table, unit_scale, warn
+from .._app import app
+from ..output import print_json, say, styled, table, warn
 
 
 @app.command("run")
@@ -28,8 +29,8 @@ def run_command(
                                                 "a local cluster)")] = None,
 ) -> None:
     """Run a design config; exit code 3 when the targets cannot be met (the closest design is written)."""
-    from ..run import run
     from ...study import parse_shard
+    from ..run import run
 
     cfg, raw = load_config(config, set_ or [])
     k_n = parse_shard(shard)

@@ -17,12 +17,21 @@ import typer
 from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import export_mesh, split_for_print, to_trimesh
-from .._app import app
 from ...models import LoadedHull
+from ...report import fmt, quantity, unit_places
 from ...study import load_hull
-from ..output import (EXIT_CRITERIA, busy, fmt, parse_range, print_json, quantity, say, styled, table, unit_places,
-                      warn)
-from .hydro import HULL_HELP, check_draft, parse_displacement
+from .._app import app
+from ..output import (
+    EXIT_CRITERIA,
+    busy,
+    parse_range,
+    print_json,
+    say,
+    styled,
+    table,
+    warn,
+)
+from .hydro import HULL_HELP, parse_displacement
 
 SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
 PLOT_FORMATS = (".png", ".svg", ".pdf")
@@ -131,7 +140,10 @@ def stability_cmd(
         stage(f"GZ curve: equilibrium at {len(deg)} heels")
         curve, criteria, full = _stability_call(sections, volume, kg, np.deg2rad(deg), lcg, fsc, not fixed_trim,
                                                 None if flooding_angle is None else np.deg2rad(flooding_angle))
-        from ...hydro import Criteria, StabilityCurve  # imported while the program computes
+        from ...hydro import (  # imported while the program computes
+            Criteria,
+            StabilityCurve,
+        )
 
         c, crit = StabilityCurve(**curve), Criteria(**criteria)
         if volume >= float(full):  # the curve solved for it is thrown away
@@ -218,8 +230,14 @@ def lines(
     layout: Annotated[str, typer.Option(help="Offset table layout: 'wide' (x × z) or 'stations' (seed 003).")] = "stations",
 ) -> None:
     """Lines plan (body, half-breadth and sheer plans) and, optionally, hydrostatic curves and offsets."""
-    from ...drawing import (LINES_FORMATS, lines_plan, plot_hydrostatic_curves, save_lines, write_offsets_stations,
-                            write_offsets_wide)
+    from ...drawing import (
+        LINES_FORMATS,
+        lines_plan,
+        plot_hydrostatic_curves,
+        save_lines,
+        write_offsets_stations,
+        write_offsets_wide,
+    )
 
     for p in out:
         _check_out(p, tuple(f".{f}" for f in LINES_FORMATS), "--out")
@@ -241,7 +259,7 @@ def lines(
         lo = max(0.0, float(h.sections.keel))
         drafts = np.linspace(lo, float(h.sections.depth), 22)[1:-1]  # 20 drafts, the deck left out
         for t in drafts:
-            check_draft(h, float(t), "draft")
+            h.check_draft(float(t), "draft")
         from ...hydro import hydrostatic_table
 
         plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name,

@@ -10,18 +10,24 @@ import jax.numpy as jnp
 import numpy as np
 import typer
 
-from ...constants import G, KNOT, RHO_SEA
+from ...constants import KNOT, RHO_SEA, G
 from ...errors import HullError
 from ...models import blunt_bow as blunt_bow_modification
+from ...study import load_hull
 from ...waves import (
-    AFT_OPTIONS, METHODS, SPECTRA, mean_added_resistance, method_resistance, motion_validity_warning,
-    nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
+    AFT_OPTIONS,
+    METHODS,
+    SPECTRA,
+    mean_added_resistance,
+    method_resistance,
+    motion_validity_warning,
+    nmri_added_resistance,
+    omega_from_wavelength,
+    select_lower_k_aw,
 )
 from .._app import app
-from ...study import load_hull
 from ..output import busy, console, parse_range, print_json, table, warn
-from .hydro import HULL_HELP, check_draft
-
+from .hydro import HULL_HELP
 
 
 def _finite(value: float, name: str, *, positive: bool = False, nonneg: bool = False) -> float:
@@ -121,7 +127,7 @@ def waves(
             if h.design_draft is None:
                 raise HullError("give --draft (this hull has no design draft)")
             draft = h.design_draft
-        t = check_draft(h, draft)
+        t = h.check_draft(draft)
         s = h.sections
         lpp = float(s.lpp)
         alpha = np.radians(heading)

@@ -11,12 +11,18 @@ import numpy as np
 import typer
 
 from ...errors import HullError
-from ...wind import MODELS, check_parts, drawing_variables, ship_type, wind_coefficients, wind_variables
-from .._app import app
 from ...study import load_hull
+from ...wind import (
+    MODELS,
+    check_parts,
+    drawing_variables,
+    ship_type,
+    wind_coefficients,
+    wind_variables,
+)
+from .._app import app
 from ..output import print_json, say, table
-from ..wind_config import DrawingsConfig, config_parts, read_wind_config
-from .hydro import check_draft
+from ...study import DrawingsConfig, config_parts, read_wind_config
 
 ROWS = [("L", "m"), ("B", "m"), ("A_T", "m²"), ("A_L", "m²"), ("A_OD", "m²"), ("A_SS", "m²"), ("C", "m"),
         ("C_BR", "m"), ("H_BR", "m"), ("H_C", "m"), ("S", "m"), ("M", ""), ("H_L", "m"), ("C_bow", "m")]
@@ -95,7 +101,7 @@ def wind(
         t = draft if draft is not None else cfg.draft if cfg.draft is not None else hull.design_draft
         if t is None:
             raise HullError(f"{config}: give draft = … (this hull has no design draft)")
-        t = check_draft(hull, t, "draft")
+        t = hull.check_draft(t, "draft")
         parts = config_parts(cfg.parts)
         check_parts(hull.sections, t, parts)
         v, name = eqx.filter_jit(wind_variables)(hull.sections, jnp.asarray(t), parts), f"{hull.name}, T = {t:g} m"

@@ -34,11 +34,26 @@ import tomllib
 from pathlib import Path
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from ..constants import RHO_AIR
 from ..errors import HullError
-from ..wind import DEFAULT_SHIP_TYPE, MODELS, PartSpec, Parts, ViewScale, box_parts, concat_parts, polygon_parts
+from ..wind import (
+    DEFAULT_SHIP_TYPE,
+    MODELS,
+    Parts,
+    PartSpec,
+    ViewScale,
+    box_parts,
+    concat_parts,
+    polygon_parts,
+)
 
 Kind = Literal["superstructure", "cargo", "mast"]
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..drawing import save_figure, station_sections
-from .output import displayed, label
+from ._units import displayed, label
 
 
 def _figure(*args, figsize=None, **kw):

@@ -34,8 +34,14 @@ from ..errors import HullError
 from ..geometry import Sections, atomic_write_bytes, grid_triangles, surface_grid
 from ..hydro import sectional_areas
 from ..optimise import TARGETS
-from ..study import VIOLATION, cached_call, folder_study, params_from_dict, read_run_config
-from .output import displayed, fmt, label, quantity, to_builtin, unit_scale
+from ..study import (
+    VIOLATION,
+    cached_call,
+    folder_study,
+    params_from_dict,
+    read_run_config,
+)
+from ._units import displayed, fmt, label, quantity, to_builtin, unit_scale
 
 REPORT_NAME = "report.html"
 MAX_SWEEP_HULLS = 8  # a sweep's page draws at most this many designs in 3D (evenly picked along the front)

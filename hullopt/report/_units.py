@@ -1,0 +1,192 @@
+"""Numbers as a naval architect reads them, in every output hullopt writes (terminal tables, plots,
+report.html): each report key's label and displayed unit, significant figures and decimals, JSON with SI units.
+
+- :func:`fmt` / :func:`quantity` — a number (and its unit) with sensible significant figures, fixed-point for
+  ordinary magnitudes, round-off noise (``-7.1e-15``) as ``0``;
+- :func:`label` / :func:`displayed` — a report key's label with its unit and its value in that unit (kg → t,
+  N → kN);
+- :func:`write_json` — JSON in SI units (:data:`JSON_UNITS`), written atomically.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..geometry import atomic_write_bytes
+from ..optimise import OBJECTIVES
+
+JSON_UNITS = ("JSON (--json, report.json) is in SI units: m, m², m³, kg, N, s, rad; a key ending in _deg is in "
+              "degrees, _kn in knots, _pct in per cent (LCB, LCF: of Lpp from midship, forward positive); tpc "
+              "[t/cm] and mct [t·m/cm] keep their definitions' units.")
+
+# ----------------------------------------------------------------------------------------------- units
+
+# ``hullopt hydro``'s keys (report.json's "parent" and "achieved"): label, displayed unit, and the factor from
+# the JSON's value to the displayed one
+PARTICULARS: dict[str, tuple[str, str, float]] = {
+    "draft": ("Draft T", "m", 1), "volume": ("Volume ∇", "m³", 1), "displacement": ("Displacement Δ", "t", 1e-3),
+    "wetted_surface": ("Wetted surface S", "m²", 1), "a_transom": ("Immersed transom A_T", "m²", 1),
+    "cb": ("Cb", "", 1), "cp": ("Cp", "", 1), "cm": ("Cm", "", 1),
+    "cwp": ("Cwp", "", 1), "lcb": ("LCB from AP", "m", 1), "lcb_pct": ("LCB from midship", "% Lpp", 1),
+    "kb": ("KB", "m", 1), "awp": ("Awp", "m²", 1), "lcf": ("LCF from AP", "m", 1),
+    "lcf_pct": ("LCF from midship", "% Lpp", 1), "bmt": ("BM_T", "m", 1), "bml": ("BM_L", "m", 1),
+    "kmt": ("KM_T", "m", 1), "tpc": ("TPC", "t/cm", 1), "mct": ("MCT 1 cm", "t·m/cm", 1),
+    "lwl": ("Lwl", "m", 1), "bwl": ("Bwl", "m", 1),
+}
+# the run targets that are no hydrostatics key, and the objectives (optimise.OBJECTIVES): the same triples
+TARGET_UNITS: dict[str, tuple[str, str, float]] = {"gm": ("GM", "m", 1), "bf": ("Bf", "", 1)}
+OBJECTIVE_UNITS: dict[str, tuple[str, str, float]] = {
+    "k_aw": ("K_AW", "", 1), "mean_added_resistance": ("mean added resistance R_AW", "kN", 1e-3),
+    "calm_resistance": ("calm-water resistance R_T", "kN", 1e-3),
+    "calm_resistance_michell": ("calm-water resistance (Michell) R_T", "kN", 1e-3),
+    "wind_added_resistance": ("wind added resistance R_AA", "kN", 1e-3),
+}
+
+
+def units_of(key: str) -> tuple[str, str, float]:
+    """``(label, displayed unit, factor from SI)`` of a report key: a particular, a target, an objective (one
+    not listed here by the ``unit`` its class declares in :data:`hullopt.optimise.OBJECTIVES`, N shown in kN);
+    an unknown key as it is, with no unit."""
+    known = {**PARTICULARS, **TARGET_UNITS, **OBJECTIVE_UNITS}
+    if key in known:
+        return known[key]
+    unit = getattr(OBJECTIVES.get(key), "unit", "") if isinstance(OBJECTIVES, dict) else ""
+    return {"N": (key, "kN", 1e-3), "-": (key, "", 1)}.get(unit, (key, unit or "", 1))
+
+
+def unit_scale(unit: str) -> float:
+    """The magnitude below which a quantity in ``unit`` is shown at this scale's decimals (a position in % Lpp
+    or an angle in degrees reads 0.000, not 1.8e-09, at its round-off): 1 for those units, else 0."""
+    return 1.0 if unit in ("% Lpp", "%", "°", "deg") else 0.0
+
+
+# the least decimals a naval architect reads a quantity in these units to (m: to the mm, t: to 0.1 t)
+UNIT_PLACES = {"m": 3, "m²": 1, "m³": 1, "t": 1, "% Lpp": 3, "t/cm": 2, "t·m/cm": 1, "m·rad": 3, "kN": 2,
+               "°": 1, "deg": 1}
+
+
+def unit_places(unit: str) -> int | None:
+    """The least decimals of a quantity in ``unit`` (:data:`UNIT_PLACES`; None: by significant figures only)."""
+    return UNIT_PLACES.get(unit)
+
+
+def label(key: str, unit: bool = True, short: bool = False) -> str:
+    """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``); ``short``: an
+    objective by its symbol alone (``mean_added_resistance`` → ``R_AW [kN]``), for column headers."""
+    name, u, _ = units_of(key)
+    if short and key in OBJECTIVE_UNITS:
+        name = name.split()[-1]
+    return f"{name} [{u}]" if unit and u else name
+
+
+def displayed(key: str, value: Any) -> tuple[Any, str]:
+    """``(value in the displayed unit, unit)`` of a report key (``displacement`` in kg → t, a resistance in N
+    → kN)."""
+    _, u, factor = units_of(key)
+    return (None if value is None else float(value) * factor), u
+
+
+# ----------------------------------------------------------------------------------------------- numbers
+
+NOISE = 1e-9  # magnitudes below this (in the displayed unit) are round-off: printed as 0
+SIG = 4  # significant figures of the largest number of a column
+
+
+def decimals(ref: float, sig: int = SIG) -> int | None:
+    """Decimals that give ``sig`` significant figures to a number of magnitude ``ref``; None where
+    fixed-point would not read well (``ref`` ≥ 1e9 or below 1e-4: scientific notation)."""
+    ref = abs(float(ref))
+    if ref < NOISE or not math.isfinite(ref):
+        return 0
+    if ref >= 1e9 or ref < 1e-4:
+        return None
+    return min(max(sig - 1 - math.floor(math.log10(ref)), 0), 10)
+
+
+def scalar(v: Any) -> Any:
+    """numpy and JAX 0-d arrays → Python numbers; everything else unchanged."""
+    if hasattr(v, "dtype") and np.ndim(v) == 0 and not isinstance(v, float | int):
+        return np.asarray(v).item()
+    return v
+
+
+def is_number(v: Any) -> bool:
+    return isinstance(v, float | int) and not isinstance(v, bool)
+
+
+def fmt(v: Any, sig: int = SIG, ref: float | None = None, places: int | None = None) -> str:
+    """A number as a naval architect reads it: ``sig`` significant figures of ``ref`` (default ``|v|``; a
+    column's largest value, so that the column shares its decimals) but at least ``places`` decimals (e.g. 3
+    for metres, :func:`unit_places`), fixed-point (``52083``, ``0.4444``, ``-1.169``) unless the magnitude is
+    below 1e-4 or from 1e9 (``3.21e-07``); round-off noise (``|v| < 1e-9``, or rounding to zero at ``ref``'s
+    decimals) as ``0``, never ``-0.000``; NaN or None as ``–``, infinities as ``∞``. Integers print as they
+    are, booleans as yes/no.
+
+    >>> fmt(-7.105e-15), fmt(52083.3), fmt(0.44444), fmt(-1.222e-18, ref=6.1), fmt(2.5e-7), fmt(174.06, places=3)
+    ('0', '52083', '0.4444', '0.000', '2.500e-07', '174.060')
+    """
+    v = scalar(v)
+    if v is None:
+        return "–"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, int):
+        return str(v)
+    v = float(v)
+    if math.isnan(v):
+        return "–"
+    if math.isinf(v):
+        return "∞" if v > 0 else "−∞"
+    d = decimals(abs(v) if ref is None else max(abs(float(ref)), abs(v) if abs(v) >= NOISE else 0.0), sig)
+    if d is not None and places is not None:
+        d = max(d, places)
+    if abs(v) < NOISE:
+        v = 0.0
+    text = f"{v:.{sig - 1}e}" if d is None else f"{v:.{d}f}"
+    if text.startswith("-") and float(text) == 0:
+        text = text[1:]
+    return text
+
+
+def quantity(v: Any, unit: str = "", sig: int = SIG, ref: float | None = None, places: int | None = None) -> str:
+    """``fmt(v)`` and its unit: ``quantity(52083.3, "m³")`` → ``'52083 m³'``; ``%`` and ``°`` sit on the number."""
+    text = fmt(v, sig, ref, places)
+    if not unit:
+        return text
+    return f"{text}{unit}" if unit in ("%", "°") else f"{text} {unit}"
+
+
+def change(before: Any, after: Any, unit: str = "", sig: int = SIG) -> str:
+    """``before → after unit (±x.x %)`` with both numbers at the same decimals (the relative change left out
+    where ``before`` is zero)."""
+    b, a = float(scalar(before)), float(scalar(after))
+    ref = max(abs(b), abs(a))
+    text = f"{fmt(b, sig, ref)} → {quantity(a, unit, sig, ref)}"
+    if abs(b) >= NOISE and math.isfinite(a):
+        text += f" ({100 * (a / b - 1):+.2f} %)"
+    return text
+
+
+def to_builtin(obj: Any) -> Any:
+    """Arrays and numpy scalars → lists and floats (NaN and inf → None), recursively."""
+    if isinstance(obj, dict):
+        return {k: to_builtin(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [to_builtin(v) for v in obj]
+    if hasattr(obj, "tolist"):
+        return to_builtin(np.asarray(obj).tolist())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def write_json(path: str | os.PathLike, obj: Any) -> Path:
+    path = Path(path)
+    atomic_write_bytes(path, (json.dumps(to_builtin(obj), indent=2) + "\n").encode())
+    return path
