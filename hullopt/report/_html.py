@@ -72,9 +72,31 @@ def _numpy(s: Sections) -> Sections:
 
 
 def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
-    """Rebuild the parent and the design hulls of a run folder from its config, its kept ``parent.json`` and
-    the parameters in its report (a sweep: the designs on the front, at most :data:`MAX_SWEEP_HULLS`), in
-    one jitted program; :class:`HullError` if the folder's files do not fit each other."""
+    """Rebuild the parent and the design hulls of a run folder, in one jitted program.
+
+    From its config, its kept ``parent.json`` and the parameters in its report (a sweep: the designs on the front,
+    at most :data:`MAX_SWEEP_HULLS`, :func:`sweep_picks`).
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The run folder (its ``config.json`` and, when kept, ``parent.json`` are read).
+    raw : dict
+        The run's raw config (``config.json``), part of the compiled program's key.
+    report : dict
+        The run's report (``report.json``): ``params``, or a sweep's ``designs`` with theirs.
+
+    Returns
+    -------
+    Hulls
+        The parent and the designs at the run's draft [m], with their sectional-area curves [m²] (numpy).
+
+    Raises
+    ------
+    HullError
+        When the folder's files do not fit each other (a config that is not a run config, params that do not fit
+        the design).
+    """
     import jax
 
     cfg = read_run_config(folder)
@@ -109,8 +131,21 @@ def _evaluate(model, params, draft: float):
 
 
 def sweep_picks(report: dict) -> list[int]:
-    """The designs of a sweep whose hulls the page draws: those on the Pareto front (else those that meet
-    their targets, else all), at most :data:`MAX_SWEEP_HULLS`, evenly spaced in Bf."""
+    """The designs of a sweep whose hulls the page draws.
+
+    Those on the Pareto front (else those that meet their targets, else all), at most :data:`MAX_SWEEP_HULLS`,
+    evenly spaced in Bf; only designs with ``params``.
+
+    Parameters
+    ----------
+    report : dict
+        A run's report; a sweep's has ``designs`` (each with ``pareto``, ``met`` and ``params``).
+
+    Returns
+    -------
+    list of int
+        The picked designs' indices in ``report["designs"]``, ascending; empty without designs.
+    """
     designs = report.get("designs", [])
     for keep in (lambda d: d.get("pareto") and d.get("met"), lambda d: d.get("met"), lambda d: True):
         ks = [k for k, d in enumerate(designs) if keep(d) and d.get("params")]
@@ -681,7 +716,23 @@ def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | Non
 
 
 def read_run(folder: Path) -> tuple[dict, dict]:
-    """``(config, report)`` of a run folder; :class:`HullError` if it is not one."""
+    """The config and the report of a run folder.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The run folder.
+
+    Returns
+    -------
+    tuple of (dict, dict)
+        ``(config, report)``: its ``config.json`` (the raw config) and its ``report.json``, as read.
+
+    Raises
+    ------
+    HullError
+        When it is not a run folder: either file missing or not JSON.
+    """
     try:
         raw = json.loads((folder / "config.json").read_text())
         report = json.loads((folder / "report.json").read_text())
@@ -692,9 +743,29 @@ def read_run(folder: Path) -> tuple[dict, dict]:
 
 
 def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None = None) -> Path:
-    """Write ``folder/report.html`` atomically and return its path. ``report``: the run's report (default:
-    its ``report.json``); ``hulls``: the parent and design hulls (default: rebuilt from the folder by
-    :func:`run_hulls`; a partial sweep's page has none)."""
+    """Write ``folder/report.html`` atomically and return its path.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The run folder.
+    report : dict or None
+        The run's report; None: its ``report.json``.
+    hulls : Hulls or None
+        The parent and design hulls; None: rebuilt from the folder by :func:`run_hulls` (a partial sweep's page
+        has none).
+
+    Returns
+    -------
+    pathlib.Path
+        ``folder / "report.html"`` (:data:`REPORT_NAME`).
+
+    Raises
+    ------
+    HullError
+        When the folder is needed (``report`` or ``hulls`` None) and is not a run folder, or its files do not fit
+        each other.
+    """
     folder = Path(folder)
     raw, kept = read_run(folder) if report is None or hulls is None else (None, None)
     report = report if report is not None else kept

@@ -49,9 +49,31 @@ def _save(fig, path: Path) -> Path:
 
 def plot_body_plans(before, after, path: Path, every: int | None = None, title: str = "",
                     draft: float | None = None) -> Path:
-    """Body plan of the parent (dashed grey) and the design (blue): aft body left, fore body right, as drawn
-    by naval architects, at the half stations (interpolated there; ``every``: every ``every``-th given
-    section instead), integer station numbers written above the design's sections, the DWL at ``draft`` [m]."""
+    """Body plan of the parent (dashed grey) and the design (blue): aft body left, fore body right.
+
+    As naval architects draw it: at the half stations (interpolated there; ``every``: every ``every``-th given
+    section instead), integer station numbers written above the design's sections, the DWL at ``draft`` [m].
+
+    Parameters
+    ----------
+    before : Sections
+        The parent: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m], ``lpp`` [m].
+    after : Sections
+        The design, same layout; its ``lpp`` places midship and the station numbers.
+    path : pathlib.Path
+        The image file (PNG; :func:`hullopt.drawing.save_figure`).
+    every : int or None
+        Draw every ``every``-th given section (no station numbers); None: the half stations.
+    title : str
+        The title; empty: a default naming the station numbers 0 = AP … 10 = FP.
+    draft : float or None
+        The DWL's height [m above the baseline]; None: no DWL.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     fig, ax = _figure(figsize=(9, 6))
     lpp = float(after.lpp)
     mid = 0.5 * lpp
@@ -86,8 +108,26 @@ def plot_body_plans(before, after, path: Path, every: int | None = None, title: 
 
 
 def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
-    """Sectional-area curves of the parent (dashed) and the design: ``areas (2, n)`` [m²] at stations
-    ``x_before``, ``x_after (n,)`` [m from AP]."""
+    """Sectional-area curves of the parent (dashed) and the design.
+
+    Parameters
+    ----------
+    x_before : array_like, (n,)
+        The parent's stations [m from the AP].
+    x_after : array_like, (n,)
+        The design's stations [m from the AP].
+    areas : array_like, (2, n)
+        Sectional areas [m²]: the parent's, the design's.
+    draft : float
+        The draft they are at [m], for the axis label.
+    path : pathlib.Path
+        The image file (PNG; :func:`hullopt.drawing.save_figure`).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     fig, ax = _figure(figsize=(8, 4))
     for x, a, label, style in ((x_before, areas[0], "parent", dict(color="0.6", ls="--")),
                                (x_after, areas[1], "design", dict(color="C0"))):
@@ -102,10 +142,28 @@ def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
 def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "") -> Path:
     """Solver convergence on log scales.
 
-    A fit (``violation`` None): the cost (the sum of squared scaled residuals, penalties included) after each step. A constrained
-    minimum: ``history`` the objective after each round (scaled to 1 at the parent, penalty terms included)
-    above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
+    A fit (``violation`` None): the cost (the sum of squared scaled residuals, penalties included) after each step.
+    A constrained minimum: ``history`` the objective after each round (scaled to 1 at the parent, penalty terms
+    included) above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
     Non-finite entries (rounds or steps not taken) are left out.
+
+    Parameters
+    ----------
+    history : array_like, (k,)
+        The fit's cost after each step, or the scaled objective after each round [-].
+    path : pathlib.Path
+        The image file (PNG; :func:`hullopt.drawing.save_figure`).
+    xlabel : str
+        The x axis's label.
+    violation : array_like, (k,) or None
+        The largest constraint violation after each round [-]; None: a fit's plot.
+    title : str
+        The title; empty: a default.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
     h = np.asarray(history, dtype=float)
     if violation is None:
@@ -156,10 +214,30 @@ def _axis(name: str) -> tuple[str, float]:
 
 def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
                 parent: tuple[float, float, float] | None = None) -> Path:
-    """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in
-    kN, each design labelled with its Bf target to 4 significant digits (a label once per position); designs that miss
-    their targets as crosses, dominated ones grey; ``parent`` = (measure, objective, Bf) of the parent, a
-    black star, to read the designs against."""
+    """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in kN.
+
+    Each design is labelled with its Bf target to 4 significant digits (a label once per position); designs that
+    miss their targets as crosses, dominated ones grey; the parent a black star, to read the designs against.
+
+    Parameters
+    ----------
+    designs : list of dict
+        The sweep's designs as in ``report.json``: ``measure`` and ``objective`` (SI), ``met``, ``bf_target`` and
+        optionally ``pareto`` (on the front).
+    xname : str
+        The measure's report key (axis label and unit by :func:`label`).
+    yname : str
+        The objective's report key.
+    path : pathlib.Path
+        The image file (PNG; :func:`hullopt.drawing.save_figure`).
+    parent : tuple of (float, float, float) or None
+        ``(measure, objective, Bf)`` of the parent (SI); None: no parent drawn.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     fig, ax = _figure(figsize=(7.5, 5))
     (xlabel, sx), (ylabel, sy) = _axis(xname), _axis(yname)
     if parent is not None:
@@ -196,8 +274,25 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
 
 
 def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -> Path:
-    """Calm-water R_T [kN] and P_E [MW] against speed [kn] and C_W against Fn, one curve per wave-resistance
-    method (``records`` as ``hullopt resistance --json`` prints them)."""
+    """Calm-water R_T [kN] and P_E [MW] against speed [kn] and C_W against Fn, one curve per wave-resistance method.
+
+    Parameters
+    ----------
+    records : list of dict
+        One record a speed, as ``hullopt resistance --json`` prints them: ``speed_kn``, ``fn`` and, for each
+        method ``<m>``, ``r_total_<m>`` [N], ``p_e_<m>`` [W] and ``c_w_<m>``.
+    methods : sequence of str
+        The wave-resistance methods to draw: ``"holtrop"``, ``"michell"``, ``"panel"``.
+    path : pathlib.Path
+        The image file (PNG; :func:`hullopt.drawing.save_figure`).
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     fig, axes = _figure(1, 3, figsize=(14, 4.2))
     kn = [r["speed_kn"] for r in records]
     fn = [r["fn"] for r in records]
@@ -219,8 +314,30 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
 
 
 def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Path:
-    """The Kelvin wave pattern ζ(x, y) [m] (``zeta`` (len x, len y)) in plan view, port side up, the hull's
-    waterline length marked and the 19.47° Kelvin wedge from the bow dashed."""
+    """The Kelvin wave pattern ζ(x, y) [m] in plan view, port side up.
+
+    The hull's waterline length is marked and the 19.47° Kelvin wedge from the bow dashed.
+
+    Parameters
+    ----------
+    x : array_like, (nx,)
+        Longitudinal positions [m from the AP], the ship moving to +x.
+    y : array_like, (ny,)
+        Transverse positions [m] (port up); ``y[0]`` and ``y[-1]`` are the axis's limits.
+    zeta : array_like, (nx, ny)
+        Wave elevation [m].
+    lpp : float
+        The hull's length [m]: the bow at ``x = lpp``.
+    path : pathlib.Path
+        The image file (PNG; :func:`hullopt.drawing.save_figure`).
+    title : str
+        The title.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     fig, ax = _figure(figsize=(11, 4.5))
     m = float(np.percentile(np.abs(zeta), 99.5)) or 1.0
     im = ax.pcolormesh(x, y, np.asarray(zeta).T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")

@@ -50,9 +50,20 @@ OBJECTIVE_UNITS: dict[str, tuple[str, str, float]] = {
 
 
 def units_of(key: str) -> tuple[str, str, float]:
-    """``(label, displayed unit, factor from SI)`` of a report key: a particular, a target, an objective (one
-    not listed here by the ``unit`` its class declares in :data:`hullopt.optimise.OBJECTIVES`, N shown in kN);
-    an unknown key as it is, with no unit."""
+    """The label, displayed unit and factor from SI of a report key.
+
+    Parameters
+    ----------
+    key : str
+        A report key: a particular (:data:`PARTICULARS`), a target (:data:`TARGET_UNITS`) or an objective
+        (:data:`OBJECTIVE_UNITS`; one not listed there by the ``unit`` its class declares in
+        :data:`hullopt.optimise.OBJECTIVES`, N shown in kN).
+
+    Returns
+    -------
+    tuple of (str, str, float)
+        ``(label, displayed unit, factor from SI)``; an unknown key as it is, with no unit and factor 1.
+    """
     known = {**PARTICULARS, **TARGET_UNITS, **OBJECTIVE_UNITS}
     if key in known:
         return known[key]
@@ -61,8 +72,20 @@ def units_of(key: str) -> tuple[str, str, float]:
 
 
 def unit_scale(unit: str) -> float:
-    """The magnitude below which a quantity in ``unit`` is shown at this scale's decimals (a position in % Lpp
-    or an angle in degrees reads 0.000, not 1.8e-09, at its round-off): 1 for those units, else 0."""
+    """The magnitude below which a quantity in ``unit`` is shown at this scale's decimals.
+
+    A position in % Lpp or an angle in degrees reads 0.000, not 1.8e-09, at its round-off.
+
+    Parameters
+    ----------
+    unit : str
+        A displayed unit (``"m"``, ``"% Lpp"``, ``"°"``, …).
+
+    Returns
+    -------
+    float
+        1 for ``% Lpp``, ``%``, ``°`` and ``deg``, else 0.
+    """
     return 1.0 if unit in ("% Lpp", "%", "°", "deg") else 0.0
 
 
@@ -72,13 +95,38 @@ UNIT_PLACES = {"m": 3, "m²": 1, "m³": 1, "t": 1, "% Lpp": 3, "t/cm": 2, "t·m/
 
 
 def unit_places(unit: str) -> int | None:
-    """The least decimals of a quantity in ``unit`` (:data:`UNIT_PLACES`; None: by significant figures only)."""
+    """The least decimals of a quantity in ``unit`` (:data:`UNIT_PLACES`).
+
+    Parameters
+    ----------
+    unit : str
+        A displayed unit (``"m"``, ``"t"``, ``"kN"``, …).
+
+    Returns
+    -------
+    int or None
+        The decimals (m: 3, to the mm; t: 1); None for a unit not listed: by significant figures only.
+    """
     return UNIT_PLACES.get(unit)
 
 
 def label(key: str, unit: bool = True, short: bool = False) -> str:
-    """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``); ``short``: an
-    objective by its symbol alone (``mean_added_resistance`` → ``R_AW [kN]``), for column headers."""
+    """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``).
+
+    Parameters
+    ----------
+    key : str
+        A report key (:func:`units_of`).
+    unit : bool
+        Append the displayed unit in brackets (when the key has one).
+    short : bool
+        An objective by its symbol alone (``mean_added_resistance`` → ``R_AW [kN]``), for column headers.
+
+    Returns
+    -------
+    str
+        The label.
+    """
     name, u, _ = units_of(key)
     if short and key in OBJECTIVE_UNITS:
         name = name.split()[-1]
@@ -86,8 +134,20 @@ def label(key: str, unit: bool = True, short: bool = False) -> str:
 
 
 def displayed(key: str, value: Any) -> tuple[Any, str]:
-    """``(value in the displayed unit, unit)`` of a report key (``displacement`` in kg → t, a resistance in N
-    → kN)."""
+    """A report key's value in its displayed unit (``displacement`` in kg → t, a resistance in N → kN).
+
+    Parameters
+    ----------
+    key : str
+        A report key (:func:`units_of`).
+    value : float or None
+        The value in SI units (as in ``report.json``).
+
+    Returns
+    -------
+    tuple of (float or None, str)
+        ``(value in the displayed unit, unit)``; None for a None ``value``.
+    """
     _, u, factor = units_of(key)
     return (None if value is None else float(value) * factor), u
 
@@ -99,8 +159,21 @@ SIG = 4  # significant figures of the largest number of a column
 
 
 def decimals(ref: float, sig: int = SIG) -> int | None:
-    """Decimals that give ``sig`` significant figures to a number of magnitude ``ref``; None where
-    fixed-point would not read well (``ref`` ≥ 1e9 or below 1e-4: scientific notation)."""
+    """Decimals that give ``sig`` significant figures to a number of magnitude ``ref``.
+
+    Parameters
+    ----------
+    ref : float
+        The magnitude (its absolute value is taken): a number, or the largest of a column.
+    sig : int
+        Significant figures.
+
+    Returns
+    -------
+    int or None
+        The decimals, between 0 and 10; 0 for round-off noise (``|ref|`` < :data:`NOISE`) or a non-finite
+        ``ref``; None where fixed-point would not read well (``|ref|`` ≥ 1e9 or below 1e-4: scientific notation).
+    """
     ref = abs(float(ref))
     if ref < NOISE or not math.isfinite(ref):
         return 0
@@ -110,24 +183,66 @@ def decimals(ref: float, sig: int = SIG) -> int | None:
 
 
 def scalar(v: Any) -> Any:
-    """numpy and JAX 0-d arrays → Python numbers; everything else unchanged."""
+    """numpy and JAX 0-d arrays → Python numbers; everything else unchanged.
+
+    Parameters
+    ----------
+    v : Any
+        A value.
+
+    Returns
+    -------
+    Any
+        ``v.item()`` for a 0-d array or numpy scalar, else ``v`` itself.
+    """
     if hasattr(v, "dtype") and np.ndim(v) == 0 and not isinstance(v, float | int):
         return np.asarray(v).item()
     return v
 
 
 def is_number(v: Any) -> bool:
+    """Whether ``v`` is a Python number (an int or a float, not a bool).
+
+    Parameters
+    ----------
+    v : Any
+        A value.
+
+    Returns
+    -------
+    bool
+        True for an int or a float (NaN and infinities included), False for a bool, an array or anything else.
+    """
     return isinstance(v, float | int) and not isinstance(v, bool)
 
 
 def fmt(v: Any, sig: int = SIG, ref: float | None = None, places: int | None = None) -> str:
-    """A number as a naval architect reads it: ``sig`` significant figures of ``ref`` (default ``|v|``; a
-    column's largest value, so that the column shares its decimals) but at least ``places`` decimals (e.g. 3
-    for metres, :func:`unit_places`), fixed-point (``52083``, ``0.4444``, ``-1.169``) unless the magnitude is
-    below 1e-4 or from 1e9 (``3.21e-07``); round-off noise (``|v| < 1e-9``, or rounding to zero at ``ref``'s
-    decimals) as ``0``, never ``-0.000``; NaN or None as ``–``, infinities as ``∞``. Integers print as they
-    are, booleans as yes/no.
+    """A number as a naval architect reads it.
 
+    ``sig`` significant figures of ``ref`` (default ``|v|``; a column's largest value, so that the column shares
+    its decimals) but at least ``places`` decimals (e.g. 3 for metres, :func:`unit_places`), fixed-point
+    (``52083``, ``0.4444``, ``-1.169``) unless the magnitude is below 1e-4 or from 1e9 (``3.21e-07``); round-off
+    noise (``|v| < 1e-9``, or rounding to zero at ``ref``'s decimals) as ``0``, never ``-0.000``; NaN or None as
+    ``–``, infinities as ``∞``. Integers print as they are, booleans as yes/no.
+
+    Parameters
+    ----------
+    v : Any
+        A number (Python, numpy or a JAX 0-d array), a bool, or None.
+    sig : int
+        Significant figures.
+    ref : float or None
+        The magnitude that sets the decimals; None: ``|v|``.
+    places : int or None
+        The least decimals in fixed-point; None: by significant figures only.
+
+    Returns
+    -------
+    str
+        The number as text.
+
+    Examples
+    --------
     >>> fmt(-7.105e-15), fmt(52083.3), fmt(0.44444), fmt(-1.222e-18, ref=6.1), fmt(2.5e-7), fmt(174.06, places=3)
     ('0', '52083', '0.4444', '0.000', '2.500e-07', '174.060')
     """
@@ -155,7 +270,26 @@ def fmt(v: Any, sig: int = SIG, ref: float | None = None, places: int | None = N
 
 
 def quantity(v: Any, unit: str = "", sig: int = SIG, ref: float | None = None, places: int | None = None) -> str:
-    """``fmt(v)`` and its unit: ``quantity(52083.3, "m³")`` → ``'52083 m³'``; ``%`` and ``°`` sit on the number."""
+    """``fmt(v)`` and its unit: ``quantity(52083.3, "m³")`` → ``'52083 m³'``; ``%`` and ``°`` sit on the number.
+
+    Parameters
+    ----------
+    v : Any
+        A number, as :func:`fmt` takes it.
+    unit : str
+        The unit written after the number; empty: none.
+    sig : int
+        Significant figures.
+    ref : float or None
+        The magnitude that sets the decimals; None: ``|v|``.
+    places : int or None
+        The least decimals in fixed-point; None: by significant figures only.
+
+    Returns
+    -------
+    str
+        The number and its unit, a space between them (none before ``%`` or ``°``).
+    """
     text = fmt(v, sig, ref, places)
     if not unit:
         return text
@@ -163,8 +297,25 @@ def quantity(v: Any, unit: str = "", sig: int = SIG, ref: float | None = None, p
 
 
 def change(before: Any, after: Any, unit: str = "", sig: int = SIG) -> str:
-    """``before → after unit (±x.x %)`` with both numbers at the same decimals (the relative change left out
-    where ``before`` is zero)."""
+    """``before → after unit (±x.x %)`` with both numbers at the same decimals.
+
+    Parameters
+    ----------
+    before : Any
+        The value before (the parent's), a number or a 0-d array.
+    after : Any
+        The value after (the design's), in the same unit.
+    unit : str
+        The unit, written after ``after``.
+    sig : int
+        Significant figures of the larger magnitude.
+
+    Returns
+    -------
+    str
+        Both values and the relative change to two decimals; the change left out where ``before`` is zero
+        (below :data:`NOISE`) or ``after`` is not finite.
+    """
     b, a = float(scalar(before)), float(scalar(after))
     ref = max(abs(b), abs(a))
     text = f"{fmt(b, sig, ref)} → {quantity(a, unit, sig, ref)}"
@@ -174,7 +325,18 @@ def change(before: Any, after: Any, unit: str = "", sig: int = SIG) -> str:
 
 
 def to_builtin(obj: Any) -> Any:
-    """Arrays and numpy scalars → lists and floats (NaN and inf → None), recursively."""
+    """Arrays and numpy scalars → lists and floats (NaN and inf → None), recursively.
+
+    Parameters
+    ----------
+    obj : Any
+        A value: dicts, lists and tuples are walked, arrays and numpy scalars converted.
+
+    Returns
+    -------
+    Any
+        The same structure in Python builtins (tuples as lists), JSON-serialisable when its leaves are.
+    """
     if isinstance(obj, dict):
         return {k: to_builtin(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
@@ -187,6 +349,20 @@ def to_builtin(obj: Any) -> Any:
 
 
 def write_json(path: str | os.PathLike, obj: Any) -> Path:
+    """Write ``obj`` as indented JSON (:func:`to_builtin`: arrays as lists, NaN and inf as null), atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+    obj : Any
+        The value, in SI units (:data:`JSON_UNITS`).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     atomic_write_bytes(path, (json.dumps(to_builtin(obj), indent=2) + "\n").encode())
     return path

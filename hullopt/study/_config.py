@@ -174,7 +174,24 @@ _OBJECTIVE = TypeAdapter(ObjectiveConfig)
 
 
 def objective_options(table: dict) -> ObjectiveOptions:
-    """The validated options model of an ``[objective]``-like table (``ValidationError`` on a problem)."""
+    """The validated options model of an ``[objective]``-like table.
+
+    Parameters
+    ----------
+    table : dict
+        The table: ``kind`` (one of :data:`~hullopt.optimise.OBJECTIVES`) and the options that kind takes, in
+        config units (``speed_kn`` [kn], ``hs`` [m], ``tp`` [s], …).
+
+    Returns
+    -------
+    ObjectiveOptions
+        The options model of ``table["kind"]`` (one of :data:`OPTIONS`), defaults filled in.
+
+    Raises
+    ------
+    pydantic.ValidationError
+        An unknown kind, an option that kind does not take, a value out of range, or a kind's own check failing.
+    """
     return _OBJECTIVE.validate_python(table)
 
 
@@ -199,9 +216,26 @@ _BOUND = re.compile(r"^\s*(<=|>=)\s*(?:(parent)|([-+0-9.eE]+)\s*(\*\s*parent)?)\
 
 
 def parse_bound(name: str, text) -> tuple[int, float, bool]:
-    """A constraint's bound ``"<= parent"``, ``">= 0.98 * parent"``, ``"<= 1.2e5"`` (SI) → ``(sense, value,
-    relative)``: sense +1 for at most, −1 for at least; ``relative`` when ``value`` multiplies the parent's.
-    ``ValueError`` naming the constraint otherwise."""
+    """A constraint's bound ``"<= parent"``, ``">= 0.98 * parent"``, ``"<= 1.2e5"`` (SI) → ``(sense, value, relative)``.
+
+    Parameters
+    ----------
+    name : str
+        The constraint's name (the ``[constraints]`` key), for the error message.
+    text : str
+        The bound as written; anything but a string is an error.
+
+    Returns
+    -------
+    tuple of (int, float, bool)
+        ``sense``: +1 for at most, −1 for at least; ``value``: the bound in SI units, or the factor of the
+        parent's value (1 for a bare ``parent``); ``relative``: whether ``value`` multiplies the parent's.
+
+    Raises
+    ------
+    ValueError
+        When ``text`` is none of these forms; the message names the constraint.
+    """
     m = _BOUND.match(text) if isinstance(text, str) else None
     try:
         value = 1.0 if m and m[2] else float(m[3]) if m else None
@@ -323,9 +357,28 @@ def _set(tree: dict, dotted: str, text: str) -> None:
 
 
 def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig, dict]:
-    """Read, override (``a.b=value``) and validate a run config; returns it and the resolved raw dict (a
-    parent file given relative to the config's folder made absolute). :class:`HullError` names the file and
-    the field of any problem."""
+    """Read, override and validate a run config.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The config's TOML file.
+    overrides : list of str
+        ``KEY=VALUE`` overrides (``--set``), a dotted key (``targets.cb=0.62``) and a value parsed as TOML (else
+        kept as a string), applied in order before validation.
+
+    Returns
+    -------
+    tuple of (RunConfig, dict)
+        The validated config and the resolved raw dict (a parent file given relative to the config's folder made
+        absolute in both).
+
+    Raises
+    ------
+    HullError
+        A file that cannot be read or is not TOML, a malformed override, or an invalid config; the message names
+        the file and the field of the problem.
+    """
     path = Path(path)
     raw = _read_toml(path, "config")
     for item in overrides:
@@ -363,9 +416,24 @@ def _invalid(path: Path, e: ValidationError) -> HullError:
 
 
 def load_design(path: str | Path) -> DeformConfig:
-    """Read and validate ``hullopt deform``'s design TOML with the run config's models (strict, the same
-    defaults); a parent file given relative to the TOML's folder made absolute. :class:`HullError` names the
-    file and the field of any problem."""
+    """Read and validate ``hullopt deform``'s design TOML with the run config's models (strict, the same defaults).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The design's TOML file.
+
+    Returns
+    -------
+    DeformConfig
+        The validated design; a parent file given relative to the TOML's folder made absolute.
+
+    Raises
+    ------
+    HullError
+        A file that cannot be read or is not TOML, or an invalid design; the message names the file and the
+        field of the problem.
+    """
     path = Path(path)
     raw = _read_toml(path, "design")
     try:
@@ -378,8 +446,23 @@ def load_design(path: str | Path) -> DeformConfig:
 
 
 def resolve_spec(spec: str, folder: Path) -> str:
-    """``spec`` with a relative file path made relative to ``folder`` (a config's folder), as the wind
-    config's ``hull``: only when the file or run folder exists there; library names and builtins unchanged."""
+    """``spec`` with a relative file path made relative to ``folder`` (a config's folder).
+
+    As the wind config's ``hull``: only when the file or run folder exists there; library names, builtins and
+    absolute paths are unchanged.
+
+    Parameters
+    ----------
+    spec : str
+        A hull spec or parent (``parent:`` prefix and ``?…`` parameters kept as given).
+    folder : pathlib.Path
+        The folder a relative path is read from.
+
+    Returns
+    -------
+    str
+        ``spec`` with its file part as ``folder / path`` where that exists, else ``spec`` unchanged.
+    """
     prefix = "parent:" if spec.startswith("parent:") else ""
     base, sep, query = spec.removeprefix(prefix).partition("?")
     if base.startswith("builtin:") or base in parent_names() or Path(base).is_absolute():

@@ -48,16 +48,45 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 
 
 def cache_folder(what: str = "parents") -> Path:
-    """Where hullopt keeps ``what``: ``$HULLOPT_CACHE/<what>`` (default ``~/.cache/hullopt/<what>``): extracted
-    parents, and the sections sliced from mesh and CAD hulls (``"sections"``)."""
+    """Where hullopt keeps ``what``: ``$HULLOPT_CACHE/<what>`` (default ``~/.cache/hullopt/<what>``).
+
+    Parameters
+    ----------
+    what : str
+        The kind of thing kept: ``"parents"`` (extracted parents) or ``"sections"`` (the sections sliced from
+        mesh and CAD hulls).
+
+    Returns
+    -------
+    pathlib.Path
+        The folder (not created here).
+    """
     return Path(os.environ.get("HULLOPT_CACHE", Path.home() / ".cache" / "hullopt")) / what
 
 
 def load_hull(spec: str) -> LoadedHull:
-    """Read the hull named by ``spec``: a run folder (its design hull, rebuilt exactly from ``config.json`` and
-    ``report.json``; ``?design=K`` picks design K of a sweep), any other spec by
-    :func:`hullopt.models.load_hull` (a mesh's sections kept in ``cache_folder("sections")``);
-    :class:`HullError` on any problem."""
+    """Read the hull named by ``spec``.
+
+    A run folder gives its design hull, rebuilt exactly from ``config.json`` and ``report.json`` (``?design=K``
+    picks design K of a sweep); any other spec is read by :func:`hullopt.models.load_hull` (a mesh's sections
+    kept in ``cache_folder("sections")``).
+
+    Parameters
+    ----------
+    spec : str
+        A hull spec: a run folder (optionally ``?design=K``), a library parent, a parent ``.json``, a mesh or
+        offsets file with its parameters, a ``builtin:…``.
+
+    Returns
+    -------
+    LoadedHull
+        The hull's sections, its name and its design draft [m] (a run folder's: the run's draft).
+
+    Raises
+    ------
+    HullError
+        On any problem: an unknown spec, an unreadable file, a run folder whose files do not fit each other.
+    """
     base, params = split_spec(spec)
     if not base.startswith(("parent:", "builtin:")) and Path(base).is_dir():
         return _run_folder(Path(base), params, spec)
@@ -65,8 +94,25 @@ def load_hull(spec: str) -> LoadedHull:
 
 
 def read_run_config(folder: Path, what: str = "") -> RunConfig:
-    """The validated ``config.json`` of a run folder; :class:`HullError` naming the file (``what``: a prefix
-    for the message, e.g. the hull spec) if it is missing or not a run config."""
+    """The validated ``config.json`` of a run folder.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The run folder.
+    what : str
+        A prefix for the error message, e.g. the hull spec.
+
+    Returns
+    -------
+    RunConfig
+        The run's config.
+
+    Raises
+    ------
+    HullError
+        When ``config.json`` is missing, not JSON or not a valid run config; the message names the file.
+    """
     from pydantic import ValidationError
 
     path = folder / "config.json"
@@ -83,13 +129,43 @@ def read_run_config(folder: Path, what: str = "") -> RunConfig:
 
 
 def load_study(cfg: RunConfig) -> Study:
-    """The study of a config (:data:`~hullopt.study.STUDIES` by its ``kind``) on the parent it names."""
+    """The study of a config (:data:`~hullopt.study.STUDIES` by its ``kind``) on the parent it names.
+
+    Parameters
+    ----------
+    cfg : RunConfig
+        A validated run config; its ``[hull]`` parent and draft are read by :func:`run_parent`.
+
+    Returns
+    -------
+    Study
+        The study (:class:`Fit`, :class:`Minimise` or :class:`Pareto`), its problem built.
+
+    Raises
+    ------
+    HullError
+        A bad parent spec, a parent without a design draft when the config gives none, or a bad design.
+    """
     return STUDIES[cfg.kind](cfg, run_parent(cfg.hull.parent, cfg.hull.draft))
 
 
 def folder_study(folder: Path, cfg: RunConfig) -> Study:
-    """The study of a run folder: its config on the parent the run deformed (the kept ``parent.json``; the
-    config's parent may have changed since), else on the config's parent."""
+    """The study of a run folder: its config on the parent the run deformed.
+
+    That is the kept ``parent.json`` (the config's parent may have changed since), else the config's parent.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The run folder.
+    cfg : RunConfig
+        Its config (:func:`read_run_config`).
+
+    Returns
+    -------
+    Study
+        The study of ``cfg.kind`` on that parent.
+    """
     kept = folder / "parent.json"
     parent = read_features(kept) if kept.is_file() else run_parent(cfg.hull.parent, cfg.hull.draft)
     return STUDIES[cfg.kind](cfg, parent)
@@ -169,8 +245,26 @@ def _key_digest(key: dict) -> str:
 
 
 def parent_digest(spec: str, draft: float | None = None) -> str | None:
-    """A digest of a run parent's content, for the compiled-program key: a parent ``.json``'s SHA-256, a hull
-    spec's feature key (:func:`parent_key`), None for a library parent (the package's code digest has it)."""
+    """A digest of a run parent's content, for the compiled-program key.
+
+    Parameters
+    ----------
+    spec : str
+        The config's ``[hull] parent``.
+    draft : float or None
+        The config's draft [m] (part of a hull spec's feature key).
+
+    Returns
+    -------
+    str or None
+        A parent ``.json``'s SHA-256, a hull spec's feature key digest (:func:`parent_key`), None for a library
+        parent (the package's code digest has it).
+
+    Raises
+    ------
+    HullError
+        When ``spec`` is no library parent or parent ``.json`` and names no file, run folder or builtin.
+    """
     name = _library(spec)
     if name is not None:
         path = Path(name)
@@ -209,9 +303,27 @@ def _no_draft(spec: str) -> str:
 
 
 def run_parent(spec: str, draft: float | None = None) -> FeatureHull:
-    """The feature-curve parent named by ``[hull] parent`` (see the module docstring); a hull spec's features
-    come from the cache folder when kept there, else are extracted and kept. ``draft`` [m] is the config's;
-    :class:`HullError` when it is None and the parent has no design draft, or on a bad spec."""
+    """The feature-curve parent named by ``[hull] parent`` (see the module docstring).
+
+    A hull spec's features come from the cache folder when kept there, else are extracted and kept.
+
+    Parameters
+    ----------
+    spec : str
+        A library parent (``dtc``, ``parent:dtc``), a parent ``.json`` or a hull spec.
+    draft : float or None
+        The config's draft [m]; None: the parent's design draft.
+
+    Returns
+    -------
+    FeatureHull
+        The parent's feature curves.
+
+    Raises
+    ------
+    HullError
+        When ``draft`` is None and the parent has no design draft, or on a bad spec.
+    """
     name = _library(spec)
     if name is not None:
         return load_parent(name)

@@ -34,9 +34,32 @@ class Problem:
 
 
 def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") -> tuple:
-    """``(model, p0, half)``: the feature model of a design's tables on ``hull``, its start parameters and the
-    half-widths of its bounds (numpy leaves); :class:`HullError` naming the field (``where`` + table) when a
-    start value is not inside its bound. Shared by ``hullopt run`` and ``hullopt deform``."""
+    """The feature model of a design's tables on ``hull``, its start parameters and the half-widths of its bounds.
+
+    Shared by ``hullopt run`` and ``hullopt deform``. The parameters are numpy leaves: no JAX op runs.
+
+    Parameters
+    ----------
+    d : DesignConfig
+        The design's tables (``[[apex_move]]``, ``[[distribution]]``, ``[[contour_edit]]``).
+    hull : FeatureHull
+        The parent's feature curves.
+    where : str
+        The field's prefix in error messages (``"design."`` for a run config).
+
+    Returns
+    -------
+    tuple of (FeatureModel, FeatureParams, FeatureParams)
+        ``(model, p0, half)``: the feature model, its start parameters (apex moves ``(K, 2)`` (dy, dz) [m],
+        warp coefficients ``(G, modes)``, contour-edit amplitudes ``(E,)`` [m]) and the half-widths of their bounds
+        (a start value lies strictly inside: ``|p0| < half``).
+
+    Raises
+    ------
+    HullError
+        An inconsistent design (:func:`~hullopt.models.feature_model`), a distribution with more ``c`` values
+        than modes, or a start value not inside its bound; the message names the field (``where`` + table).
+    """
     model = feature_model(
         hull,
         [ApexMove(m.segment, m.x_fixed1, m.x_moved, m.x_fixed2, m.profile) for m in d.apex_move],
@@ -98,8 +121,22 @@ def constraint_measure(cfg: RunConfig, name: str):
 
 
 def limits_from(cfg: RunConfig) -> Limits:
-    """The :class:`~hullopt.optimise.Limits` of a config's ``[constraints]`` (defaults: half-breadths within
-    the parent's, no new bulge below the waterline)."""
+    """The :class:`~hullopt.optimise.Limits` of a config's ``[constraints]``.
+
+    Defaults: half-breadths within the parent's, no new bulge below the waterline.
+
+    Parameters
+    ----------
+    cfg : RunConfig
+        The run config; its ``[constraints]`` and, for an objective as a constraint, its objective options.
+
+    Returns
+    -------
+    Limits
+        The bounds' names, measures, senses (+1 at most, −1 at least), values (SI, or factors of the parent's
+        where ``relative``), the largest half-breadth [m] (NaN: the parent's; None: no limit), ``bulge`` and the
+        tolerance.
+    """
     c = cfg.constraints
     bounds = c.bounds()
     mhb = {"parent": np.nan, "none": None}.get(c.max_half_breadth, c.max_half_breadth)
@@ -116,13 +153,43 @@ PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude")
 
 
 def params_to_dict(p: FeatureParams) -> dict:
-    """A design's parameters as a report's ``params`` (nested lists, :data:`PARAM_KEYS`)."""
+    """A design's parameters as a report's ``params``.
+
+    Parameters
+    ----------
+    p : FeatureParams
+        The parameters: apex moves ``(K, 2)`` [m], warp coefficients ``(G, modes)``, contour-edit amplitudes
+        ``(E,)`` [m].
+
+    Returns
+    -------
+    dict
+        ``{key: nested list}`` under :data:`PARAM_KEYS` (``apex_move_d``, ``distribution_c``,
+        ``contour_edit_amplitude``).
+    """
     return {k: np.asarray(v).tolist() for k, v in zip(PARAM_KEYS, (p.apex, p.distribution, p.contour))}
 
 
 def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
-    """The parameters of a report's ``params`` (the inverse of :func:`params_to_dict`), shaped ``like`` the
-    problem's start point; :class:`HullError` if they do not fit the problem."""
+    """The parameters of a report's ``params`` (the inverse of :func:`params_to_dict`).
+
+    Parameters
+    ----------
+    values : dict
+        A report's ``params``: nested lists under :data:`PARAM_KEYS`.
+    like : FeatureParams
+        The problem's start point, whose leaves' shapes the values take.
+
+    Returns
+    -------
+    FeatureParams
+        The parameters, numpy float leaves shaped as ``like``'s.
+
+    Raises
+    ------
+    HullError
+        When a key is missing or the values do not fit the problem's shapes.
+    """
     try:
         leaves = [np.asarray(values[k], float).reshape(np.shape(ref)) for k, ref in
                   zip(PARAM_KEYS, (like.apex, like.distribution, like.contour))]

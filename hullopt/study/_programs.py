@@ -60,10 +60,28 @@ def _code_digest() -> str:
 def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
-    ``args`` is a pytree holding the array inputs (non-array leaves are baked into the program, so they must be
-    determined by ``key``); ``static`` are hashable Python values passed after them; ``key`` is any
-    JSON-serialisable value that, with the array shapes, determines the program. Without a programs folder this
-    is a plain ``eqx.filter_jit`` call.
+    Without a programs folder (:func:`programs_dir`: the persistent compilation cache off) this is a plain
+    ``eqx.filter_jit`` call.
+
+    Parameters
+    ----------
+    name : str
+        The program's name, the prefix of its file (``<name>-<digest>.bin``).
+    fn : Callable
+        The function to jit, called as ``fn(*args, *static)``.
+    args : tuple
+        A pytree holding the array inputs; its non-array leaves are baked into the program, so they must be
+        determined by ``key``.
+    static : tuple
+        Hashable Python values passed after ``args``.
+    key : object
+        Any JSON-serialisable value that, with the array shapes, determines the program (e.g. the resolved config
+        and the parent's digest).
+
+    Returns
+    -------
+    object
+        What ``fn(*args, *static)`` returns (the same pytree structure), computed by the compiled program.
     """
     folder = programs_dir()
     if folder is None:

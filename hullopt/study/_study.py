@@ -285,7 +285,21 @@ def target_report(d: Design, achieved_values, errors) -> dict:
 
 
 def design_outcomes(study: Study, params: list[FeatureParams]) -> list[Outcome]:
-    """Each design measured against the parent (:func:`measure`), one jitted program for all."""
+    """Each design measured against the parent (:func:`measure`), one jitted program for all.
+
+    Parameters
+    ----------
+    study : Study
+        The study whose problem (design, parent parameters ``p0``, draft) the designs belong to.
+    params : list of FeatureParams
+        The designs' parameters.
+
+    Returns
+    -------
+    list of Outcome
+        One :class:`Outcome` a design, on the host: parent and design sections and hydrostatics at the draft,
+        achieved targets and their errors, sectional-area curves ``(2, n)`` [m²], objective of design and parent.
+    """
     m = eqx.filter_jit(measure)
     prob = study.problem
     return [jax.device_get(m(prob.design, prob.p0, p)) for p in params]

@@ -36,7 +36,23 @@ PARTICULARS = ("volume", "cb", "lcb_pct", "cp", "cwp", "wetted_surface", "bwl", 
 
 
 def parse_shard(text: str | None) -> tuple[int, int]:
-    """``"k/N"`` (1 ≤ k ≤ N) → ``(k, N)``; ``None`` → ``(1, 1)``."""
+    """A ``--shard`` option: ``"k/N"`` (1 ≤ k ≤ N) as ``(k, N)``.
+
+    Parameters
+    ----------
+    text : str or None
+        ``"k/N"``; None: no sharding.
+
+    Returns
+    -------
+    tuple of (int, int)
+        ``(k, N)``: this shard's number (from 1) and the number of shards; ``(1, 1)`` for None.
+
+    Raises
+    ------
+    HullError
+        When ``text`` is not ``k/N`` with integers 1 ≤ k ≤ N.
+    """
     if text is None:
         return 1, 1
     try:
@@ -215,9 +231,26 @@ def _run_dask(plan: SweepPlan, chunks: Path, todo: list[int], address: str | Non
 
 
 def collect_chunks(dirs: list[Path], out: Path) -> tuple[RunConfig, dict]:
-    """Copy the chunks of the run folders ``dirs`` (shards of one sweep) into ``out/chunks``; returns the
-    sweep's config and raw config. :class:`HullError` when the folders hold different sweeps or a chunk is
-    in none of them."""
+    """Copy the chunks of the run folders ``dirs`` (shards of one sweep) into ``out/chunks``.
+
+    Parameters
+    ----------
+    dirs : list of pathlib.Path
+        The shards' run folders.
+    out : pathlib.Path
+        The merged run folder (its ``chunks`` folder created when missing).
+
+    Returns
+    -------
+    tuple of (RunConfig, dict)
+        The sweep's config and its raw config (the first folder's ``config.json``).
+
+    Raises
+    ------
+    HullError
+        When no folders are given, a folder has no readable or valid ``config.json``, the config is not a sweep,
+        the folders hold different sweeps, or a chunk is in none of them.
+    """
     if not dirs:
         raise HullError("merge: give the run folders of the shards")
     raws = []

@@ -157,8 +157,27 @@ def _validate(cls, data: dict, where: str):
 
 
 def read_wind_config(path: str | Path) -> HullWindConfig | DrawingsConfig:
-    """Read a wind config (TOML: a hull with parts, or ``[drawings]``; JSON: drawings); paths in it are
-    made relative to the config's folder."""
+    """Read a wind config (TOML: a hull with parts, or ``[drawings]``; JSON: drawings).
+
+    Paths in it are made relative to the config's folder.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The config file: ``.toml`` or ``.json``.
+
+    Returns
+    -------
+    HullWindConfig or DrawingsConfig
+        The validated config: a hull spec, draft [m], parts and model settings, with a hull file beside the
+        config made absolute; or the drawings with their paths made absolute.
+
+    Raises
+    ------
+    HullError
+        A missing file, another suffix, a file that cannot be parsed, or an invalid config; the message names the
+        file and the field.
+    """
     path = Path(path)
     if not path.is_file():
         raise HullError(f"{path}: no such config file")
@@ -189,7 +208,20 @@ def read_wind_config(path: str | Path) -> HullWindConfig | DrawingsConfig:
 
 
 def config_parts(parts: list[PartConfig]) -> Parts:
-    """The :class:`~hullopt.wind.Parts` of a config (boxes and polygons, in config order)."""
+    """The :class:`~hullopt.wind.Parts` of a config (boxes and polygons, in config order).
+
+    Parameters
+    ----------
+    parts : list of PartConfig
+        The config's ``[[parts]]``: boxes (``x``, ``z`` [m], ``breadth`` [m]) or polygons (``side = [[x, z], …]``
+        and ``front = [[y, z], …]`` [m], or ``breadth``).
+
+    Returns
+    -------
+    Parts
+        The parts, concatenated: a polygon without ``front`` has a rectangular front of ``breadth`` over its side
+        polygon's height, centred on ``y_centre``.
+    """
     out = []
     for p in parts:
         group = [p.group] if p.group is not None else None
