@@ -50,6 +50,23 @@ def test_bad_constraints_fail_with_the_field(constraints, message):
     assert message in str(e.value)
 
 
+@pytest.mark.parametrize("override, key, kind, owners", [
+    ('objective.kind="k_aw"', "hs", "k_aw", "mean_added_resistance"),
+    ('objective.kind="calm_resistance"', "hs", "calm_resistance", "mean_added_resistance"),
+    ('objective.method="panel"', "method", "mean_added_resistance", "calm_resistance, calm_resistance_michell"),
+    ("objective.wind_speed=10", "wind_speed", "mean_added_resistance", "wind_added_resistance"),
+])
+def test_an_option_of_another_objective_kind_is_an_error_naming_the_kind(override, key, kind, owners):
+    """One options model per objective kind: an option another kind owns is refused as a one-line config error
+    naming the kind given and the kinds that take it (it used to validate and be silently ignored)."""
+    from hullopt.errors import HullError
+    from hullopt.study import load_config
+
+    with pytest.raises(HullError, match=rf"min_added_resistance.toml: objective: {key}: kind = '{kind}' takes no "
+                                        rf"'{key}' \(it is an option of {owners}\)"):
+        load_config(CONFIGS / "min_added_resistance.toml", [override])
+
+
 def test_objective_constraints_take_the_objectives_options():
     cfg = RunConfig.model_validate(_raw(calm_resistance="<= parent", wetted_surface="<= 1.01 * parent"))
     assert cfg.constraints.bounds() == {"calm_resistance": (1, 1.0, True), "wetted_surface": (1, 1.01, True)}
