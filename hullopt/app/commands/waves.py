@@ -14,7 +14,7 @@ from ...constants import G, KNOT, RHO_SEA
 from ...errors import HullError
 from ...models import blunt_bow as blunt_bow_modification
 from ...waves import (
-    AFT_OPTIONS, METHODS, SPECTRA, mean_added_resistance, method_resistance, motion_validity_warning,
+    AFT_OPTIONS, METHODS, SPECTRA, WAVE_METHODS, mean_added_resistance, method_resistance, motion_validity_warning,
     nmri_added_resistance, omega_from_wavelength, select_lower_k_aw,
 )
 from .._app import app
@@ -41,21 +41,10 @@ def _parse_params(text: str) -> np.ndarray:
     return vals
 
 
-# What each method counts (``hullopt waves --method all`` prints it beside its numbers; the README says which
-# to use when).
-INCLUDES = {
-    "nmri": "motion (strip theory) + reflection (Bf)",
-    "stawave1": "reflection only, empirical",
-    "stawave2": "motion + reflection, empirical",
-    "snnm": "motion + reflection, empirical",
-}
-NMRI_REFLECTION_ONLY = "reflection only (Bf)"
-
-
 def includes(method: str, motion: bool = True) -> str:
-    """What ``method``'s R_AW counts: the motion-induced part, the reflection part, or both; semi-analytical
-    (NMRI: strip theory + the Bf formula) or empirical."""
-    return NMRI_REFLECTION_ONLY if method == "nmri" and not motion else INCLUDES[method]
+    """What ``method``'s R_AW counts (its class's description; ``hullopt waves --method all`` prints it beside
+    its numbers; the README says which to use when)."""
+    return WAVE_METHODS[method]().label(motion)
 
 
 @eqx.filter_jit
