@@ -233,3 +233,35 @@ def test_fairness_term_is_scaled_by_the_parent_and_penalises_wiggles(wigley_desi
     assert float(unfairness(model(bumpy))) > float(unfairness(model(p0)))
     r = d.residuals(bumpy)
     assert r.shape == (1 + 7 + 1,) and np.all(np.isfinite(np.asarray(r)))
+
+
+def test_target_kinds_measure_as_the_hydrostatics_say():
+    """TARGETS keeps its shape {name: (relative, tol)} over the target classes; a hydrostatics field is
+    read from the hydrostatics, GM = KM_T − KG needs kg, Bf is the head-sea bluntness; a Particular measures
+    the same."""
+    from hullopt.models import wigley
+    from hullopt.optimise import (TARGET_KINDS, TARGETS, BluntnessTarget, GMTarget, HydrostaticsTarget,
+                                  Particular, achieved)
+    from hullopt.waves import bluntness
+
+    assert list(TARGETS) == list(TARGET_KINDS) and TARGETS["volume"] == (True, 5e-4)
+    assert TARGETS["gm"] == (False, 0.01) and TARGETS["bf"] == (False, 1e-4) and TARGETS["cb"] == (False, 1e-4)
+    assert isinstance(TARGET_KINDS["gm"], GMTarget) and TARGET_KINDS["gm"].needs_kg
+    assert isinstance(TARGET_KINDS["bf"], BluntnessTarget) and not TARGET_KINDS["bf"].needs_kg
+    assert all(isinstance(t, HydrostaticsTarget) for k, t in TARGET_KINDS.items() if k not in ("gm", "bf"))
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=21, m=11)
+    names = tuple(TARGETS)
+
+    @eqx.filter_jit
+    def measured(s):
+        h = hydrostatics(s, 6.25)
+        return (h, achieved(h, s, names, kg=jnp.asarray(4.0)), bluntness(s, h.draft),
+                [Particular(k)(s, 6.25) for k in ("bf", "cb", "wetted_surface")])
+
+    h, got, bf, particulars = measured(hull)
+    want = [float(h.kmt) - 4.0 if k == "gm" else float(bf) if k == "bf" else float(getattr(h, k)) for k in names]
+    np.testing.assert_array_equal(np.asarray(got), want)
+    np.testing.assert_allclose([float(v) for v in particulars], [float(bf), float(h.cb), float(h.wetted_surface)],
+                               rtol=1e-13)
+    with pytest.raises(ValueError, match="gm needs kg"):
+        TARGET_KINDS["gm"].measure(hull, 6.25)

@@ -15,6 +15,11 @@ from ._objectives import MichellCalmResistance as MichellCalmResistance
 from ._objectives import Objective as Objective
 from ._objectives import WindAddedResistance as WindAddedResistance
 from ._problems import TARGETS as TARGETS
+from ._problems import TARGET_KINDS as TARGET_KINDS
+from ._problems import BluntnessTarget as BluntnessTarget
+from ._problems import GMTarget as GMTarget
+from ._problems import HydrostaticsTarget as HydrostaticsTarget
+from ._problems import Target as Target
 from ._problems import Design as Design
 from ._problems import Limits as Limits
 from ._problems import Particular as Particular

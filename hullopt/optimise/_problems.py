@@ -26,7 +26,9 @@ there, ``(y − w − a)/y_max``.
 
 from __future__ import annotations
 
+import abc
 from collections.abc import Callable
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -40,14 +42,76 @@ from ..hydro import Hydrostatics, hydrostatics
 from ..waves import bluntness
 from ._objectives import Objective
 
-# name: (relative?, default tolerance)
-TARGETS: dict[str, tuple[bool, float]] = {
-    "volume": (True, 5e-4), "displacement": (True, 5e-4), "cb": (False, 1e-4), "cp": (False, 1e-4),
-    "cm": (False, 1e-4), "cwp": (False, 1e-4), "lcb_pct": (False, 0.01), "lcf_pct": (False, 0.01),
-    "kb": (True, 1e-3), "bwl": (True, 1e-4), "lwl": (True, 1e-4), "gm": (False, 0.01), "bf": (False, 1e-4),
-}
-PHYSICAL = {"cb": (0.2, 1.0), "cp": (0.3, 1.0), "cm": (0.3, 1.0), "cwp": (0.3, 1.0), "lcb_pct": (-15.0, 15.0),
-            "lcf_pct": (-20.0, 20.0), "bf": (0.0, 1.0)}
+class Target(eqx.Module):
+    """A kind of target particular: its ``name`` (the config's key), whether its error is ``relative``
+    ((a − a*)/a*) or absolute (a − a*, in its unit), its default tolerance ``tol`` (in those units) and the
+    ``physical`` range (lo, hi) a target value must lie strictly within. Subclasses say how the achieved value
+    is measured (:meth:`achieved`, :meth:`measure`) and whether it ``needs_kg``."""
+
+    name: str = eqx.field(static=True)
+    relative: bool = eqx.field(static=True)
+    tol: float = eqx.field(static=True)
+    physical: tuple[float, float] = eqx.field(static=True, default=(0.0, float("inf")))
+    needs_kg: ClassVar[bool] = False
+
+    @abc.abstractmethod
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        """The particular of the hull ``sections`` whose hydrostatics at its draft are ``h`` (SI; % Lpp for
+        lcb_pct, lcf_pct), ``kg`` [m] where it ``needs_kg``."""
+
+    @abc.abstractmethod
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        """The particular of the hull ``sections`` floating upright at ``draft`` [m] (as :meth:`achieved`)."""
+
+
+class HydrostaticsTarget(Target):
+    """A field ``name`` of :class:`~hullopt.hydro.Hydrostatics` (volume [m³], displacement [kg], kb, bwl, lwl
+    [m], lcb_pct, lcf_pct [% Lpp]; coefficients dimensionless)."""
+
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        return getattr(h, self.name)
+
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        return getattr(hydrostatics(sections, draft), self.name)
+
+
+class GMTarget(Target):
+    """The transverse metacentric height GM_T = KM_T − KG [m], given KG [m above the baseline]."""
+
+    needs_kg: ClassVar[bool] = True
+
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        return h.kmt - kg
+
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        if kg is None:
+            raise ValueError(f"{self.name} needs kg")
+        return self.achieved(hydrostatics(sections, draft), sections, kg)
+
+
+class BluntnessTarget(Target):
+    """The bluntness Bf of the waterline in head seas (dimensionless; :func:`hullopt.waves.bluntness`)."""
+
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        return bluntness(sections, h.draft)
+
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        return bluntness(sections, draft)
+
+
+TARGET_KINDS: dict[str, Target] = {t.name: t for t in (
+    HydrostaticsTarget("volume", True, 5e-4), HydrostaticsTarget("displacement", True, 5e-4),
+    HydrostaticsTarget("cb", False, 1e-4, (0.2, 1.0)), HydrostaticsTarget("cp", False, 1e-4, (0.3, 1.0)),
+    HydrostaticsTarget("cm", False, 1e-4, (0.3, 1.0)), HydrostaticsTarget("cwp", False, 1e-4, (0.3, 1.0)),
+    HydrostaticsTarget("lcb_pct", False, 0.01, (-15.0, 15.0)), HydrostaticsTarget("lcf_pct", False, 0.01, (-20.0, 20.0)),
+    HydrostaticsTarget("kb", True, 1e-3), HydrostaticsTarget("bwl", True, 1e-4), HydrostaticsTarget("lwl", True, 1e-4),
+    GMTarget("gm", False, 0.01), BluntnessTarget("bf", False, 1e-4, (0.0, 1.0)),
+)}
+"""The target kinds by name (the module's table), in the order of the table."""
+
+TARGETS: dict[str, tuple[bool, float]] = {k: (t.relative, t.tol) for k, t in TARGET_KINDS.items()}
+"""``{name: (relative?, default tolerance)}`` of :data:`TARGET_KINDS`."""
+PHYSICAL = {k: t.physical for k, t in TARGET_KINDS.items() if t.physical != (0.0, float("inf"))}
 
 
 class Targets(eqx.Module):
@@ -88,11 +152,11 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
     for k, v in values.items():
         if k not in TARGETS:
             raise ValueError(f"unknown target {k!r}; expected one of {', '.join(TARGETS)}")
-        lo, hi = PHYSICAL.get(k, (0.0, float("inf")))
+        lo, hi = TARGET_KINDS[k].physical
         if not (lo < float(v) < hi):
             raise ValueError(f"target {k} = {v} is outside the physical range ({lo}, {hi})")
-        if k == "gm" and kg is None:
-            raise ValueError("a gm target needs kg")
+        if TARGET_KINDS[k].needs_kg and kg is None:
+            raise ValueError(f"a {k} target needs kg")
     for k in tol:
         if k not in values:
             raise ValueError(f"tolerance for {k!r}, which is not a target")
@@ -100,7 +164,7 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
     return Targets(
         names=names,
         values=np.array([float(values[k]) for k in names]),
-        tol=np.array([float(tol.get(k, TARGETS[k][1])) for k in names]),
+        tol=np.array([float(tol.get(k, TARGET_KINDS[k].tol)) for k in names]),
         kg=None if kg is None else np.asarray(float(kg)),
     )
 
@@ -125,14 +189,7 @@ def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=Non
         (len(names),) float values in the units of :class:`~hullopt.hydro.Hydrostatics` (SI; % Lpp for
         lcb_pct, lcf_pct); GM_T [m] for ``gm``, Bf in head seas for ``bf``.
     """
-    out = []
-    for k in names:
-        if k == "gm":
-            out.append(h.kmt - kg)
-        elif k == "bf":
-            out.append(bluntness(sections, h.draft))
-        else:
-            out.append(getattr(h, k))
+    out = [TARGET_KINDS[k].achieved(h, sections, kg) for k in names]
     return jnp.stack(out) if out else jnp.zeros(0)
 
 
@@ -154,7 +211,7 @@ def target_errors(values, targets: Targets) -> Array:
         (t,) float errors: relative (dimensionless) or absolute (the target's unit) per the module's table.
     """
     a = jnp.asarray(values)
-    rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
+    rel = jnp.asarray([TARGET_KINDS[k].relative for k in targets.names], dtype=bool)
     # safe_div: a zero target (LCB amidships) must not poison the gradient
     return jnp.where(rel, safe_div(a, targets.values, rel) - 1.0, a - targets.values)
 
@@ -190,9 +247,10 @@ class Particular(eqx.Module):
     name: str = eqx.field(static=True)
 
     def __call__(self, sections: Sections, draft) -> Array:
-        if self.name == "bf":
-            return bluntness(sections, draft)
-        return getattr(hydrostatics(sections, draft), self.name)
+        target = TARGET_KINDS.get(self.name)
+        if target is None:  # a hydrostatics field that is no target (wetted_surface, awp, …)
+            return getattr(hydrostatics(sections, draft), self.name)
+        return target.measure(sections, draft)
 
 
 class Limits(eqx.Module):
