@@ -40,7 +40,9 @@ from jaxtyping import Array, ArrayLike, Float, PyTree
 from ..geometry import Sections, safe_div, section_integrals
 from ..hydro import Hydrostatics, hydrostatics
 from ..waves import bluntness
+from ._jaxopt import minimise_lbfgsb_traced
 from ._objectives import Objective
+from ._solvers import SolveResult, fit, fit_traced
 
 class Target(eqx.Module):
     """A kind of target particular: its ``name`` (the config's key), whether its error is ``relative``
@@ -433,9 +435,17 @@ def non_dominated(points: Array) -> Array:
     return ok & ~dominated
 
 
-def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
-    """Auto-fit: meet the targets with the least deformation (Levenberg–Marquardt, bounded). With ``traced``
-    the cost of each step is kept in ``history`` (:func:`~hullopt.optimise.fit_traced`); both ``vmap``.
+FIT_METHODS = ("optimistix", "lbfgsb")
+"""The solvers of a fit (:func:`solve_fit`'s ``method``, a run config's ``[solver] method``)."""
+
+
+def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, method: str = "optimistix", **kw):
+    """Auto-fit: meet the targets with the least deformation, minimising the sum of squares of
+    :meth:`Design.residuals` (targets in units of their tolerances, plus the small smoothness term) within the
+    bounds. ``method``: ``"optimistix"``, Levenberg–Marquardt in the bounded parameters' tanh change of
+    variables (the bounds approached, never reached); ``"lbfgsb"``, jaxopt's L-BFGS-B with the bounds hard
+    (:func:`~hullopt.optimise.minimise_lbfgsb_traced`; a parameter may end exactly on its bound). With
+    ``traced`` the cost of each step is kept in ``history``; both ``vmap``.
 
     Parameters
     ----------
@@ -447,14 +457,24 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
         parameters).
     traced : bool
         Keep the cost after each step in ``result.history``.
+    method : {"optimistix", "lbfgsb"}
+        The solver (:data:`FIT_METHODS`).
     **kw
-        Passed to the solver (:func:`~hullopt.optimise.fit`: ``max_steps``, ``rtol``, ``atol``).
+        Passed to the solver: ``max_steps`` for both; ``rtol``, ``atol`` for ``"optimistix"``
+        (:func:`~hullopt.optimise.fit`); ``gtol``, L-BFGS-B's tolerance on the projected gradient of the cost
+        (default 1e-6), for ``"lbfgsb"``.
 
     Returns
     -------
     SolveResult
         ``params`` (like ``p0``), ``residuals`` (target − achieved, SI), ``max_violation`` (≤ 1: ``met``),
-        ``objective``, ``solver_ok``, ``steps``, ``history`` when traced.
+        ``objective``, ``solver_ok``, ``steps``, ``history`` when traced ((max_steps + 1,), the cost Σ r² at
+        the start and after each step, NaN after the last).
+
+    Raises
+    ------
+    ValueError
+        If ``method`` is not one of :data:`FIT_METHODS`.
 
     Examples
     --------
@@ -476,9 +496,23 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
     >>> round(float(r.params), 4), bool(r.met)
     (0.2, True)
     """
-    from ._solvers import fit, fit_traced
+    if method not in FIT_METHODS:
+        raise ValueError(f"fit method {method!r}: expected one of {', '.join(FIT_METHODS)}")
+    tol = design.fit_tolerances(p0)
+    if method == "optimistix":
+        return (fit_traced if traced else fit)(design.residuals, p0, lower, upper, tol=tol, **kw)
+    max_steps, gtol = kw.pop("max_steps", 200), kw.pop("gtol", 1e-6)
+    if kw:
+        raise TypeError(f"solve_fit(method='lbfgsb') takes max_steps and gtol, not {', '.join(kw)}")
 
-    return (fit_traced if traced else fit)(design.residuals, p0, lower, upper, tol=design.fit_tolerances(p0), **kw)
+    def cost(p, args):
+        r = design.residuals(p, args)
+        return r @ r
+
+    p, _, ok, steps, history = minimise_lbfgsb_traced(cost, p0, lower, upper, tol=gtol, maxiter=max_steps)
+    r = design.residuals(p)
+    viol = jnp.max(jnp.abs(r) / tol)
+    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, jnp.asarray(steps), history if traced else None)
 
 
 MU0, GROWTH = 1.0, 4.0
