@@ -233,3 +233,84 @@ def test_fairness_term_is_scaled_by_the_parent_and_penalises_wiggles(wigley_desi
     assert float(unfairness(model(bumpy))) > float(unfairness(model(p0)))
     r = d.residuals(bumpy)
     assert r.shape == (1 + 7 + 1,) and np.all(np.isfinite(np.asarray(r)))
+
+
+def test_target_kinds_measure_as_the_hydrostatics_say():
+    """TARGETS keeps its shape {name: (relative, tol)} over the target classes; a hydrostatics field is
+    read from the hydrostatics, GM = KM_T − KG needs kg, Bf is the head-sea bluntness; a Particular measures
+    the same."""
+    from hullopt.models import wigley
+    from hullopt.optimise import (TARGET_KINDS, TARGETS, BluntnessTarget, GMTarget, HydrostaticsTarget,
+                                  Particular, achieved)
+    from hullopt.waves import bluntness
+
+    assert list(TARGETS) == list(TARGET_KINDS) and TARGETS["volume"] == (True, 5e-4)
+    assert TARGETS["gm"] == (False, 0.01) and TARGETS["bf"] == (False, 1e-4) and TARGETS["cb"] == (False, 1e-4)
+    assert isinstance(TARGET_KINDS["gm"], GMTarget) and TARGET_KINDS["gm"].needs_kg
+    assert isinstance(TARGET_KINDS["bf"], BluntnessTarget) and not TARGET_KINDS["bf"].needs_kg
+    assert all(isinstance(t, HydrostaticsTarget) for k, t in TARGET_KINDS.items() if k not in ("gm", "bf"))
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=21, m=11)
+    names = tuple(TARGETS)
+
+    @eqx.filter_jit
+    def measured(s):
+        h = hydrostatics(s, 6.25)
+        return (h, achieved(h, s, names, kg=jnp.asarray(4.0)), bluntness(s, h.draft),
+                [Particular(k)(s, 6.25) for k in ("bf", "cb", "wetted_surface")])
+
+    h, got, bf, particulars = measured(hull)
+    want = [float(h.kmt) - 4.0 if k == "gm" else float(bf) if k == "bf" else float(getattr(h, k)) for k in names]
+    np.testing.assert_array_equal(np.asarray(got), want)
+    np.testing.assert_allclose([float(v) for v in particulars], [float(bf), float(h.cb), float(h.wetted_surface)],
+                               rtol=1e-13)
+    with pytest.raises(ValueError, match="gm needs kg"):
+        TARGET_KINDS["gm"].measure(hull, 6.25)
+
+
+def test_fit_by_lbfgsb_meets_the_target_and_ends_on_an_active_bound():
+    """A Wigley fit by both solvers to two Cb targets (one program): +4 % (reachable; both meet it) and +30 %
+    (beyond the bounds: the fullness parameter is stopped by its bound). L-BFGS-B keeps every parameter within
+    its bounds exactly and ends exactly on the active one; Levenberg–Marquardt (tanh change of variables) ends
+    on it to rounding."""
+    h = load_parent("wigley")
+    model = feature_model(h, [], [Distribution(0.0, 100.0, "all", 2)], [])
+    p0 = model.zeros()
+    hi = jax.tree.map(lambda a: jnp.full(a.shape, 0.3), p0)
+    lo = jax.tree.map(lambda a: -a, hi)
+    base = Design(model=model, draft=jnp.asarray(6.25), targets=make_targets({"cb": 0.44}), param_scale=hi)
+
+    @eqx.filter_jit
+    def solve(cb):
+        d = eqx.tree_at(lambda x: x.targets.values, base, cb[None])
+        rs = [solve_fit(d, p0, lo, hi, traced=True, method=m, max_steps=60) for m in ("optimistix", "lbfgsb")]
+        return rs, [hydrostatics(model(r.params), 6.25).cb for r in rs]
+
+    targets = jnp.array([0.46, 0.58])  # the parent's Cb 0.444
+    (lm, lb), (cb_lm, cb_lb) = jax.tree.map(lambda *v: jnp.stack(v), *(solve(t) for t in targets))
+    assert np.asarray(lm.met).tolist() == np.asarray(lb.met).tolist() == [True, False]
+    np.testing.assert_allclose([cb_lm[0], cb_lb[0]], targets[0], atol=1e-4)  # Cb's tolerance
+    assert bool(lb.solver_ok[0]) and bool(lm.solver_ok[0])
+    x_lb, x_lm = np.asarray(lb.params.distribution), np.asarray(lm.params.distribution)
+    assert np.all(x_lb >= -0.3) and np.all(x_lb <= 0.3)
+    assert np.abs(x_lb[1]).max() == 0.3 and np.sum(np.abs(x_lb[1]) == 0.3) == 1  # one bound active, exactly
+    active = np.abs(x_lb[1]) == 0.3
+    np.testing.assert_allclose(x_lm[1][active], x_lb[1][active], atol=1e-9)  # the same bound
+    n = int(lb.steps[0])
+    history = np.asarray(lb.history[0])
+    assert np.isfinite(history[: n + 1]).all() and np.isnan(history[n + 1:]).all()
+    assert history[n] == pytest.approx(float(lb.objective[0]), rel=1e-9) and history[n] < 1e-3 * history[0]
+    with pytest.raises(ValueError, match="expected one of optimistix, lbfgsb"):
+        solve_fit(base, p0, lo, hi, method="bfgs")
+
+
+def test_solver_method_is_a_config_choice():
+    """``[solver] method``: the fit's solver, optimistix by default, lbfgsb by choice, nothing else."""
+    from pydantic import ValidationError
+
+    from hullopt.optimise import FIT_METHODS
+    from hullopt.study import SolverConfig
+
+    assert SolverConfig().method == "optimistix" and SolverConfig(method="lbfgsb").method == "lbfgsb"
+    assert set(FIT_METHODS) == {"optimistix", "lbfgsb"}
+    with pytest.raises(ValidationError):
+        SolverConfig(method="bfgs")

@@ -101,3 +101,76 @@ def test_nmri_without_motions_is_named_reflection_only(tmp_path, monkeypatch):
                                    r_awm=0 * r, r_awr=r, r_aw=r))
     labels = [t.get_text() for t in figures[0].axes[0].get_legend().get_texts()]
     assert labels[0] == "nmri R_AW: reflection only (Bf)" and not any("motion part" in s for s in labels)
+
+
+# --------------------------------------------------------------------------------- the methods as classes
+
+# The coarse Wigley (L 100, B 10, T 6.25 m) at 7.7 m/s: per method, Σ R_AWM and Σ R_AWR [N] over 5 ω × 4 headings
+# (ζ_a 1.5 m, kyy 0.26, NMRI with its motion part), the sea-state mean's motion and reflection parts [N]
+# (H_s 3 m, T_p 9 s, 0.3 rad; NMRI reflection only) long-crested and short-crested (cos-2s, s = 2), and Σ|break|
+# [rad] of heading_breaks with aft="include" — as the functions gave them before the methods were classes
+# (bit-identical then; compared here to 1e-13).
+STORED = {
+    "nmri": (797141.8295752843, 997884.3419177901, 0.0, 40681.13884737911, 0.0, 33436.08852500035,
+             3.1415926535897936),
+    "stawave1": (0.0, 572617.6890224803, 0.0, 28630.8844477198, 0.0, 24343.97369301446, 1.5707963267948966),
+    "stawave2": (349380.9975986476, 470508.8727062625, 28898.929715606067, 18750.60873624706, 24571.884464051785,
+                 15943.074571681947, 1.5707963267948966),
+    "snnm": (1303753.0008821513, 529793.9986099134, 102301.20544097335, 6582.0832253189665, 90953.20179067319,
+             10191.725224279813, 2.009034433890674),
+}
+
+
+@pytest.mark.parametrize("name", list(STORED))
+def test_method_class_gives_the_stored_values(name):
+    """Each method through its class (regular waves, the sea-state mean long- and short-crested, the heading
+    breaks) gives the values the functions gave before, and the public functions dispatch to it unchanged."""
+    import equinox as eqx
+    import jax.numpy as jnp
+
+    from hullopt.models import wigley
+    from hullopt.waves import WAVE_METHODS, mean_added_resistance, method_resistance
+
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=21, m=11)
+    t, u = 6.25, 7.7
+    om, hd = jnp.linspace(0.4, 1.6, 5), jnp.array([0.0, 0.5, 1.2, 2.5])
+    method = WAVE_METHODS[name]()
+    r = eqx.filter_jit(lambda s: method(s, t, u, om, hd, 1.5, kyy=0.26))(hull)
+    long = eqx.filter_jit(lambda s: method.mean(s, t, u, 3.0, 9.0, 0.3, motion=False, order=6))(hull)
+    short = eqx.filter_jit(lambda s: method.mean(s, t, u, 3.0, 9.0, 0.3, spreading_s=2.0, motion=False, order=6,
+                                                 n_dir=8))(hull)
+    breaks = method.heading_breaks(hull, t, "include")
+    got = (jnp.sum(r.motion), jnp.sum(r.reflection), long.motion, long.reflection, short.motion, short.reflection,
+           jnp.sum(jnp.abs(breaks)))
+    np.testing.assert_allclose(np.array([float(v) for v in got]), STORED[name], rtol=1e-13, atol=0)
+    old = eqx.filter_jit(method_resistance)(name, hull, t, u, om, hd, 1.5, kyy=0.26)
+    # one program against another: XLA may fuse them differently, to a few ulps
+    np.testing.assert_allclose(old.motion, r.motion, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(old.reflection, r.reflection, rtol=1e-12, atol=1e-9)
+    m = eqx.filter_jit(mean_added_resistance)(name, hull, t, u, 3.0, 9.0, 0.3, motion=False, order=6)
+    np.testing.assert_allclose(float(m.total), float(long.total), rtol=1e-12)
+
+
+def test_method_registry():
+    """The registry: names in order, what each includes and where it applies; STAWAVE is 0 beyond ±45°; an
+    unknown name is refused naming the methods."""
+    import jax.numpy as jnp
+
+    from hullopt.models import wigley
+    from hullopt.waves import WAVE_METHODS, WaveMethod, method_resistance, wave_method
+
+    assert METHODS == tuple(WAVE_METHODS) == ("nmri", "stawave1", "stawave2", "snnm")
+    assert all(issubclass(c, WaveMethod) and c.name == k for k, c in WAVE_METHODS.items())
+    assert WAVE_METHODS["stawave1"].includes == ("reflection",)
+    assert all(WAVE_METHODS[k].includes == ("motion", "reflection") for k in ("nmri", "stawave2", "snnm"))
+    assert wave_method("nmri").label(motion=False) == "reflection only (Bf)"
+    assert wave_method("snnm").label(motion=False) == "motion + reflection, empirical"
+    hd = jnp.array([0.0, 0.7, 0.9, jnp.pi])
+    np.testing.assert_array_equal(wave_method("stawave2").valid(hd), [True, True, False, False])
+    np.testing.assert_array_equal(wave_method("snnm").valid(hd), [True] * 4)
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=21, m=5)
+    for name in ("stawave1", "stawave2"):
+        r = method_resistance(name, hull, 6.25, 7.7, jnp.array([0.6, 1.0]), hd)
+        assert np.all(np.asarray(r.total)[:, ~np.asarray(wave_method(name).valid(hd))] == 0.0)
+    with pytest.raises(ValueError, match="expected one of"):
+        wave_method("sta")

@@ -3,6 +3,7 @@
 from ._bounds import from_unbounded as from_unbounded
 from ._bounds import to_unbounded as to_unbounded
 from ._jaxopt import minimise_lbfgsb as minimise_lbfgsb
+from ._jaxopt import minimise_lbfgsb_traced as minimise_lbfgsb_traced
 from ._solvers import SolveResult as SolveResult
 from ._solvers import fit as fit
 from ._solvers import fit_traced as fit_traced
@@ -15,6 +16,11 @@ from ._objectives import MichellCalmResistance as MichellCalmResistance
 from ._objectives import Objective as Objective
 from ._objectives import WindAddedResistance as WindAddedResistance
 from ._problems import TARGETS as TARGETS
+from ._problems import TARGET_KINDS as TARGET_KINDS
+from ._problems import BluntnessTarget as BluntnessTarget
+from ._problems import GMTarget as GMTarget
+from ._problems import HydrostaticsTarget as HydrostaticsTarget
+from ._problems import Target as Target
 from ._problems import Design as Design
 from ._problems import Limits as Limits
 from ._problems import Particular as Particular
@@ -22,6 +28,7 @@ from ._problems import Targets as Targets
 from ._problems import achieved as achieved
 from ._problems import make_targets as make_targets
 from ._problems import non_dominated as non_dominated
+from ._problems import FIT_METHODS as FIT_METHODS
 from ._problems import solve_fit as solve_fit
 from ._problems import solve_minimum as solve_minimum
 from ._problems import target_errors as target_errors

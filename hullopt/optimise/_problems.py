@@ -26,7 +26,9 @@ there, ``(y − w − a)/y_max``.
 
 from __future__ import annotations
 
+import abc
 from collections.abc import Callable
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -38,16 +40,80 @@ from jaxtyping import Array, ArrayLike, Float, PyTree
 from ..geometry import Sections, safe_div, section_integrals
 from ..hydro import Hydrostatics, hydrostatics
 from ..waves import bluntness
+from ._jaxopt import minimise_lbfgsb_traced
 from ._objectives import Objective
+from ._solvers import SolveResult, fit, fit_traced
 
-# name: (relative?, default tolerance)
-TARGETS: dict[str, tuple[bool, float]] = {
-    "volume": (True, 5e-4), "displacement": (True, 5e-4), "cb": (False, 1e-4), "cp": (False, 1e-4),
-    "cm": (False, 1e-4), "cwp": (False, 1e-4), "lcb_pct": (False, 0.01), "lcf_pct": (False, 0.01),
-    "kb": (True, 1e-3), "bwl": (True, 1e-4), "lwl": (True, 1e-4), "gm": (False, 0.01), "bf": (False, 1e-4),
-}
-PHYSICAL = {"cb": (0.2, 1.0), "cp": (0.3, 1.0), "cm": (0.3, 1.0), "cwp": (0.3, 1.0), "lcb_pct": (-15.0, 15.0),
-            "lcf_pct": (-20.0, 20.0), "bf": (0.0, 1.0)}
+class Target(eqx.Module):
+    """A kind of target particular: its ``name`` (the config's key), whether its error is ``relative``
+    ((a − a*)/a*) or absolute (a − a*, in its unit), its default tolerance ``tol`` (in those units) and the
+    ``physical`` range (lo, hi) a target value must lie strictly within. Subclasses say how the achieved value
+    is measured (:meth:`achieved`, :meth:`measure`) and whether it ``needs_kg``."""
+
+    name: str = eqx.field(static=True)
+    relative: bool = eqx.field(static=True)
+    tol: float = eqx.field(static=True)
+    physical: tuple[float, float] = eqx.field(static=True, default=(0.0, float("inf")))
+    needs_kg: ClassVar[bool] = False
+
+    @abc.abstractmethod
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        """The particular of the hull ``sections`` whose hydrostatics at its draft are ``h`` (SI; % Lpp for
+        lcb_pct, lcf_pct), ``kg`` [m] where it ``needs_kg``."""
+
+    @abc.abstractmethod
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        """The particular of the hull ``sections`` floating upright at ``draft`` [m] (as :meth:`achieved`)."""
+
+
+class HydrostaticsTarget(Target):
+    """A field ``name`` of :class:`~hullopt.hydro.Hydrostatics` (volume [m³], displacement [kg], kb, bwl, lwl
+    [m], lcb_pct, lcf_pct [% Lpp]; coefficients dimensionless)."""
+
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        return getattr(h, self.name)
+
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        return getattr(hydrostatics(sections, draft), self.name)
+
+
+class GMTarget(Target):
+    """The transverse metacentric height GM_T = KM_T − KG [m], given KG [m above the baseline]."""
+
+    needs_kg: ClassVar[bool] = True
+
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        return h.kmt - kg
+
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        if kg is None:
+            raise ValueError(f"{self.name} needs kg")
+        return self.achieved(hydrostatics(sections, draft), sections, kg)
+
+
+class BluntnessTarget(Target):
+    """The bluntness Bf of the waterline in head seas (dimensionless; :func:`hullopt.waves.bluntness`)."""
+
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+        return bluntness(sections, h.draft)
+
+    def measure(self, sections: Sections, draft, kg=None) -> Array:
+        return bluntness(sections, draft)
+
+
+TARGET_KINDS: dict[str, Target] = {t.name: t for t in (
+    HydrostaticsTarget("volume", True, 5e-4), HydrostaticsTarget("displacement", True, 5e-4),
+    HydrostaticsTarget("cb", False, 1e-4, (0.2, 1.0)), HydrostaticsTarget("cp", False, 1e-4, (0.3, 1.0)),
+    HydrostaticsTarget("cm", False, 1e-4, (0.3, 1.0)), HydrostaticsTarget("cwp", False, 1e-4, (0.3, 1.0)),
+    HydrostaticsTarget("lcb_pct", False, 0.01, (-15.0, 15.0)), HydrostaticsTarget("lcf_pct", False, 0.01, (-20.0, 20.0)),
+    HydrostaticsTarget("kb", True, 1e-3), HydrostaticsTarget("bwl", True, 1e-4), HydrostaticsTarget("lwl", True, 1e-4),
+    GMTarget("gm", False, 0.01), BluntnessTarget("bf", False, 1e-4, (0.0, 1.0)),
+)}
+"""The target kinds by name (the module's table), in the order of the table."""
+
+TARGETS: dict[str, tuple[bool, float]] = {k: (t.relative, t.tol) for k, t in TARGET_KINDS.items()}
+"""``{name: (relative?, default tolerance)}`` of :data:`TARGET_KINDS`."""
+PHYSICAL = {k: t.physical for k, t in TARGET_KINDS.items() if t.physical != (0.0, float("inf"))}
 
 
 class Targets(eqx.Module):
@@ -88,11 +154,11 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
     for k, v in values.items():
         if k not in TARGETS:
             raise ValueError(f"unknown target {k!r}; expected one of {', '.join(TARGETS)}")
-        lo, hi = PHYSICAL.get(k, (0.0, float("inf")))
+        lo, hi = TARGET_KINDS[k].physical
         if not (lo < float(v) < hi):
             raise ValueError(f"target {k} = {v} is outside the physical range ({lo}, {hi})")
-        if k == "gm" and kg is None:
-            raise ValueError("a gm target needs kg")
+        if TARGET_KINDS[k].needs_kg and kg is None:
+            raise ValueError(f"a {k} target needs kg")
     for k in tol:
         if k not in values:
             raise ValueError(f"tolerance for {k!r}, which is not a target")
@@ -100,7 +166,7 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
     return Targets(
         names=names,
         values=np.array([float(values[k]) for k in names]),
-        tol=np.array([float(tol.get(k, TARGETS[k][1])) for k in names]),
+        tol=np.array([float(tol.get(k, TARGET_KINDS[k].tol)) for k in names]),
         kg=None if kg is None else np.asarray(float(kg)),
     )
 
@@ -125,14 +191,7 @@ def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=Non
         (len(names),) float values in the units of :class:`~hullopt.hydro.Hydrostatics` (SI; % Lpp for
         lcb_pct, lcf_pct); GM_T [m] for ``gm``, Bf in head seas for ``bf``.
     """
-    out = []
-    for k in names:
-        if k == "gm":
-            out.append(h.kmt - kg)
-        elif k == "bf":
-            out.append(bluntness(sections, h.draft))
-        else:
-            out.append(getattr(h, k))
+    out = [TARGET_KINDS[k].achieved(h, sections, kg) for k in names]
     return jnp.stack(out) if out else jnp.zeros(0)
 
 
@@ -154,7 +213,7 @@ def target_errors(values, targets: Targets) -> Array:
         (t,) float errors: relative (dimensionless) or absolute (the target's unit) per the module's table.
     """
     a = jnp.asarray(values)
-    rel = jnp.asarray([TARGETS[k][0] for k in targets.names], dtype=bool)
+    rel = jnp.asarray([TARGET_KINDS[k].relative for k in targets.names], dtype=bool)
     # safe_div: a zero target (LCB amidships) must not poison the gradient
     return jnp.where(rel, safe_div(a, targets.values, rel) - 1.0, a - targets.values)
 
@@ -190,9 +249,10 @@ class Particular(eqx.Module):
     name: str = eqx.field(static=True)
 
     def __call__(self, sections: Sections, draft) -> Array:
-        if self.name == "bf":
-            return bluntness(sections, draft)
-        return getattr(hydrostatics(sections, draft), self.name)
+        target = TARGET_KINDS.get(self.name)
+        if target is None:  # a hydrostatics field that is no target (wetted_surface, awp, …)
+            return getattr(hydrostatics(sections, draft), self.name)
+        return target.measure(sections, draft)
 
 
 class Limits(eqx.Module):
@@ -375,9 +435,17 @@ def non_dominated(points: Array) -> Array:
     return ok & ~dominated
 
 
-def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
-    """Auto-fit: meet the targets with the least deformation (Levenberg–Marquardt, bounded). With ``traced``
-    the cost of each step is kept in ``history`` (:func:`~hullopt.optimise.fit_traced`); both ``vmap``.
+FIT_METHODS = ("optimistix", "lbfgsb")
+"""The solvers of a fit (:func:`solve_fit`'s ``method``, a run config's ``[solver] method``)."""
+
+
+def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, method: str = "optimistix", **kw):
+    """Auto-fit: meet the targets with the least deformation, minimising the sum of squares of
+    :meth:`Design.residuals` (targets in units of their tolerances, plus the small smoothness term) within the
+    bounds. ``method``: ``"optimistix"``, Levenberg–Marquardt in the bounded parameters' tanh change of
+    variables (the bounds approached, never reached); ``"lbfgsb"``, jaxopt's L-BFGS-B with the bounds hard
+    (:func:`~hullopt.optimise.minimise_lbfgsb_traced`; a parameter may end exactly on its bound). With
+    ``traced`` the cost of each step is kept in ``history``; both ``vmap``.
 
     Parameters
     ----------
@@ -389,14 +457,24 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
         parameters).
     traced : bool
         Keep the cost after each step in ``result.history``.
+    method : {"optimistix", "lbfgsb"}
+        The solver (:data:`FIT_METHODS`).
     **kw
-        Passed to the solver (:func:`~hullopt.optimise.fit`: ``max_steps``, ``rtol``, ``atol``).
+        Passed to the solver: ``max_steps`` for both; ``rtol``, ``atol`` for ``"optimistix"``
+        (:func:`~hullopt.optimise.fit`); ``gtol``, L-BFGS-B's tolerance on the projected gradient of the cost
+        (default 1e-6), for ``"lbfgsb"``.
 
     Returns
     -------
     SolveResult
         ``params`` (like ``p0``), ``residuals`` (target − achieved, SI), ``max_violation`` (≤ 1: ``met``),
-        ``objective``, ``solver_ok``, ``steps``, ``history`` when traced.
+        ``objective``, ``solver_ok``, ``steps``, ``history`` when traced ((max_steps + 1,), the cost Σ r² at
+        the start and after each step, NaN after the last).
+
+    Raises
+    ------
+    ValueError
+        If ``method`` is not one of :data:`FIT_METHODS`.
 
     Examples
     --------
@@ -418,9 +496,23 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, **kw):
     >>> round(float(r.params), 4), bool(r.met)
     (0.2, True)
     """
-    from ._solvers import fit, fit_traced
+    if method not in FIT_METHODS:
+        raise ValueError(f"fit method {method!r}: expected one of {', '.join(FIT_METHODS)}")
+    tol = design.fit_tolerances(p0)
+    if method == "optimistix":
+        return (fit_traced if traced else fit)(design.residuals, p0, lower, upper, tol=tol, **kw)
+    max_steps, gtol = kw.pop("max_steps", 200), kw.pop("gtol", 1e-6)
+    if kw:
+        raise TypeError(f"solve_fit(method='lbfgsb') takes max_steps and gtol, not {', '.join(kw)}")
 
-    return (fit_traced if traced else fit)(design.residuals, p0, lower, upper, tol=design.fit_tolerances(p0), **kw)
+    def cost(p, args):
+        r = design.residuals(p, args)
+        return r @ r
+
+    p, _, ok, steps, history = minimise_lbfgsb_traced(cost, p0, lower, upper, tol=gtol, maxiter=max_steps)
+    r = design.residuals(p)
+    viol = jnp.max(jnp.abs(r) / tol)
+    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, jnp.asarray(steps), history if traced else None)
 
 
 MU0, GROWTH = 1.0, 4.0

@@ -289,6 +289,9 @@ class ConstraintsConfig(_Strict):
 
 class SolverConfig(_Strict):
     max_steps: int = Field(default=200, ge=1)
+    method: Literal["optimistix", "lbfgsb"] = Field(
+        default="optimistix", description="a fit's solver: optimistix's Levenberg–Marquardt (bounds by a change of "
+        "variables) or jaxopt's L-BFGS-B (bounds hard)")
     smoothness: float = Field(default=1e-6, ge=0)
     fairness: float | None = Field(default=None, ge=0, description="weight of the unfairness penalty U/U_parent "
                                    "(default: the study's, FAIRNESS for minimise and pareto runs, 0 for fits)")

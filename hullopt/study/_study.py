@@ -204,7 +204,8 @@ class Fit(_Single):
     fairness: ClassVar[float] = 0.0
 
     def _solve(self, d, p0, lower, upper):
-        return solve_fit(d, p0, lower, upper, traced=True, max_steps=self.cfg.solver.max_steps)
+        return solve_fit(d, p0, lower, upper, traced=True, max_steps=self.cfg.solver.max_steps,
+                         method=self.cfg.solver.method)
 
     def history(self, result) -> dict:
         """The cost Σ (residual / tolerance)² after each Levenberg–Marquardt step."""

@@ -12,6 +12,12 @@ from ._added_resistance import nmri_added_resistance as nmri_added_resistance
 from ._added_resistance import omega_from_wavelength as omega_from_wavelength
 from ._added_resistance import speed_coefficient as speed_coefficient
 from ._alternatives import METHODS as METHODS
+from ._alternatives import NMRI as NMRI
+from ._alternatives import SNNM as SNNM
+from ._alternatives import WAVE_METHODS as WAVE_METHODS
+from ._alternatives import Stawave1 as Stawave1
+from ._alternatives import Stawave2 as Stawave2
+from ._alternatives import WaveMethod as WaveMethod
 from ._alternatives import Particulars as Particulars
 from ._alternatives import WaveResistance as WaveResistance
 from ._alternatives import mean_added_resistance as mean_added_resistance
@@ -20,6 +26,7 @@ from ._alternatives import particulars as particulars
 from ._alternatives import snnm as snnm
 from ._alternatives import stawave1 as stawave1
 from ._alternatives import stawave2 as stawave2
+from ._alternatives import wave_method as wave_method
 from ._bessel import alpha_t as alpha_t
 from ._bessel import k0 as k0
 from ._bessel import k0e as k0e

@@ -4,9 +4,16 @@ Every method returns the motion-induced and reflection parts side by side, in re
 ζ_a, as :class:`WaveResistance` (shape W + H for ``omega`` W and ``heading`` H). Conventions: α = 0 head
 seas (folded to [0, π] by symmetry), Fr on Lpp, kyy the pitch radius of gyration over Lpp. The hull enters
 through :class:`Particulars` (Lpp, B_wl, T, C_B and waterline lengths), all computed from the sections.
+
+Each method is a :class:`WaveMethod` (NMRI, STAWAVE-1, STAWAVE-2, SNNM), registered in :data:`WAVE_METHODS` by
+name: what it includes, where it applies, its kinks in heading, its R_AW in regular waves and in a sea state.
+:func:`method_resistance`, :func:`heading_breaks` and :func:`mean_added_resistance` take the name.
 """
 
 from __future__ import annotations
+
+import abc
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -19,8 +26,6 @@ from ._motions import motion_added_resistance, motion_response
 from ._bessel import alpha_t
 from ._spectra import spectral_mean
 from ._waterline import bluntness_of_waterline, entrance_lengths, waterline
-
-METHODS = ("nmri", "stawave1", "stawave2", "snnm")
 
 
 class Particulars(eqx.Module):
@@ -243,6 +248,242 @@ def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho
     return WaveResistance(motion=scale * sig_m, reflection=scale * sig_r)
 
 
+# ------------------------------------------------------------------------------------------ the methods as classes
+
+WAVE_METHODS: dict[str, type[WaveMethod]] = {}
+"""The added-resistance methods by name (``hullopt waves --method``), filled by defining a subclass of
+:class:`WaveMethod`."""
+
+
+class WaveMethod(eqx.Module):
+    """A method of added resistance in waves: ``method(sections, draft, speed, omega, heading, amplitude)`` →
+    :class:`WaveResistance` [N] in regular waves (shape W + H), and :meth:`mean` in a sea state.
+
+    Subclasses set the class variables ``name`` (unique; what ``--method`` takes), ``description`` (one line:
+    what its R_AW counts, as ``hullopt waves`` prints it), ``includes`` (the parts it has, of ``"motion"`` and
+    ``"reflection"``) and ``headings`` (where it applies, in words), and implement ``__call__``,
+    :meth:`valid` and :meth:`heading_breaks`. Defining one registers it in :data:`WAVE_METHODS`. Headings:
+    α [rad], 0 = head seas.
+    """
+
+    name: eqx.AbstractClassVar[str]
+    description: eqx.AbstractClassVar[str]
+    includes: eqx.AbstractClassVar[tuple[str, ...]]
+    headings: eqx.AbstractClassVar[str]
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        name = cls.__dict__.get("name")
+        if isinstance(name, str):
+            if name in WAVE_METHODS and WAVE_METHODS[name].__qualname__ != cls.__qualname__:
+                raise TypeError(f"wave method name {name!r} is taken by {WAVE_METHODS[name].__qualname__}")
+            WAVE_METHODS[name] = cls
+
+    @abc.abstractmethod
+    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
+                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+        """Added resistance [N] in regular waves of amplitude ζ_a [m], shape W + H for ``omega`` [rad/s] W and
+        ``heading`` [rad] H, as :func:`method_resistance` takes the arguments (those the method does not use
+        are ignored)."""
+
+    @abc.abstractmethod
+    def valid(self, heading) -> Array:
+        """Whether the method applies at ``heading`` [rad] (bool, the shape of ``heading``); elsewhere its
+        R_AW is 0."""
+
+    @abc.abstractmethod
+    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+        """Headings [rad] where the response has a kink or a jump in heading (:func:`heading_breaks`)."""
+
+    def label(self, motion: bool = True) -> str:
+        """What this method's R_AW counts (``description``); ``motion=False`` for a method whose motion part
+        can be left out says so."""
+        return self.description
+
+    def reflection_directions(self, n_dir: int) -> int:
+        """Points of the direction integral of the reflection part for ``n_dir`` of the motion part."""
+        return n_dir
+
+    def mean(self, sections: Sections, draft, speed, hs, tp, heading=0.0, *, spectrum: str = "pm", gamma=3.3,
+             spreading_s=None, omega_max=None, kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude",
+             order: int = 8, n_dir: int = 16, kg=None, motion: bool = True,
+             motion_knots: int | None = 20) -> WaveResistance:
+        """Mean added resistance [N] in a sea state, as :func:`mean_added_resistance` takes the arguments: one
+        spectral mean of both parts, the direction integral split at :meth:`heading_breaks`."""
+        opts = self._spectral_options(sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order)
+
+        def response(om, hd):
+            r = self(sections, draft, speed, om, hd, 1.0, kyy=kyy, rho=rho, g=g, smooth=smooth, aft=aft, kg=kg,
+                     motion=motion)
+            return jnp.stack([r.motion, r.reflection], axis=-1)
+
+        m = spectral_mean(response, hs, tp, heading, n_dir=self.reflection_directions(n_dir), **opts)
+        return WaveResistance(motion=m[0], reflection=m[1])
+
+    def _spectral_options(self, sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order) -> dict:
+        return dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max, order=order,
+                    breaks=None if spreading_s is None else self.heading_breaks(sections, draft, aft))
+
+
+class NMRI(WaveMethod):
+    """NMRI (patent JP2009-286166): R_AW = R_AWM + R_AWR(Bf), the motion part by strip theory
+    (:func:`~hullopt.waves.motion_added_resistance`, with ``kg`` [m] and ``kyy``; ``motion=False`` leaves it out,
+    0), the reflection part by the patent's formula (:func:`~hullopt.waves.nmri_added_resistance`); all headings."""
+
+    name: ClassVar[str] = "nmri"
+    description: ClassVar[str] = "motion (strip theory) + reflection (Bf)"
+    includes: ClassVar[tuple[str, ...]] = ("motion", "reflection")
+    headings: ClassVar[str] = "all"
+
+    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
+                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+        r = nmri_added_resistance(sections, draft, speed, omega, heading, amplitude, rho=rho, g=g, smooth=smooth,
+                                  aft=aft).r_awr
+        if not motion:
+            return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
+        m = motion_added_resistance(sections, draft, speed, omega, heading, amplitude, kg=kg, kyy=kyy, rho=rho, g=g)
+        return WaveResistance(motion=m, reflection=r)
+
+    def valid(self, heading) -> Array:
+        return jnp.ones(jnp.shape(heading), dtype=bool)
+
+    def label(self, motion: bool = True) -> str:
+        return self.description if motion else "reflection only (Bf)"
+
+    def reflection_directions(self, n_dir: int) -> int:
+        # NMRI's reflection part has more structure in heading than its kinks (METHODS §2.6)
+        return 5 * n_dir // 2
+
+    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+        grid = jnp.linspace(0.0, jnp.pi, 64)
+        bf = bluntness_of_waterline(waterline(sections, draft), grid, aft)
+        out = []
+        for level in (BF_KINK, 0.0) if aft == "include" else (BF_KINK,):
+            d = bf - level
+            cross = (d[:-1] > 0.0) != (d[1:] > 0.0)
+            i = jnp.argsort(~cross, stable=True)[:2]  # the first two cells with a crossing
+            d0, d1 = d[i], d[i + 1]
+            ok = cross[i] & (d0 != d1)
+            t = jnp.where(ok, d0 / jnp.where(ok, d0 - d1, 1.0), 0.0)
+            root = jnp.where(ok, grid[i] + t * (grid[1] - grid[0]), 0.0)  # none: a harmless split at 0
+            out += [root, -root]
+        return jnp.concatenate(out)
+
+    def mean(self, sections: Sections, draft, speed, hs, tp, heading=0.0, *, spectrum: str = "pm", gamma=3.3,
+             spreading_s=None, omega_max=None, kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude",
+             order: int = 8, n_dir: int = 16, kg=None, motion: bool = True,
+             motion_knots: int | None = 20) -> WaveResistance:
+        """As :meth:`WaveMethod.mean`; with the motion part, the two parts apart: the motion part (smooth in
+        heading) by one plain Gauss rule in direction, from ``motion_knots`` λ/L knots
+        (:func:`~hullopt.waves.motion_response`; None: a strip-theory solve at every node)."""
+        if not motion:
+            return super().mean(sections, draft, speed, hs, tp, heading, spectrum=spectrum, gamma=gamma,
+                                spreading_s=spreading_s, omega_max=omega_max, kyy=kyy, rho=rho, g=g, smooth=smooth,
+                                aft=aft, order=order, n_dir=n_dir, kg=kg, motion=False, motion_knots=motion_knots)
+        opts = self._spectral_options(sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order)
+
+        def reflection(om, hd):
+            return self(sections, draft, speed, om, hd, 1.0, rho=rho, g=g, smooth=smooth, aft=aft,
+                        motion=False).reflection
+
+        def motion_part(om, hd):
+            return motion_added_resistance(sections, draft, speed, om, hd, 1.0, kg=kg, kyy=kyy, rho=rho, g=g)
+
+        if motion_knots is not None:
+            motion_part = motion_response(sections, draft, speed, knots=motion_knots, kg=kg, kyy=kyy, rho=rho, g=g)
+        motion_opts = opts | {"breaks": None}  # one plain Gauss rule (smooth in heading)
+        return WaveResistance(
+            motion=spectral_mean(motion_part, hs, tp, heading, n_dir=n_dir, **motion_opts),
+            reflection=spectral_mean(reflection, hs, tp, heading, n_dir=self.reflection_directions(n_dir), **opts))
+
+
+class Stawave1(WaveMethod):
+    """STAWAVE-1 (ITTC 7.5-04-01-01.1, ISO 15016; :func:`stawave1`): the reflection part only, independent of
+    frequency and speed, within ±45° of the bow."""
+
+    name: ClassVar[str] = "stawave1"
+    description: ClassVar[str] = "reflection only, empirical"
+    includes: ClassVar[tuple[str, ...]] = ("reflection",)
+    headings: ClassVar[str] = "within ±45° of the bow"
+
+    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
+                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+        return stawave1(particulars(sections, draft), omega, heading, amplitude, rho, g)
+
+    def valid(self, heading) -> Array:
+        return _within_45(heading)
+
+    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+        """±π/4: the ±45° validity limit, a jump to 0."""
+        return jnp.array([0.25 * jnp.pi, -0.25 * jnp.pi])
+
+
+class Stawave2(Stawave1):
+    """STAWAVE-2 (ITTC 7.5-04-01-01.1, ISO 15016:2015; :func:`stawave2`): empirical motion and reflection
+    parts, within ±45° of the bow."""
+
+    name: ClassVar[str] = "stawave2"
+    description: ClassVar[str] = "motion + reflection, empirical"
+    includes: ClassVar[tuple[str, ...]] = ("motion", "reflection")
+
+    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
+                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+        return stawave2(particulars(sections, draft), speed, omega, heading, amplitude, kyy, rho, g)
+
+
+class SNNM(WaveMethod):
+    """SNNM (Liu & Papanikolaou 2020; ITTC 7.5-04-01-01.1 Rev 06; :func:`snnm`): empirical motion and
+    reflection parts, all headings."""
+
+    name: ClassVar[str] = "snnm"
+    description: ClassVar[str] = "motion + reflection, empirical"
+    includes: ClassVar[tuple[str, ...]] = ("motion", "reflection")
+    headings: ClassVar[str] = "all"
+
+    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
+                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+        return snnm(particulars(sections, draft), speed, omega, heading, amplitude, kyy, rho, g)
+
+    def valid(self, heading) -> Array:
+        return jnp.ones(jnp.shape(heading), dtype=bool)
+
+    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+        """±E1 (the reflection's fullness factor switches: a jump), ±E2 (kinks; a kink at θ is one at θ ± π
+        too, so ±(π − E1), ±(π − E2) need no entry), π/2 (the motion part's cap and the |cos α|^½ in T34) and
+        0 ≡ π (the fold in following seas)."""
+        p = particulars(sections, draft)
+        e1 = jnp.arctan(0.99 * 0.5 * p.beam / p.l_entrance)
+        e2 = jnp.arctan(0.99 * 0.5 * p.beam / p.l_run)
+        return jnp.stack([e1, -e1, e2, -e2, jnp.full_like(e1, 0.5 * jnp.pi), jnp.zeros_like(e1)])
+
+
+METHODS = tuple(WAVE_METHODS)
+"""The names of :data:`WAVE_METHODS`, in the order they are defined."""
+
+
+def wave_method(method: str) -> WaveMethod:
+    """The method named ``method``, a :class:`WaveMethod`.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS` (``"nmri"``, ``"stawave1"``, ``"stawave2"``, ``"snnm"``).
+
+    Returns
+    -------
+    WaveMethod
+        An instance of ``WAVE_METHODS[method]``.
+
+    Raises
+    ------
+    ValueError
+        If ``method`` is not one of :data:`METHODS`.
+    """
+    if method not in WAVE_METHODS:
+        raise ValueError(f"method {method!r}: expected one of {METHODS}")
+    return WAVE_METHODS[method]()
+
+
 def method_resistance(method: str, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *,
                       kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft="exclude", kg=None,
                       motion: bool = True) -> WaveResistance:
@@ -288,21 +529,8 @@ def method_resistance(method: str, sections: Sections, draft, speed, omega, head
     ValueError
         If ``method`` is not one of :data:`METHODS`.
     """
-    if method == "nmri":
-        r = nmri_added_resistance(sections, draft, speed, omega, heading, amplitude, rho=rho, g=g, smooth=smooth,
-                                  aft=aft).r_awr
-        if not motion:
-            return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
-        m = motion_added_resistance(sections, draft, speed, omega, heading, amplitude, kg=kg, kyy=kyy, rho=rho, g=g)
-        return WaveResistance(motion=m, reflection=r)
-    p = particulars(sections, draft)
-    if method == "stawave1":
-        return stawave1(p, omega, heading, amplitude, rho, g)
-    if method == "stawave2":
-        return stawave2(p, speed, omega, heading, amplitude, kyy, rho, g)
-    if method == "snnm":
-        return snnm(p, speed, omega, heading, amplitude, kyy, rho, g)
-    raise ValueError(f"method {method!r}: expected one of {METHODS}")
+    return wave_method(method)(sections, draft, speed, omega, heading, amplitude, kyy=kyy, rho=rho, g=g,
+                               smooth=smooth, aft=aft, kg=kg, motion=motion)
 
 
 def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude") -> Array:
@@ -337,28 +565,7 @@ def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude")
     ValueError
         If ``method`` is not one of :data:`METHODS`.
     """
-    if method in ("stawave1", "stawave2"):
-        return jnp.array([0.25 * jnp.pi, -0.25 * jnp.pi])
-    if method == "snnm":
-        p = particulars(sections, draft)
-        e1 = jnp.arctan(0.99 * 0.5 * p.beam / p.l_entrance)
-        e2 = jnp.arctan(0.99 * 0.5 * p.beam / p.l_run)
-        return jnp.stack([e1, -e1, e2, -e2, jnp.full_like(e1, 0.5 * jnp.pi), jnp.zeros_like(e1)])
-    if method == "nmri":
-        grid = jnp.linspace(0.0, jnp.pi, 64)
-        bf = bluntness_of_waterline(waterline(sections, draft), grid, aft)
-        out = []
-        for level in (BF_KINK, 0.0) if aft == "include" else (BF_KINK,):
-            d = bf - level
-            cross = (d[:-1] > 0.0) != (d[1:] > 0.0)
-            i = jnp.argsort(~cross, stable=True)[:2]  # the first two cells with a crossing
-            d0, d1 = d[i], d[i + 1]
-            ok = cross[i] & (d0 != d1)
-            t = jnp.where(ok, d0 / jnp.where(ok, d0 - d1, 1.0), 0.0)
-            root = jnp.where(ok, grid[i] + t * (grid[1] - grid[0]), 0.0)  # none: a harmless split at 0
-            out += [root, -root]
-        return jnp.concatenate(out)
-    raise ValueError(f"method {method!r}: expected one of {METHODS}")
+    return wave_method(method).heading_breaks(sections, draft, aft)
 
 
 def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp, heading=0.0, *,
@@ -424,28 +631,7 @@ def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp,
     (0.0, 13.45)
     """
 
-    opts = dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max, order=order,
-                breaks=None if spreading_s is None else heading_breaks(method, sections, draft, aft))
-    # NMRI's reflection part has more structure in heading than its kinks (METHODS §2.6)
-    n_refl = 5 * n_dir // 2 if method == "nmri" else n_dir
-    if method == "nmri" and motion:
-        def reflection(om, hd):
-            return method_resistance(method, sections, draft, speed, om, hd, 1.0, rho=rho, g=g, smooth=smooth,
-                                     aft=aft, motion=False).reflection
-
-        def motion_part(om, hd):
-            return motion_added_resistance(sections, draft, speed, om, hd, 1.0, kg=kg, kyy=kyy, rho=rho, g=g)
-
-        if motion_knots is not None:
-            motion_part = motion_response(sections, draft, speed, knots=motion_knots, kg=kg, kyy=kyy, rho=rho, g=g)
-        motion_opts = opts | {"breaks": None}  # one plain Gauss rule (smooth in heading)
-        return WaveResistance(motion=spectral_mean(motion_part, hs, tp, heading, n_dir=n_dir, **motion_opts),
-                              reflection=spectral_mean(reflection, hs, tp, heading, n_dir=n_refl, **opts))
-
-    def response(om, hd):
-        r = method_resistance(method, sections, draft, speed, om, hd, 1.0, kyy=kyy, rho=rho, g=g, smooth=smooth,
-                              aft=aft, kg=kg, motion=motion)
-        return jnp.stack([r.motion, r.reflection], axis=-1)
-
-    m = spectral_mean(response, hs, tp, heading, n_dir=n_refl, **opts)
-    return WaveResistance(motion=m[0], reflection=m[1])
+    return wave_method(method).mean(sections, draft, speed, hs, tp, heading, spectrum=spectrum, gamma=gamma,
+                                    spreading_s=spreading_s, omega_max=omega_max, kyy=kyy, rho=rho, g=g,
+                                    smooth=smooth, aft=aft, order=order, n_dir=n_dir, kg=kg, motion=motion,
+                                    motion_knots=motion_knots)

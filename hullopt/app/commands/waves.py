@@ -18,6 +18,7 @@ from ...waves import (
     AFT_OPTIONS,
     METHODS,
     SPECTRA,
+    WAVE_METHODS,
     mean_added_resistance,
     method_resistance,
     motion_validity_warning,
@@ -47,21 +48,10 @@ def _parse_params(text: str) -> np.ndarray:
     return vals
 
 
-# What each method counts (``hullopt waves --method all`` prints it beside its numbers; the README says which
-# to use when).
-INCLUDES = {
-    "nmri": "motion (strip theory) + reflection (Bf)",
-    "stawave1": "reflection only, empirical",
-    "stawave2": "motion + reflection, empirical",
-    "snnm": "motion + reflection, empirical",
-}
-NMRI_REFLECTION_ONLY = "reflection only (Bf)"
-
-
 def includes(method: str, motion: bool = True) -> str:
-    """What ``method``'s R_AW counts: the motion-induced part, the reflection part, or both; semi-analytical
-    (NMRI: strip theory + the Bf formula) or empirical."""
-    return NMRI_REFLECTION_ONLY if method == "nmri" and not motion else INCLUDES[method]
+    """What ``method``'s R_AW counts (its class's description; ``hullopt waves --method all`` prints it beside
+    its numbers; the README says which to use when)."""
+    return WAVE_METHODS[method]().label(motion)
 
 
 @eqx.filter_jit
