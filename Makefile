@@ -5,7 +5,7 @@ PYTHON ?= $(shell for p in python3.12 python3.11 python3; do \
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test bench clean
+.PHONY: demo test test-slow bench clean
 
 # constraints.txt pins the jax the suite passes on (pyproject.toml allows only a tested range)
 $(STAMP): pyproject.toml constraints.txt
@@ -19,8 +19,12 @@ demo: $(STAMP)
 	$(VENV)/bin/hullopt hydro 'builtin:wigley?L=100&B=10&T=6.25&D=10'
 	$(VENV)/bin/hullopt run configs/fit_cb_lcb.toml --out runs/fit_cb_lcb
 
+# the default suite (minutes); the long validations (whole design runs, sweeps, grid studies) are marked slow
 test: $(STAMP)
-	$(VENV)/bin/python -m pytest -n 2 --dist loadfile
+	$(VENV)/bin/python -m pytest -n 2 --dist loadfile -m "not slow"
+
+test-slow: $(STAMP)
+	$(VENV)/bin/python -m pytest -n 2 --dist loadfile -m slow
 
 # ship-model-lib pins plotly ~=5.13 (ours >= 5.20) for a module the benchmarks don't use: no deps.
 # BENCH_ARGS=--quick: shorter runs where a script offers them (benchmarks/run.py).

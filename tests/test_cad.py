@@ -65,6 +65,7 @@ def test_kcs_iges_is_read_in_metres_as_a_half_hull_open_at_the_centre_plane_and_
     assert _y_flux_below(mesh, 0.475) > 0
 
 
+@pytest.mark.slow
 def test_kcs_iges_area_and_volume_converge_as_the_tolerance_is_refined(kcs_cad):
     t = T_DESIGN / SCALE
     meshes = [kcs_cad(tol) for tol in (0.2, 0.1, 0.05)]
@@ -168,6 +169,7 @@ def test_bad_tolerances_are_refused(hulls):
         load_hull(f"{hulls / KCS_IGES}?scale=31.6&tol=-0.01")
 
 
+@pytest.mark.slow
 @pytest.mark.slow
 def test_kcs_iges_hull_spec_end_to_end_matches_the_closed_mesh(hulls):
     """The IGES as a hull spec (half hull, no deck: read_mesh closes it) against the closed KCS mesh: ∇ at

@@ -24,6 +24,7 @@ def test_hydro_json_has_exactly_the_documented_keys(cli):
     assert d["lcb"] == pytest.approx(50) and d["lcb_pct"] == pytest.approx(0, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_hydro_drafts_table_and_displacement(cli):
     code, out, _ = cli("hydro", WIGLEY, "--drafts", "2:6:3", "--json")
     rows = json.loads(out)
@@ -66,6 +67,7 @@ def test_export_formats(cli, tmp_path):
         (["export", WIGLEY, "x.step"], "unknown mesh format"),
     ],
 )
+@pytest.mark.slow
 def test_bad_input_one_line_error(cli, args, message):
     code, out, err = cli(*args)
     assert code == 2

@@ -129,6 +129,7 @@ def test_console_width_follows_columns(monkeypatch):
     assert output._width() == 100
 
 
+@pytest.mark.slow
 def test_hydro_table_units_no_noise_within_100_columns(cli, wide):
     """Units on every row, LCB of a symmetric hull 0.000, no scientific notation, nothing truncated, and more
     drafts than fit in 100 columns split into tables that repeat the labels."""
@@ -143,6 +144,7 @@ def test_hydro_table_units_no_noise_within_100_columns(cli, wide):
     assert re.search(r"Draft T \[m\] +│ +1\.000 │", text)  # lengths to the mm
 
 
+@pytest.mark.slow
 def test_stability_exit_code_and_table(cli, wide):
     """IS Code criteria failing → exit code 4 (0 when all pass); the table has units and no round-off noise."""
     args = ["stability", BOX, "--displacement", "8200", "--heels", "0:60:4"]
@@ -157,6 +159,7 @@ def test_stability_exit_code_and_table(cli, wide):
     assert code == 4 and not all(c["pass"] for c in json.loads(out)["criteria"])  # stdout stays JSON
 
 
+@pytest.mark.slow
 def test_fair_not_converged_exit_code(cli, capsys, monkeypatch, wide):
     """A fairing that stops short of convergence exits 5 and says so on stderr; its report says "converged":
     false; the table of the report has its units and no scientific notation."""

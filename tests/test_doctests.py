@@ -22,6 +22,7 @@ FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 
 
 @pytest.mark.parametrize("func", ENTRY_POINTS, ids=lambda f: f.__name__)
+@pytest.mark.slow
 def test_docstring_examples(func):
     tests = doctest.DocTestFinder(recurse=False).find(func, func.__name__, globs={})
     examples = [t for t in tests if t.examples]

@@ -114,6 +114,7 @@ def test_graph_curvatures_equal_the_parametric_formula():
                                surface_curvatures(rx, rz, sec(fxx), sec(fxz), sec(fzz)), rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_coons_curvature_of_cylinder_and_sphere_offsets():
     r = 10.0
     x, z = np.linspace(0.0, 20.0, 11), np.linspace(2.0, 18.0, 33)
@@ -158,6 +159,7 @@ def test_lines_measure_against_quadrature():
     assert float(lines(jnp.asarray(y))) == pytest.approx(10.0**3 * 4 * one, rel=1e-4)  # 3-point Gauss
 
 
+@pytest.mark.slow
 def test_knots_and_jumps_vanish_on_a_twist_free_bicubic_and_see_one_bad_offset():
     x, z, y = wigley_offsets()
     y2 = np.sin(x / 40)[:, None] * 0 + (1 + 0.02 * x - 1e-4 * x**2)[:, None] + (0.3 * z - 0.01 * z**3)[None, :]
@@ -174,6 +176,7 @@ def test_knots_and_jumps_vanish_on_a_twist_free_bicubic_and_see_one_bad_offset()
 
 
 @pytest.mark.parametrize("name", list(RESIDUALS))
+@pytest.mark.slow
 def test_measure_gradients_match_finite_differences(name):
     x, z, y = wigley_offsets(7, 5)
     y = y + np.where(y > 0, 0.03 * np.random.default_rng(4).normal(size=y.shape), 0.0)
@@ -186,6 +189,7 @@ def seed003_sections(table):
     return offsets_to_sections(table, 21, 15)
 
 
+@pytest.mark.slow
 def test_unfairness_of_sections(seed003_sections):
     r, th = 3.0, np.linspace(0, np.pi / 2, 9)
     yz = np.stack([r * np.sin(th), r - r * np.cos(th)], -1)
@@ -201,6 +205,7 @@ def test_unfairness_of_sections(seed003_sections):
     np.testing.assert_allclose(batch, [smooth, float(f(bumped))], rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_unfairness_gradient_matches_finite_differences():
     s = wigley(100, 10, 6.25, 8.0, n=5, m=6)  # with the vertical side above T and the keel point at y = 0
     yz0 = np.asarray(s.yz) + 0.01 * np.random.default_rng(5).normal(size=s.yz.shape) * (np.asarray(s.yz) > 0)

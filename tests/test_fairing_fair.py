@@ -17,6 +17,9 @@ from hullopt.optimise import aft_body_noise, fair_offsets, fixed_offsets
 L, B, T = 100.0, 10.0, 6.25
 
 
+pytestmark = pytest.mark.slow  # minutes of solving: `make test-slow` (CI runs both)
+
+
 def wigley_offsets(ns, nw):
     x, z = np.linspace(0, L, ns), np.linspace(0, T, nw)
     return x, z, (B / 2) * (1 - (2 * (x[:, None] - L / 2) / L) ** 2) * (1 - ((T - z[None, :]) / T) ** 2)

@@ -122,6 +122,7 @@ def dtc_model():
     return feature_model(load_parent("dtc"), moves, [Distribution(180.0, 340.0, "all", 2)], edits)
 
 
+@pytest.mark.slow
 def test_zero_parameters_give_the_parent_exactly(dtc_model):
     zeros = dtc_model.zeros()
     f = _features(dtc_model, zeros)
@@ -199,6 +200,7 @@ def dtc_derivatives(dtc_model):
     return ad, fd, np.asarray(run(x0, zero)[0])
 
 
+@pytest.mark.slow
 def test_vmap_over_parameters(dtc_model, dtc_sections):
     """The batch: design 0 (the parent) holds the sliced DTC's ∇ (round trip: −0.003 %), design 1 equals the
     same design evaluated on its own (not batched), and the two differ."""
@@ -294,6 +296,7 @@ def test_a_group_uses_only_its_own_modes():
     assert not np.array_equal(np.asarray(model(base).x), np.asarray(h.x))  # the used modes do move it
 
 
+@pytest.mark.slow
 def test_a_station_shift_moves_the_frames_and_keeps_their_shapes():
     """``curves="stations"`` moves the frames themselves along the length (a Lackenby-like shift): each keeps
     the parent's shape, so the section measures are the parent's, while Cb, LCB and the waterline's entrance

@@ -120,6 +120,7 @@ def test_natural_spline_matches_scipy_and_matrix_form():
     np.testing.assert_allclose(spline_matrix(knots, at) @ values, ref(at), rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_wetted_surface_of_a_box_and_a_tilted_plate():
     L, B, D = 10.0, 4.0, 3.0
     yz = jnp.broadcast_to(jnp.array([[0.0, 0.0], [B / 2, 0.0], [B / 2, D]]), (3, 3, 2))

@@ -35,6 +35,7 @@ def test_wigley_closed_forms(wig):
     assert float(h.lwl) == pytest.approx(L) and float(h.bwl) == pytest.approx(B)
 
 
+@pytest.mark.slow
 def test_wigley_error_falls_with_second_order(wig):
     """The polyline's area error is h²-like: halving the vertical spacing quarters it."""
     errs = []
@@ -65,6 +66,7 @@ def seed003(request):
 
 
 @pytest.mark.parametrize("t", [1.3, 3.2, 5.0])
+@pytest.mark.slow
 def test_identities_dvolume_dT_is_awp(wig, seed003, t):
     hulls = [wig, seed003[1](jnp.asarray(seed003[0].y))]
     for hull in hulls:
@@ -74,6 +76,7 @@ def test_identities_dvolume_dT_is_awp(wig, seed003, t):
         assert float(mom) == pytest.approx(float(h.awp) * t, rel=1e-8)
 
 
+@pytest.mark.slow
 def test_draft_for_volume_inverts_and_differentiates(seed003):
     hull = seed003[1](jnp.asarray(seed003[0].y))
     v = float(hydro(hull, 4.1).volume)
@@ -82,6 +85,7 @@ def test_draft_for_volume_inverts_and_differentiates(seed003):
     assert float(dT) == pytest.approx(1 / float(hydro(hull, 4.1).awp), rel=1e-6)
 
 
+@pytest.mark.slow
 def test_table_is_vmap_of_single_drafts(wig):
     ts = jnp.array([1.0, 3.0, 6.25])
     tab = hydro_table(wig, ts)
@@ -92,6 +96,7 @@ def test_table_is_vmap_of_single_drafts(wig):
 
 
 @pytest.mark.parametrize("t", [2.0, 4.5])
+@pytest.mark.slow
 def test_exported_mesh_cut_by_trimesh_agrees(seed003, wig, t):
     """Independent check: trimesh's capped cut of our closed mesh gives the same volume and centre of
     buoyancy. Not identical: the mesh is ruled between stations, the hydrostatics use Simpson's rule."""
@@ -107,6 +112,7 @@ def test_exported_mesh_cut_by_trimesh_agrees(seed003, wig, t):
         assert abs(cy) < 1e-9 * float(hull.lpp)
 
 
+@pytest.mark.slow
 def test_seed003_table_is_sane(seed003):
     table, surf = seed003
     hull = surf(jnp.asarray(table.y))
@@ -139,6 +145,7 @@ def test_gradients_wrt_offsets_match_finite_differences(seed003):
     assert np.all(np.isfinite(jvp))
 
 
+@pytest.mark.slow
 def test_dtc_against_published_particulars(hulls):
     """DTC (el Moctar et al. 2012): ∇ 173,467 m³, Cb 0.661, S 22,032 m², LCB 174.059 m at T = 14.5 m.
 

@@ -106,6 +106,7 @@ def run(capsys, *args):
     return code, out.out, out.err
 
 
+@pytest.mark.slow
 def test_cli_lines_curves_offsets(capsys, tmp_path):
     code, _, err = run(capsys, "lines", WIGLEY, "--out", str(tmp_path / "l.png"), "--out", str(tmp_path / "l.dxf"),
                        "--curves", str(tmp_path / "c.svg"), "--offsets", str(tmp_path / "o.csv"), "--layout", "wide")
@@ -118,6 +119,7 @@ def test_cli_lines_curves_offsets(capsys, tmp_path):
     assert code == 2 and "does not exist" in err
 
 
+@pytest.mark.slow
 def test_cli_stability_json_and_plot(capsys, tmp_path):
     code, out, err = run(capsys, "stability", "builtin:box?L=100&B=20&D=10", "--displacement", "8200", "--kg", "6",
                          "--heels", "0:60:4", "--json", "--plot", str(tmp_path / "gz.png"))
@@ -143,6 +145,7 @@ def test_cli_stability_json_and_plot(capsys, tmp_path):
     (["--displacement", "8200", "--kg", "6", "--kn-plot", "kn.png"], ["--kn-plot", "--cross"]),
     (["--displacement", "8200", "--kg", "6", "--plot", "gz.bmp"], ["--plot", ".bmp"]),
 ])
+@pytest.mark.slow
 def test_cli_stability_bad_input(capsys, args, words):
     code, _, err = run(capsys, "stability", "builtin:box?L=100&B=20&D=10", *args)
     assert code == 2 and err.startswith("error:") and len(err.strip().splitlines()) == 1
@@ -159,6 +162,7 @@ def drawn(monkeypatch):
     return figures
 
 
+@pytest.mark.slow
 def test_plot_gz_draws_the_wall_sided_curve(tmp_path, drawn):
     """A box barge 50 × 10 × 5 m at T = 2 m, KG = 3 m: the GZ line is the wall-sided formula to 20° (the bilge
     emerges at 21.8°), the GM₀ tangent reaches GM₀ = T/2 + B²/12T − KG = 2.1667 m at 1 rad."""

@@ -40,6 +40,7 @@ def wigley_raos(capytaine):
     return lambda s, u: fn(jnp.asarray(s, dtype=float), jnp.asarray(u, dtype=float))
 
 
+@pytest.mark.slow
 def test_zero_speed_raos_match_capytaine(capytaine, wigley_raos):
     val, _ = wigley_raos(1.0, 0.0)
     lam = np.asarray(capytaine["lambda_over_l"])
@@ -67,6 +68,7 @@ def test_n_strips_must_be_odd():
         motions(wigley(100.0, 10.0, 6.25, 9.0, n=21, m=11), 6.25, 0.0, [0.8], n_strips=24)
 
 
+@pytest.mark.slow
 def test_sea_state_motion_part_from_knots_matches_the_direct_quadrature():
     # The objective's motion part interpolates R_AWM from 20 λ/L knots (motion_response); against strip theory
     # at every node of the order-8 spectral quadrature (144 solves). (Pointwise, midway between knots, the
@@ -80,6 +82,7 @@ def test_sea_state_motion_part_from_knots_matches_the_direct_quadrature():
 
 
 @pytest.mark.parametrize("draft", [6.25, 6.1])
+@pytest.mark.slow
 def test_draft_derivative_matches_central_differences_on_and_between_section_points(draft):
     # The builtin Wigley's sections have a point at z = 6.25 (its design draft): there the immersed shape has a
     # kink, and the derivative is the mean of the one-sided ones, what central differences measure (before the
@@ -92,6 +95,7 @@ def test_draft_derivative_matches_central_differences_on_and_between_section_poi
     check_grad(f, draft, rtol=2e-5, h=1e-6)
 
 
+@pytest.mark.slow
 def test_wigley_motions_converge_with_strips():
     # The Wigley ends in a point at both ends: no transom terms. (They were taken from the first wet strip,
     # one of 16 % of the maximum breadth with 25 strips: pitch moved 1.2 % and R_AWM 2.4 % from 25 to 101.)

@@ -26,6 +26,7 @@ def run(capsys, *args):
 
 
 @pytest.mark.slow
+@pytest.mark.slow
 def test_kcs_added_resistance_curve_in_the_tank_range(capsys, hulls, tmp_path, monkeypatch):
     monkeypatch.chdir(hulls.parent.parent)
     png = tmp_path / "kcs.png"
@@ -68,6 +69,7 @@ def test_bad_input_is_one_line_error(capsys, args, needle):
 
 
 @pytest.mark.parametrize("speed_kn,warned", [(12.0, False), (18.5, True)])
+@pytest.mark.slow
 def test_warns_outside_the_validated_froude_range(capsys, speed_kn, warned):
     # Fn 0.197 and 0.304 on a 100 m Wigley (L/B 10): GB's motion part is 1.8× Journée's tank peaks at Fn 0.3.
     code, out, err = run(capsys, "builtin:wigley?L=100&B=10&T=6.25&D=9&n=21&m=11", "--draft", "6.25",

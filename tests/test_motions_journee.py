@@ -51,12 +51,14 @@ def peak_sigma(name, fn):
 
 
 @pytest.mark.parametrize("name", ["I", "II", "III", "IV"])
+@pytest.mark.slow
 def test_models_have_the_reported_displacement(name):
     hull, _ = journee_wigley(name)
     assert float(longitudinal_integrals(hull, D).volume) == pytest.approx(DATA["models"][name]["volume"], rel=0.005)
 
 
 @pytest.mark.parametrize("name", ["I", "III"])
+@pytest.mark.slow
 def test_heave_in_head_waves(name):
     hull, _ = journee_wigley(name)
     for fn, lam, measured in DATA[f"heave_rao_{name}"]["rows"]:
@@ -65,6 +67,7 @@ def test_heave_in_head_waves(name):
         assert float(m.heave_rao[0]) / measured - 1.0 == pytest.approx(0.04, abs=0.07)  # measured +0.3 … +10 % (III), +2.4 % (I at resonance)
 
 
+@pytest.mark.slow
 def test_peak_added_resistance_of_the_slender_models():
     rows = {(name, fn): v for name, fn, v in DATA["peak_sigma_aw"]["rows"]}
     for name in ("I", "III"):

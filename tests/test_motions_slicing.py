@@ -16,6 +16,7 @@ LAMBDAS = np.array([0.3, 0.4, 0.5, 1.2])
 
 
 @pytest.mark.slow
+@pytest.mark.slow
 def test_kcs_motion_part_converges_with_slicing(hulls, monkeypatch):
     monkeypatch.chdir(hulls.parent.parent)
     omega = jnp.asarray(omega_from_wavelength(LAMBDAS * 230.0))

@@ -25,6 +25,7 @@ def shaped(p):
     return Sections(HULL.x, HULL.yz * jnp.stack([f, jnp.ones_like(f)], -1)[:, None, :], HULL.lpp)
 
 
+@pytest.mark.slow
 def test_value_is_michell_plus_form_factor_friction():
     obj = OBJECTIVES["calm_resistance_michell"].from_config({"speed_kn": 18.0, "hs": 3.0})
     assert isinstance(obj, MichellCalmResistance) and obj.unit == "N"
@@ -44,6 +45,7 @@ def test_value_is_michell_plus_form_factor_friction():
     assert float(eqx.filter_jit(hm)(HULL, DRAFT)) == pytest.approx(holtrop, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_profile_is_the_weighted_mean():
     """``speeds_kn`` with ``weights``: Σ wᵢ R_T(Uᵢ)/Σ wᵢ, each speed's R_T by the same method."""
     obj = OBJECTIVES["calm_resistance"].from_config({"speed_kn": 18.0, "speeds_kn": [16.0, 18.0, 20.0],
@@ -55,6 +57,7 @@ def test_profile_is_the_weighted_mean():
         OBJECTIVES["calm_resistance"].from_config({"speed_kn": 18.0, "speeds_kn": [16.0, 18.0], "weights": [1.0]})
 
 
+@pytest.mark.slow
 def test_gradient_in_the_shape_matches_central_differences():
     obj = MichellCalmResistance(jnp.asarray(18.0 * KNOT), n_levels=17)
     check_grad(jax.jit(lambda p: obj(shaped(p), DRAFT)), jnp.array([0.05, -0.1, 0.08]), rtol=1e-6, h=1e-5)

@@ -57,6 +57,7 @@ def test_make_targets_rejects_bad_input():
         make_targets({"gm": 1.0})
 
 
+@pytest.mark.slow
 def test_fit_many_target_pairs_in_one_vmap(wigley_design):
     """Near, far (Cb +8 %, LCB 1.5 % Lpp — beyond the ±3–5 % of a Lackenby/Maxsurf transformation) and
     infeasible targets, one vmapped solve: each member reports its own status."""
@@ -81,6 +82,7 @@ def test_fit_many_target_pairs_in_one_vmap(wigley_design):
     assert cb[3] < 0.7  # the closest design found, reported as not met
 
 
+@pytest.mark.slow
 def test_traced_fit_records_its_history_and_agrees_with_the_optimistix_solve(wigley_design):
     model, p0, lo, hi, parent = wigley_design
     d = Design(model=model, draft=jnp.asarray(6.25), param_scale=hi,
@@ -99,6 +101,7 @@ def test_traced_fit_records_its_history_and_agrees_with_the_optimistix_solve(wig
     np.testing.assert_allclose(np.asarray(traced.residuals[:2]), np.asarray(plain.residuals[:2]), atol=1e-3)
 
 
+@pytest.mark.slow
 def test_objective_gradient_matches_finite_differences(wigley_design):
     """The full objective of the minimisation (sea-state mean added resistance, scaled, plus smoothness)
     and the target residuals, along random directions of all parameters."""
@@ -153,6 +156,7 @@ def test_non_dominated_matches_brute_force():
         assert mask[i] == (not dominated)
 
 
+@pytest.mark.slow
 def test_jaxopt_adapter_respects_bounds():
     p, value, ok = minimise_lbfgsb(lambda p, a: jnp.sum((p - a) ** 2), jnp.zeros(2), jnp.array([-1.0, -1.0]),
                                    jnp.array([2.0, 4.0]), 3.0)
@@ -161,6 +165,7 @@ def test_jaxopt_adapter_respects_bounds():
 
 
 @pytest.mark.parametrize("kind", ["calm_resistance", "wind_added_resistance", "k_aw"])
+@pytest.mark.slow
 def test_other_objectives_differentiate_through_the_design(wigley_design, kind):
     model, p0, lo, hi, parent = wigley_design
     obj = OBJECTIVES[kind].from_config({"speed_kn": 15.0, "wind_speed": 15.0, "wind_angle_deg": np.degrees(0.4)})
@@ -220,6 +225,7 @@ def test_objectives_registry_is_built_from_the_classes():
         del OBJECTIVES["test_draft_only"]
 
 
+@pytest.mark.slow
 def test_fairness_term_is_scaled_by_the_parent_and_penalises_wiggles(wigley_design):
     model, p0, lo, hi, parent = wigley_design
     d = Design(model=model, draft=jnp.asarray(6.25), targets=make_targets({"cb": float(parent.cb)}),

@@ -22,11 +22,13 @@ def _fidelity(source, hull, draft):
     return float(h1.volume / h0.volume - 1.0), float(h1.lcb_pct - h0.lcb_pct)
 
 
+@pytest.mark.slow
 def test_library_dtc_holds_its_sliced_mesh(hulls):
     dv, dl = _fidelity(recipe_sections("dtc", hulls), load_parent("dtc"), 14.5)
     assert abs(dv) < 5e-4 and abs(dl) < 0.01, (dv, dl)  # measured: -0.003 %, -0.001 % Lpp (before: -0.09 %)
 
 
+@pytest.mark.slow
 def test_kcs_extracted_faithfully_at_the_default_resolution(hulls):
     sections = load_hull(str(hulls / KCS)).sections  # the spec's default slicing, 201 x 96
     hull, report = extract_faithful(sections, "kcs", 10.8)
@@ -78,6 +80,7 @@ def own_config(tmp_path, hulls, monkeypatch):
     return write
 
 
+@pytest.mark.slow
 def test_own_mesh_parent_fits_and_its_features_are_kept(cli, tmp_path, own_config, monkeypatch):
     calls = []
     extract = parents.extract_spec

@@ -79,6 +79,7 @@ def test_sphere_wave_resistance_is_havelocks(sphere):
 FNS = np.array([0.25, 0.3, 0.35, 0.4])
 
 
+@pytest.mark.slow
 def test_thin_wigley_is_michells():
     """On a thin Wigley hull (B/L 0.02) the double-body sources are Michell's thin-ship ones: the panel R_w
     equals Michell's integral within 5 % at Fn 0.25–0.4 (at B/L 0.1 it is 1.25–1.55× Michell's: thickness)."""
@@ -89,6 +90,7 @@ def test_thin_wigley_is_michells():
     np.testing.assert_allclose(np.asarray(rp) / np.asarray(rm), 1.0, atol=0.05)
 
 
+@pytest.mark.slow
 def test_panel_convergence_and_sinkage():
     """Wigley (L 100, B 10, T 6.25 m) at Fn 0.3: R_w changes < 1.5 % from 32 × 8 to 48 × 12 to 64 × 16 panels,
     monotonely; the double-body sinkage (down) converges likewise and the trim of the fore-aft symmetric hull is 0."""
@@ -103,6 +105,7 @@ def test_panel_convergence_and_sinkage():
 
 
 @pytest.mark.parametrize("draft", [6.25, 6.1])
+@pytest.mark.slow
 def test_panel_gradient_matches_differences(draft):
     """dR_w/dT and dR_w/d(beam scale) by AD equal central differences — between the sections' points and at a
     draft on them (the builtin Wigley's design draft): there the wet girth has a kink, and AD gives the mean of
@@ -125,6 +128,7 @@ def eqx_scale(h, s):
     return type(h)(x=h.x, yz=h.yz * jnp.stack([s, jnp.ones_like(s)]), lpp=h.lpp)
 
 
+@pytest.mark.slow
 def test_vmap_over_designs_equals_each():
     """A batch of hulls through one vmapped program gives each hull's own value."""
     h = wigley(100, 10, 6.25, 10, n=41, m=33)

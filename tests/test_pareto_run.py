@@ -7,6 +7,9 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.slow  # minutes of solving: `make test-slow` (CI runs both)
+
+
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 

@@ -58,6 +58,7 @@ def test_resistance_rises_with_speed_and_is_differentiable():
     check_grad(jax.jit(lambda v: holtrop_mennen(EXAMPLE, v).total / 1e6), np.array(20 * KN), rtol=1e-6)
 
 
+@pytest.mark.slow
 def test_inputs_from_a_wigley_hull():
     """Measured on the geometry: L, B, T, Cm = 2/3, Cwp = 2/3, lcb = 0, no transom or bulb, and the
     entrance angle of the parabolic waterline y = (B/2)(1 − (2ξ/L)²) over its last 5 %: atan(2B·0.95/L)."""

@@ -24,6 +24,7 @@ def run(capsys, *args):
     return code, out, err
 
 
+@pytest.mark.slow
 def test_json_records(capsys):
     code, out, _ = run(capsys, HULL, "--speed", "14.59,18.28", "--json", "--method", "holtrop,michell")
     assert code == 0
@@ -48,6 +49,7 @@ def test_json_records(capsys):
         assert r["p_e_michell"] == pytest.approx(r["r_total_michell"] * u, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_table_and_range(capsys):
     code, out, _ = run(capsys, "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=9", "--speed", "10:20:3",
                        "--levels", "9", "--method", "michell,holtrop")
@@ -55,6 +57,7 @@ def test_table_and_range(capsys):
     assert "R_T H-M [kN]" in out and "panel" not in out
 
 
+@pytest.mark.slow
 def test_all_methods_plot_and_warning(capsys, tmp_path):
     """Every method on one convention (the totals differ in R_W only), the panel method's sinkage and trim,
     the plots written (curves, Kelvin pattern), and the KCS's warning: Michell and the panel method several times Holtrop–Mennen on a full

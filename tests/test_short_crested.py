@@ -47,6 +47,7 @@ def test_long_crested_limit(hull, method):
     assert float(narrow) == pytest.approx(float(head), rel=1e-3)
 
 
+@pytest.mark.slow
 def test_gradient_finite_through_breaks(hull):
     def f(scale, heading):
         s = hull.__class__(x=hull.x, yz=hull.yz * jnp.array([scale, 1.0]), lpp=hull.lpp)

@@ -190,6 +190,7 @@ def test_sheer_heel_and_free_trim_against_a_mesh_cut():
     np.testing.assert_allclose(cut.center_mass, [float(b.xb), float(b.yb), float(b.zb)], atol=0.02)
 
 
+@pytest.mark.slow
 def test_stability_shares_the_criteria_grid_with_the_requested_heels():
     """The curve of :func:`stability` (its heels on the criteria's 1° grid: solved once, picked from the grid;
     off it: solved apart) against :func:`gz_curve` solved at those heels alone, on a sheered box that trims."""
@@ -218,6 +219,7 @@ def test_hydro_imports_no_solver_library():
     assert out.split() == ["False", "False"]
 
 
+@pytest.mark.slow
 def test_gz_gradient_matches_finite_differences():
     """d(GZ at heels past deck-edge immersion, GM₀)/d(KG, breadth scale) by implicit differentiation."""
     base = box(L, B, D)
@@ -233,6 +235,7 @@ def test_gz_gradient_matches_finite_differences():
     assert ad[0] == pytest.approx(-float(jnp.sum(jnp.sin(heels) * jnp.asarray([1.0, 2.0, 3.0]))) - 1.0, rel=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.slow
 def test_dtc_gz_against_navaltoolbox(hulls, tmp_path):
     """The DTC (model mesh ×59.407) at its design displacement, KG 20 m: GZ from our sections against

@@ -15,6 +15,9 @@ import pytest
 
 from hullopt.app.cli import main
 
+pytestmark = pytest.mark.slow  # minutes of solving: `make test-slow` (CI runs both)
+
+
 CONFIG = Path(__file__).resolve().parent / "data" / "sweep_small.toml"  # configs/pareto_bow.toml is the KCS's
 SMALL = ["--set", "sweep.count=4", "--set", "sweep.chunk=2", "--set", "solver.outer=2", "--set", "solver.max_steps=40"]
 

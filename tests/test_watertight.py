@@ -145,6 +145,7 @@ def test_deform_writes_a_valid_mesh_that_reads_back(cli, tmp_path, parent, draft
 
 
 @pytest.mark.parametrize("which", ["seed003", "chine", "kcs"])
+@pytest.mark.slow
 def test_export_prints_the_checks_of_the_file_and_reads_back(cli, tmp_path, which):
     """`hullopt export` of offset tables (seed 003; a hard-chine hull with knuckles) and of a mesh (the KCS,
     whose bulb ends in a point: the loft's last cells twist): the printed checks are those of the file,
@@ -178,6 +179,7 @@ def test_print_pieces_are_valid_files(cli, tmp_path):
     assert sum(p.volume for p in pieces[:3]) == pytest.approx(whole.volume * 10.0**3, rel=1e-5)  # 1:100 in mm
 
 
+@pytest.mark.slow
 def test_offsets_of_a_knuckled_hull_carry_the_knuckles_and_read_back(tmp_path):
     """A run's offsets.csv writer (dense) on a hard-chine hull: the chine is a waterline and a ``# knuckles``
     entry at each station, and the table read back gives ∇ and LCB back."""

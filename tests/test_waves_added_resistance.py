@@ -86,6 +86,7 @@ def hull():
     return wigley(120.0, 16.0, 6.0, 10.0, n=61, m=7)
 
 
+@pytest.mark.slow
 def test_short_wave_limit_and_long_waves(hull):
     u = 8.0
     om = jnp.array([0.0, 1e-3, 0.3, 1.0, 3.0, 10.0])
@@ -107,6 +108,7 @@ def test_short_wave_limit_and_long_waves(hull):
     np.testing.assert_allclose(nmri_added_resistance(hull, 6.0, u, w, a).alpha_t, at, rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_spectra_moments_and_spreading():
     hs, tp = 3.0, 9.0
     m0 = quad(lambda w: float(bretschneider(w, hs, tp)), 0, np.inf, limit=200)[0]
@@ -189,6 +191,7 @@ def test_short_crested_and_cutoff(hull):
     np.testing.assert_allclose(cut, hs**2 / 8 * np.exp(-1.25 * (wp / 2.0) ** 4), rtol=1e-10)
 
 
+@pytest.mark.slow
 def test_stawave1_spectral_mean_is_the_published_formula(hull):
     p = particulars(hull, 6.0)
     hs = 2.5
@@ -197,6 +200,7 @@ def test_stawave1_spectral_mean_is_the_published_formula(hull):
     assert float(stawave1(p, 1.0, np.radians(50.0)).total) == 0.0
 
 
+@pytest.mark.slow
 def test_particulars_of_wigley(hull):
     p = particulars(hull, 6.0)
     np.testing.assert_allclose(p.cb, hydrostatics(hull, 6.0).cb, rtol=1e-12)
@@ -207,6 +211,7 @@ def test_particulars_of_wigley(hull):
     np.testing.assert_allclose(p.l_entrance, p.l_run, rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_snnm_head_sea_reduces_to_wedge_formula(hull):
     p = particulars(hull, 6.0)
     u, om = 6.0, jnp.array([1.2, 2.0, 4.0])
@@ -225,6 +230,7 @@ def test_snnm_head_sea_reduces_to_wedge_formula(hull):
     assert np.all(np.isfinite(rr.total)) and np.all(rr.total[0] == 0.0)
 
 
+@pytest.mark.slow
 def test_methods_are_finite_with_gradients(hull):
     """Every method's Jacobian (draft, speed, heading) is finite at rest, in following and in beam seas (kinks
     and cusps of the methods: U = 0, |cos α|^½ at beam seas, the Wigley's T = 6 m and its polyline vertex at
@@ -252,6 +258,7 @@ def test_methods_are_finite_with_gradients(hull):
         np.testing.assert_allclose(jac[k], fd[k], rtol=0, atol=1e-7 * np.abs(fd[k]).max())
 
 
+@pytest.mark.slow
 def test_gradients_of_k_aw_and_sea_state_mean(hull):
     # with respect to draft, speed and a hull-shape parameter (bow bluntness), away from the C_U kink
     om = jnp.array([0.5, 0.8, 1.5])
@@ -262,6 +269,7 @@ def test_gradients_of_k_aw_and_sea_state_mean(hull):
     check_grad(fm, np.array([5.5, 7.0, 0.3]), rtol=1e-6)
 
 
+@pytest.mark.slow
 def test_claim6_program_keeps_the_lower_k_aw(hull):
     # a slender bow (Bf below the kink) at Fn ≈ 0.25: blunting it past Bf = 0.187 lowers K_AW (the patent's claim 1)
     u = 0.25 * np.sqrt(G * 120.0)

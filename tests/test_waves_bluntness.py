@@ -108,6 +108,7 @@ def test_wigley_matches_patent_integral(deg):
         np.testing.assert_allclose(got[0], got[1], rtol=1e-14)  # ±α on a symmetric hull
 
 
+@pytest.mark.slow
 def test_head_seas_closed_form_and_aft_option():
     s = wigley(100.0, 10.0, 6.25, 10.0, n=201, m=3)
     # head seas: (2/B) ∫ |y'|³/(1 + y'²) dξ over the entrance
@@ -152,6 +153,7 @@ def test_entrance_lengths_on_wedge():
     np.testing.assert_allclose(run, 0.0, atol=1e-12)  # transom stern
 
 
+@pytest.mark.slow
 def test_gradients_match_finite_differences():
     s = wigley(100.0, 10.0, 6.25, 10.0, n=41, m=9)
     f_t = jax.jit(lambda t: bluntness(s, t, 0.2))

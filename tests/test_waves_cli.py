@@ -23,6 +23,7 @@ def run(capsys, *args):
     return code, out, err
 
 
+@pytest.mark.slow
 def test_json_matches_api(capsys):
     code, out, _ = run(capsys, "--speed", "15", "--heading", "20", "--hs", "3", "--tp", "8",
                        "--lambda-over-l", "0.5:1.5:3", "--json", "--blunt-bow", "0.5,2", "--no-motion")
@@ -42,6 +43,7 @@ def test_json_matches_api(capsys):
     assert p["params"] == [None, 0.5, 2.0] and p["best"] == int(np.argmin(p["k_aw"]))
 
 
+@pytest.mark.slow
 def test_other_methods_and_plot(capsys, tmp_path):
     png = tmp_path / "raw.png"
     code, out, _ = run(capsys, "--speed", "12", "--method", "snnm", "--json", "--plot", str(png))

@@ -19,6 +19,7 @@ def _no_global_config(monkeypatch):
     monkeypatch.setattr(cli, "configure_jax", lambda: None)  # tests already run in float64
 
 
+@pytest.mark.slow
 def test_all_methods_side_by_side(capsys, monkeypatch):
     """JSON: one record per method with what it includes; STAWAVE-1 is ½ρgζ²B√(B/L_BWL) per wave and
     ρgH_s²B√(B/L_BWL)/16 in the sea state, with the Wigley's L_BWL = (L/2)(1 − √0.05) (stem to 95 % of the

@@ -54,6 +54,7 @@ def mesh_hull(request):
     return name, f"{HULLS / file}?{params}", draft, *_exact(mesh, draft)
 
 
+@pytest.mark.slow
 def test_wetted_surface_and_lwl_of_real_meshes_at_the_default_slicing(mesh_hull):
     """S within 0.1 % of the exact immersed mesh area (measured −0.056 % DTC, −0.065 % KCS, −0.079 % DTMB 5415;
     the triangles joining point j of one station to point j of the next gave +0.42 %, +0.69 %, +1.41 %), and a
@@ -194,6 +195,7 @@ def test_immersed_transom_of_the_dtmb5415_against_its_mesh(dtmb5415):
     assert np.all(np.isfinite(np.asarray(g)))
 
 
+@pytest.mark.slow
 def test_wetted_surface_gradient_in_every_offset(dtmb5415):
     """dS/d(offsets) against central differences on a coarse slicing of the DTMB 5415 (sonar dome, bulb joints,
     a transom): finite everywhere, and equal where S is smooth."""
@@ -212,6 +214,7 @@ def test_wetted_surface_gradient_in_every_offset(dtmb5415):
     assert np.all(np.isfinite(np.asarray(jax.grad(lambda yz: wetted_surface(Sections(s.x, yz, s.lpp), draft))(s.yz))))
 
 
+@pytest.mark.slow
 def test_wetted_surface_forward_reverse_and_vmap_agree():
     """The nearest-edge derivative (one search, gathers of the feet) gives the same directional derivative in
     forward (jax.jvp) and reverse mode (jax.grad · v), and vmap of the gradient equals the gradient of each hull,

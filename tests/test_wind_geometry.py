@@ -103,6 +103,7 @@ def test_wigley_wall_sides_and_polygon_parts():
         polygon_parts(["x"], ["cargo"], [[(0, 0), (4, 0), (2, 1), (4, 4), (0, 4)]], [[(0, 0), (1, 0), (1, 1)]])
 
 
+@pytest.mark.slow
 def test_gradients_draft_and_size():
     # Curved below 7 m: the front depends on the draft. (Drafts on a section vertex, 0.7 m apart, are kinks.)
     hull = wigley(120.0, 16.0, 7.0, 12.0, n=21, m=11)

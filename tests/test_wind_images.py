@@ -84,6 +84,7 @@ def test_moments_match_regionprops(views):
     assert -mu03 * ss.ppm**3 == pytest.approx(rp.moments_central[3, 0], rel=1e-9, abs=1e-6 * rp.area**2.5)
 
 
+@pytest.mark.slow
 def test_box_counting_dimension():
     rect = np.zeros((512, 512), dtype=bool)
     rect[100:400, 50:450] = True
@@ -113,6 +114,7 @@ def test_bad_drawings(views):
         drawing_variables(side, front, ss, fs, [PartSpec("crane", "cargo", (200, 200, 0))])
 
 
+@pytest.mark.slow
 def test_cli_config_and_drawings(tmp_path, views, capsys):
     cfg = tmp_path / "ship.toml"
     cfg.write_text('hull = "builtin:box?L=250&B=40&D=24"\ndraft = 12.0\n'

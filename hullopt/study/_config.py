@@ -336,6 +336,9 @@ class RunConfig(_Strict):
             raise ValueError(f"kind = {self.kind!r} needs an [objective]")
         if self.kind == "pareto" and self.sweep is None:
             raise ValueError("kind = 'pareto' needs a [sweep]")
+        if self.kind != "fit" and self.solver.method != "optimistix":
+            raise ValueError(f"solver.method = {self.solver.method!r} applies to fits; kind = {self.kind!r} is solved by "
+                             "the augmented Lagrangian (optimistix)")
         if self.kind == "fit" and "constraints" in self.model_fields_set:
             raise ValueError("constraints: a fit holds targets only; [constraints] apply to minimise and pareto runs")
         for name in self.constraints.bounds():

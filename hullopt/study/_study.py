@@ -196,20 +196,27 @@ def _series(values) -> list:
 
 
 class Fit(_Single):
-    """Deform the parent the least needed to meet the targets (Levenberg–Marquardt; no constraints)."""
+    """Deform the parent the least needed to meet the targets (Levenberg–Marquardt, or L-BFGS-B with `[solver]
+    method = "lbfgsb"`; no constraints)."""
 
     kind: ClassVar[str] = "fit"
-    title: ClassVar[str] = "fit (Levenberg–Marquardt)"
+    title: ClassVar[str] = "fit"
     limits: ClassVar[bool] = False
     fairness: ClassVar[float] = 0.0
+    SOLVERS: ClassVar[dict[str, str]] = {"optimistix": "Levenberg–Marquardt", "lbfgsb": "L-BFGS-B"}
+
+    def __init__(self, cfg: RunConfig, parent: FeatureHull):
+        super().__init__(cfg, parent)
+        self.solver = self.SOLVERS[cfg.solver.method]
+        self.title = f"fit ({self.solver})"
 
     def _solve(self, d, p0, lower, upper):
         return solve_fit(d, p0, lower, upper, traced=True, max_steps=self.cfg.solver.max_steps,
                          method=self.cfg.solver.method)
 
     def history(self, result) -> dict:
-        """The cost Σ (residual / tolerance)² after each Levenberg–Marquardt step."""
-        return {"iteration": "Levenberg–Marquardt step",
+        """The cost Σ (residual / tolerance)² after each step of the solver."""
+        return {"iteration": f"{self.solver} step",
                 "series": {"cost Σ (residual / tolerance)²": _series(result.history)}}
 
 
