@@ -320,3 +320,30 @@ def test_solver_method_is_a_config_choice():
     assert set(FIT_METHODS) == {"optimistix", "lbfgsb"}
     with pytest.raises(ValidationError):
         SolverConfig(method="bfgs")
+
+
+def test_a_minimums_history_keeps_the_objective_apart_from_the_merit():
+    """The convergence a run shows is the objective's (scaled to 1 at the parent); the merit the solver minimises
+    (objective + fairness + smoothness penalties: 0.5 U/U₀ here) is its own series. A Wigley whose
+    beam scales by 1 + p with the volume held at 1.1× the parent's: p = 0.1 whatever the penalties."""
+    from hullopt.geometry import Sections
+    from hullopt.models import wigley
+
+    hull = wigley(100, 10, 6.25, 10, n=21, m=21)
+
+    def model(p):
+        return Sections(hull.x, hull.yz * jnp.array([1.0 + p, 1.0]), hull.lpp)
+
+    v0 = float(jax.jit(hydrostatics)(hull, 6.25).volume)
+    d = with_objective_scale(Design(model=model, draft=6.25, targets=make_targets({"volume": 1.1 * v0}),
+                                    objective=KAw(jnp.asarray(7.7)), fairness=0.5), jnp.asarray(0.0))
+    from hullopt.optimise import solve_minimum
+
+    r = eqx.filter_jit(lambda d: solve_minimum(d, jnp.asarray(0.0), jnp.asarray(-0.5), jnp.asarray(0.5), outer=4))(d)
+    assert float(r.params) == pytest.approx(0.1, abs=1e-4)
+    assert float(r.objective_history[-1]) == pytest.approx(float(d.objective_ratio(r.params)), rel=1e-12)
+    assert float(r.merit_history[-1]) == pytest.approx(float(d.objective_value(r.params)), rel=1e-12)
+    from hullopt.fairing import unfairness
+
+    penalty = 0.5 * float(unfairness(model(r.params)) / unfairness(model(jnp.asarray(0.0))))
+    assert float(r.merit_history[-1]) - float(r.objective_history[-1]) == pytest.approx(penalty, rel=1e-4)

@@ -10,9 +10,6 @@ from pathlib import Path
 import pytest
 
 
-pytestmark = pytest.mark.slow  # minutes of solving: `make test-slow` (CI runs both)
-
-
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
@@ -32,6 +29,7 @@ def fit_run(tmp_path_factory):
     return out, json.loads(stdout.getvalue())
 
 
+@pytest.mark.slow
 def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, monkeypatch):
     out, report = fit_run
     assert report["converged"] and report["met"] and report["iterations"] > 0
@@ -68,6 +66,7 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, mo
     assert code == 0 and json.loads(stdout)["cb"] == again["cb"], err
 
 
+@pytest.mark.slow
 def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, tmp_path, monkeypatch):
     """The second run of a config neither traces nor compiles (kept program + compilation cache): the module's
     fit run again, with the export (trace and lower) forbidden."""
@@ -81,6 +80,7 @@ def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, t
     assert (tmp_path / "b" / "hull.stl").read_bytes() == (first_out / "hull.stl").read_bytes()
 
 
+@pytest.mark.slow
 def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
     out = tmp_path / "far"
     code, stdout, _ = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.75",
@@ -90,6 +90,7 @@ def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
     assert (out / "hull.stl").exists() and report["targets"]["cb"]["met"] is False
 
 
+@pytest.mark.slow
 def test_a_station_shift_fit_keeps_every_section_and_reads_back(cli, tmp_path):
     """The frames themselves move along the length (``curves = "stations"``): the Wigley fitted to Cb 0.46 and
     LCB −1 % Lpp with every section the parent's own (section roughness equal to the parent's); the run folder and
@@ -113,6 +114,7 @@ def test_a_station_shift_fit_keeps_every_section_and_reads_back(cli, tmp_path):
         assert h["cb"] == pytest.approx(0.46, rel=rel) and h["lcb_pct"] == pytest.approx(-1.0, abs=2e-3)
 
 
+@pytest.mark.slow
 def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_path):
     # the reflection part only: with the strip-theory motions in the objective the run takes far longer than a
     # test may (the motions and their gradients are tested in test_motions.py)
@@ -137,6 +139,7 @@ def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_pa
         (lambda t: t.replace("parent = \"wigley\"", "parent = \"nosuch\""), "unknown parent 'nosuch'"),
         (lambda t: t.replace("cb = 0.48", "cb = 1.4"), "cb = 1.4 is outside the physical range"),
         (lambda t: t.replace("[targets]", "[targetz]"), "targetz"),
+        (lambda t: t.replace("draft = 6.25", "draft = 12.0"), "hull.draft = 12 m is above the deck of 'wigley'"),
     ],
 )
 def test_bad_configs_fail_fast(cli, tmp_path, edit, message):
@@ -144,7 +147,8 @@ def test_bad_configs_fail_fast(cli, tmp_path, edit, message):
     cfg.write_text(edit((CONFIGS / "fit_cb_lcb.toml").read_text()))
     code, _, err = cli("run", str(cfg), "--out", str(tmp_path / "o"))
     assert code == 2 and message in err and "Traceback" not in err, err
-    assert str(cfg) in err or "nosuch" in err
+    assert str(cfg) in err or "nosuch" in err or "hull.draft" in err
+    assert not (tmp_path / "o").exists()  # nothing written for a config refused
 
 
 def test_missing_config_file(cli, tmp_path):
@@ -171,6 +175,7 @@ def test_every_shipped_config_is_valid():
             read_wind_config(path)
 
 
+@pytest.mark.slow
 def test_a_fit_by_lbfgsb_from_the_config(cli, tmp_path):
     """``[solver] method = "lbfgsb"``: the demo fit solved by jaxopt's L-BFGS-B (hard bounds) meets the same
     targets, its history named by its solver; a minimise run refuses it, naming the field."""

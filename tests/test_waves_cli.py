@@ -69,3 +69,13 @@ def test_other_methods_and_plot(capsys, tmp_path):
 def test_bad_input_is_one_clear_line(capsys, args, needle):
     code, out, err = run(capsys, *args)
     assert code == 2 and needle in err and err.count("\n") == 1
+
+
+def test_a_method_outside_its_headings_warns_instead_of_a_silent_zero(capsys):
+    """STAWAVE-2 holds within ±45° of the bow: at 90° the command says so (its 0 kN is no result); at 30° not."""
+    code, _, err = run(capsys, "--speed", "15", "--heading", "90", "--method", "stawave2", "--lambda-over-l",
+                       "1:1:1", "--json")
+    assert code == 0 and "stawave2 applies within ±45° of the bow only" in " ".join(err.split()), err
+    code, _, err = run(capsys, "--speed", "15", "--heading", "30", "--method", "stawave2", "--lambda-over-l",
+                       "1:1:1", "--json")
+    assert code == 0 and "applies" not in err, err

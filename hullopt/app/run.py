@@ -55,9 +55,9 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     Pareto-optimal). ``options``: the study's (a sweep's ``shard = (k, N)``, ``executor`` and ``address``); a
     shard whose sweep is not complete yet returns a partial report and writes no hull files.
     """
+    study: Study = load_study(cfg)  # a bad design or draft is refused before anything is written
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "config.json", raw)
-    study: Study = load_study(cfg)
     d = study.problem.design
     save_features(d.model.hull, out / "parent.json")  # the run folder rebuilds its designs from it
     shard = options.get("shard", (1, 1))
@@ -74,7 +74,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     report["objectives"], report["warnings"] = study.assess(solution)
     if "history" in report:
         h = report["history"]
-        series = dict(h["series"])
+        series = dict(h["series"])  # the PNG: the first series (a fit's cost, a minimum's objective), violation below
         violation = series.pop(VIOLATION, None)
         plot_convergence(next(iter(series.values())), out / "convergence.png", h["iteration"], violation=violation)
     if solution.final:

@@ -372,6 +372,10 @@ class Design(eqx.Module):
         value = self.objective(s, self.draft) / self.objective_scale + self.smoothness * flat @ flat
         return value + self.fairness * self._unfairness(s) if self.fairness else value
 
+    def objective_ratio(self, params, args=None) -> Array:
+        """The objective alone, scaled by its value at the parent (1 there): what a run's convergence shows."""
+        return self.objective(self.model(params), self.draft) / self.objective_scale
+
     def _unfairness(self, sections: Sections) -> Array:
         from ..fairing import unfairness
 
@@ -575,7 +579,7 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
     tol = jnp.asarray(design.targets.tol)
     tol_g = 1.0 if design.limits is None else design.limits.tol
     ineq = None if design.limits is None else (lambda p, args: design.inequalities(p, args) / tol_g)
-    kw = {"mu0": MU0, "growth": GROWTH} | kw
+    kw = {"mu0": MU0, "growth": GROWTH, "record": design.objective_ratio} | kw
     r = minimise_constrained(design.objective_value, lambda p, args: design.constraints(p, args) / tol, p0, lower,
                              upper, inequalities=ineq, **kw)
     return eqx.tree_at(lambda res: res.residuals, r, r.residuals * tol)

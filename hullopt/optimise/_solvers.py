@@ -43,8 +43,9 @@ class SolveResult(eqx.Module):
     one is within its tolerance —, ``objective`` the objective value (the sum of squares for a fit),
     ``solver_ok`` the solver's own success flag, ``steps`` the number of (inner) steps, ``history`` the cost
     after each step or round where the solver records it (NaN-padded to a fixed length);
-    ``objective_history`` and ``violation_history`` the objective and the largest ``|residual| / tol`` after
-    each round (:func:`minimise_constrained`; None for the other solvers)."""
+    ``objective_history`` and ``violation_history`` the objective (or what the caller records in its place)
+    and the largest ``|residual| / tol`` after each round, ``merit_history`` the minimised objective there
+    (:func:`minimise_constrained`; None for the other solvers)."""
 
     params: PyTree[Float[Array, "..."]]
     residuals: Float[Array, " r"]
@@ -56,6 +57,7 @@ class SolveResult(eqx.Module):
     history: Float[Array, " h"] | None = None
     objective_history: Float[Array, " h"] | None = None
     violation_history: Float[Array, " h"] | None = None
+    merit_history: Float[Array, " h"] | None = None
 
 
 def fit(
@@ -130,6 +132,7 @@ def minimise_constrained(
     rtol: float = 1e-8,
     atol: float = 1e-8,
     max_steps: int = 300,
+    record: Callable | None = None,
 ) -> SolveResult:
     """Minimise ``objective(p, args)`` (a scalar, scaled to order one) subject to
     ``constraints(p, args) = 0`` (a vector normalised to order one; ``|c| ≤ tol`` counts as met) and, if
@@ -142,8 +145,9 @@ def minimise_constrained(
     rounds, so the whole solve is one ``vmap``-able computation). ``residuals`` are the equality residuals ``c``;
     ``max_violation`` and ``met`` count both kinds (an inequality's violation is ``max(g, 0) /
     inequality_tol``). ``history``: the augmented Lagrangian at the end of each round; ``objective_history`` and
-    ``violation_history``: the objective and the largest ``|c| / tol`` there (what a convergence plot shows: the
-    Lagrangian itself rises as μ grows).
+    ``violation_history``: the objective — or ``record(p, args)``, when the objective minimised is a merit of
+    several terms and the caller wants its own part — and the largest ``|c| / tol`` there (what a convergence
+    plot shows: the Lagrangian itself rises as μ grows); ``merit_history``: the objective minimised there.
 
     Parameters
     ----------
@@ -171,12 +175,15 @@ def minimise_constrained(
         BFGS's relative and absolute tolerances.
     max_steps : int
         Largest number of BFGS steps per round.
+    record : callable or None
+        ``record(p, args)`` → scalar recorded after each round in ``objective_history``; None: the objective.
 
     Returns
     -------
     SolveResult
         ``params``, ``residuals`` (c,), ``objective``, ``max_violation``, ``met``, ``solver_ok`` (of the last
-        round), ``steps`` (all rounds), and ``history``, ``objective_history``, ``violation_history`` (outer,).
+        round), ``steps`` (all rounds), and ``history``, ``objective_history``, ``violation_history``,
+        ``merit_history`` (outer,).
     """
     u0 = to_unbounded(p0, lower, upper)
     n_c = jnp.shape(constraints(p0, args))[0]
@@ -204,16 +211,18 @@ def minimise_constrained(
         viol = violation(p, c)
         return (sol.value, lam + mu * c, jnp.maximum(nu + mu * ineq(p, args), 0.0), mu * growth,
                 steps + sol.stats["num_steps"], sol.result == optx.RESULTS.successful), \
-            (lagrangian(sol.value, (lam, nu, mu, args)), objective(p, args), viol)
+            (lagrangian(sol.value, (lam, nu, mu, args)), objective(p, args),
+             objective(p, args) if record is None else record(p, args), viol)
 
     dtype = ravel_pytree(u0)[0].dtype
     init = (u0, jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype), jnp.asarray(mu0, dtype), jnp.asarray(0),
             jnp.asarray(True))
-    (u, _, _, _, steps, ok), (history, f_history, v_history) = jax.lax.scan(round_, init, None, length=outer)
+    (u, _, _, _, steps, ok), (history, merit, f_history, v_history) = jax.lax.scan(round_, init, None,
+                                                                                   length=outer)
     p = from_unbounded(u, lower, upper)
     c = constraints(p, args)
     viol = violation(p, c)
-    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps, history, f_history, v_history)
+    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps, history, f_history, v_history, merit)
 
 
 def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rtol: float = 1e-6,

@@ -143,8 +143,8 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     """Solver convergence on log scales.
 
     A fit (``violation`` None): the cost (the sum of squared scaled residuals, penalties included) after each step.
-    A constrained minimum: ``history`` the objective after each round (scaled to 1 at the parent, penalty terms
-    included) above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
+    A constrained minimum: ``history`` the objective alone after each round (scaled to 1 at the parent; the
+    fairness and smoothness penalties the solver adds are the report's merit series) above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
     Non-finite entries (rounds or steps not taken) are left out.
 
     Parameters

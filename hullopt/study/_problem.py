@@ -98,6 +98,12 @@ def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: 
     draft = cfg.hull.draft or parent.design_draft
     if draft is None:
         raise HullError(f"hull.draft: parent {cfg.hull.parent!r} has no design draft; give one")
+    keel, deck = float(np.min(np.asarray(parent.keel)[:, 1])), float(np.max(np.asarray(parent.deck)[:, 1]))
+    lo = max(0.0, keel)
+    if not lo < draft <= deck:  # above the deck the hull is submerged: no waterplane, nothing to design
+        where = "above the deck" if draft > deck else "outside the hull"
+        raise HullError(f"hull.draft = {draft:g} m is {where} of {cfg.hull.parent!r}: expected a draft in "
+                        f"({lo:g}, {deck:g}] m (keel or baseline to deck)")
     model, p0, half = design_params(cfg.design, parent)
     lower = jax.tree.map(lambda h: -h, half)
     try:

@@ -50,6 +50,7 @@ STUDIES: dict[str, type[Study]] = {}
 """The studies by run kind (the config's ``kind``), filled by defining a subclass of :class:`Study`."""
 
 VIOLATION = "max constraint violation |residual| / tolerance"
+MERIT = "merit: objective + fairness and smoothness penalties"
 """The name of the constraint-violation series in a study's history (≤ 1: met)."""
 
 
@@ -231,9 +232,12 @@ class Minimise(_Single):
         return solve_minimum(d, p0, lower, upper, outer=c.outer, max_steps=c.max_steps)
 
     def history(self, result) -> dict:
-        """The objective (scaled to 1 at the parent) and the largest constraint violation after each round."""
+        """The objective (scaled to 1 at the parent), the merit the solver minimises (the objective plus the fairness
+        and smoothness penalties, 1 + fairness at the parent) and the largest constraint violation after each
+        round."""
         return {"iteration": "augmented-Lagrangian round",
                 "series": {"objective / parent's": _series(result.objective_history),
+                           MERIT: _series(result.merit_history),
                            VIOLATION: _series(result.violation_history)}}
 
 

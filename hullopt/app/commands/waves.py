@@ -159,6 +159,11 @@ def waves(
             }
         if plot is not None:
             _plot(plot, out)
+    for m in METHODS if method == "all" else (method,):
+        wm = WAVE_METHODS[m]()
+        if not bool(np.all(np.asarray(wm.valid(jnp.asarray(alpha))))):
+            warn(f"{m} applies {wm.headings} only: at heading {heading:g}° it gives no added resistance (its 0 kN "
+                 "is not a result); use nmri or snnm there")
     if motion and method in ("nmri", "all"):  # the methods whose R_AW has the strip-theory motion part
         note = motion_validity_warning(out["fn"], lpp / out["beam"])
         if note is not None:
