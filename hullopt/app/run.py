@@ -72,6 +72,10 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
     report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
     report["objectives"], report["warnings"] = study.assess(solution)
+    rescored, doubts = study.rescore(solution.designs)
+    if rescored is not None:
+        report["rescored"], report["rescored_warnings"] = rescored, doubts
+        report["warnings"] += doubts
     if "history" in report:
         h = report["history"]
         series = dict(h["series"])  # the PNG: the first series (a fit's cost, a minimum's objective), violation below

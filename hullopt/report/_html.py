@@ -677,6 +677,37 @@ def _div(fig, name: str, click: bool = False) -> str:
         config={"displaylogo": False, "responsive": True}, post_script=_CLICK if click else None) + "</div>"
 
 
+def rescored_table(report: dict) -> str:
+    """The report's ``rescored`` as a table: each method's parent value [kN] at the nominal condition and each
+    design's change there and its worst change over every condition [%] (marked where the gain does not hold),
+    the conditions above it."""
+    r = report["rescored"]
+    c = r["conditions"]
+    sea = c.get("sea_state")
+    lines = [f"speeds {', '.join(f'{v:g}' for v in c['speeds_kn'])} kn (weights "
+             f"{', '.join(f'{w:g}' for w in c['weights'])}) × {', '.join(f'{f:g}' for f in c['speed_factors'])}"]
+    if sea:
+        lines.append(f"sea state H_s {sea[0]:g} m, T_p {sea[1]:g} s "
+                     f"({', '.join(f'{t:+g}' for t in c['tp_shifts_s'])} s), heading {sea[2]:g}°")
+    if r.get("note"):
+        lines.append(r["note"])
+    methods = r["methods"]
+    n = len(next(iter(methods.values()))["designs"]) if methods else 0
+    head = ["method", "parent [kN]"] + [f"design {k}: nominal / worst [%]" for k in range(n)]
+    rows = []
+    for name, m in methods.items():
+        what = ("calm water R_T" if m["kind"] == "calm" else "waves mean R_AW") + f": {m['method']}"
+        cells = [_e(what + (" (the objective's)" if m["own"] else "")), f"{m['parent'] / 1e3:.2f}"]
+        for k in range(n):
+            text = f"{m['change_pct'][k]:+.2f} / {m['worst_pct'][k]:+.2f}"
+            cells.append(_e(text) if m["holds"][k] else f'<span class="warn">{_e(text)} ✗</span>')
+        rows.append(cells)
+    return ("<p>" + "<br>".join(_e(x) for x in lines) + "</p>"
+            + _table(head, rows)
+            + "<p class=\"sub\">✗: the design is above the parent's value in some condition (the gain does not "
+              "hold under that method).</p>")
+
+
 def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | None = None) -> str:
     """The page of a run folder (see the module's docstring) as one HTML string, plotly's JS embedded once."""
     from plotly.offline import get_plotlyjs
@@ -703,6 +734,9 @@ def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | Non
     part = particulars_table(report, sweep_picks(report) if kind == "pareto" else None)
     if part:
         parts += ["<h2>Particulars: parent → design</h2>", part]
+    if report.get("rescored"):
+        parts += ["<h2>Second opinion: every design re-scored by independent methods</h2>",
+                  rescored_table(report)]
     conv = fig_convergence(report)
     if kind != "pareto":
         parts += ["<h2>Convergence</h2>", _div(conv, "convergence") if conv is not None

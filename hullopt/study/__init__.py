@@ -46,3 +46,4 @@ from ._sweep import parse_shard as parse_shard
 from ._wind_config import DrawingsConfig as DrawingsConfig
 from ._wind_config import config_parts as config_parts
 from ._wind_config import read_wind_config as read_wind_config
+from ._rescore import rescore as rescore

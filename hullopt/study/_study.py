@@ -44,6 +44,7 @@ from ._problem import (
     params_to_dict,
 )
 from ._programs import cached_call
+from ._rescore import rescore
 from ._sweep import SweepPlan, run_chunks
 
 STUDIES: dict[str, type[Study]] = {}
@@ -146,6 +147,19 @@ class Study(abc.ABC):
         objectives, warnings = assess(self.cfg, self.problem, solution.designs, self.key)
         who = "" if solution.final else "design {k}: "
         return objectives, bound_warnings(self.problem, solution.designs, who) + warnings
+
+
+    def rescore(self, designs: list[FeatureParams]) -> tuple[dict | None, list[str]]:
+        """The designs and the parent re-scored by every method of each kind (:func:`~hullopt.study.rescore`);
+        ``(None, [])`` for a study without an objective."""
+        if self.cfg.objective is None:
+            return None, []
+        return rescore(self.cfg, self.problem, designs, self.key)
+
+    def designs_of(self, report: dict) -> list[FeatureParams]:
+        """The parameters of a finished run's designs (its report's ``params``, or each of a sweep's)."""
+        rows = report.get("designs") or [report]
+        return [params_from_dict(r["params"], self.problem.p0) for r in rows if "params" in r]
 
 
 class _Single(Study):

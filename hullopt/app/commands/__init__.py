@@ -7,7 +7,7 @@ COMMANDS = {
     "hydro": "hydro", "export": "hydro", "run": "run", "merge": "merge", "features": "features",
     "deform": "features", "waves": "waves", "wind": "wind", "stability": "stability", "lines": "stability",
     "print": "stability", "fair": "fair", "resistance": "resistance", "motions": "motions",
-    "report": "report",
+    "report": "report", "rescore": "report",
 }
 
 

@@ -7,8 +7,9 @@ from typing import Annotated
 
 import typer
 
+from ...errors import HullError
 from .._app import app
-from ..output import busy, say
+from ..output import busy, print_json, say, table, warn
 
 
 @app.command("report")
@@ -24,3 +25,52 @@ def report_command(
     with busy(f"writing {run_dir}/report.html"):
         path = write_report(run_dir)
     say(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB; open it in a browser)")
+
+
+@app.command("rescore")
+def rescore_command(
+    run_dir: Annotated[Path, typer.Argument(help="Run folder of a minimise or Pareto run")],
+    json: Annotated[bool, typer.Option("--json", help="Print the re-scoring as JSON.")] = False,
+) -> None:
+    """Re-score a run's designs and its parent by every calm-water method (Holtrop–Mennen, Michell, panel) and
+    every added-resistance method (NMRI, SNNM, STAWAVE-2) over the run's profile and off it (±10 % speed, ±2 s
+    T_p); warn of each design whose gain does not hold under an independent method of each kind. Writes
+    ``rescored`` and the warnings into report.json and rebuilds report.html."""
+    from ...report import read_run, write_json, write_report
+    from ...study import folder_study, read_run_config
+
+    cfg = read_run_config(run_dir)
+    _, report = read_run(run_dir)
+    if cfg.objective is None:
+        raise HullError(f"{run_dir}: nothing to re-score (a run with an objective is needed; this is a "
+                        f"{cfg.kind!r} run without one)")
+    study = folder_study(run_dir, cfg)
+    designs = study.designs_of(report)
+    if not designs:
+        raise HullError(f"{run_dir}: nothing to re-score (the report has no designs: an unfinished run?)")
+    with busy(f"re-scoring {len(designs)} design(s) of {run_dir}", quiet=json):
+        rescored, doubts = study.rescore(designs)
+        old = report.get("rescored_warnings", [])
+        report["warnings"] = [w for w in report.get("warnings", []) if w not in old] + doubts
+        report["rescored"], report["rescored_warnings"] = rescored, doubts
+        write_json(run_dir / "report.json", report)
+        write_report(run_dir, report)
+    if json:
+        print_json(rescored)
+    else:
+        _print_rescored(rescored)
+    for w in doubts:  # on stderr, beside the JSON too
+        warn(w)
+
+
+def _print_rescored(r: dict) -> None:
+    """Each method's parent value and each design's change at the nominal condition and at its worst."""
+    methods = r["methods"]
+    n = len(next(iter(methods.values()))["designs"])
+    rows = [[f"{m['kind']}: {m['method']}" + (" (objective's)" if m["own"] else ""), m["parent"] / 1e3,
+             *(f"{m['change_pct'][k]:+.2f} / {m['worst_pct'][k]:+.2f}" + ("" if m["holds"][k] else " ✗")
+               for k in range(n))] for m in methods.values()]
+    table("Re-scored by independent methods (change against the parent: nominal / worst condition [%])",
+          ["method", "parent [kN]", *(f"design {k}" for k in range(n))], rows)
+    if r.get("note"):
+        say(r["note"])

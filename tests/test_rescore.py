@@ -1,0 +1,69 @@
+"""``hullopt rescore``: a run's designs and parent re-scored by every calm-water and added-resistance method, over
+the profile and off it; the parent's values against the methods called directly, and a design that is worse by
+every independent method warned of."""
+
+import json
+
+import jax
+import numpy as np
+import pytest
+
+from hullopt.constants import KNOT
+
+CONFIG = "configs/min_added_resistance.toml"
+
+
+@pytest.mark.slow
+def test_rescore_a_run_folder(cli, tmp_path):
+    from hullopt.models import save_features
+    from hullopt.resistance import calm_water
+    from hullopt.study import load_config, load_study, params_to_dict
+    from hullopt.waves import mean_added_resistance
+
+    cfg, raw = load_config(CONFIG)
+    study = load_study(cfg)
+    p0 = study.problem.p0
+    fuller = type(p0)(np.asarray(p0.apex) + 0.5, np.asarray(p0.distribution), np.asarray(p0.contour))
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "config.json").write_text(json.dumps(raw))
+    save_features(study.problem.design.model.hull, run / "parent.json")
+    (run / "report.json").write_text(json.dumps({"kind": "minimise", "met": True, "converged": True,
+                                                 "params": params_to_dict(fuller), "warnings": ["kept"]}))
+    code, out, err = cli("rescore", run, "--json")
+    assert code == 0, err
+    r = json.loads(out)
+    m = r["methods"]
+    assert set(m) == {"calm_holtrop", "calm_michell", "calm_panel", "waves_nmri", "waves_snnm", "waves_stawave2"}
+    assert m["waves_nmri"]["own"] and not any(v["own"] for k, v in m.items() if k != "waves_nmri")
+    assert r["conditions"]["sea_state"] == [3.0, 9.0, 0.0] and r["conditions"]["speeds_kn"] == [15.0]
+    # the parent's nominal values are the methods' own, called directly
+    s, t, u = study.problem.design.model(p0), 6.25, 15.0 * KNOT
+    assert m["calm_holtrop"]["parent"] == pytest.approx(float(calm_water(s, t, u, "holtrop").total), rel=1e-9)
+    snnm = jax.jit(lambda s: mean_added_resistance("snnm", s, t, u, 3.0, 9.0, 0.0).total)(s)
+    assert m["waves_snnm"]["parent"] == pytest.approx(float(snnm), rel=1e-9)
+    # a fuller bow: more resistance by every independent method in some condition (SNNM sees −0.4 % at the
+    # nominal T_p but +0.9 % off it): no gain holds
+    assert all(v["worst_pct"][0] > 0 and not v["holds"][0] for v in m.values() if not v["own"])
+    assert m["waves_snnm"]["change_pct"][0] < 0 < m["waves_snnm"]["worst_pct"][0]
+    assert r["verdict"] == [{"calm": False, "waves": False}]
+    assert "no independent method finds its added resistance in waves at or below the parent's" in " ".join(err.split())
+    report = json.loads((run / "report.json").read_text())
+    assert report["rescored"]["methods"].keys() == m.keys() and "kept" in report["warnings"]
+    assert len([w for w in report["warnings"] if w.startswith("design 0: no independent")]) == 2
+    assert "re-scored by independent methods" in (run / "report.html").read_text()
+    # run again: the warnings are replaced, not doubled
+    assert cli("rescore", run, "--json")[0] == 0
+    again = json.loads((run / "report.json").read_text())["warnings"]
+    assert len([w for w in again if w.startswith("design 0: no independent")]) == 2
+
+
+def test_rescore_refuses_a_fit(cli, tmp_path):
+    run = tmp_path / "fit"
+    run.mkdir()
+    raw = {"kind": "fit", "hull": {"parent": "wigley"}, "targets": {"cb": 0.45},
+           "design": {"distribution": [{"x_a": 0.0, "x_b": 100.0}]}}
+    (run / "config.json").write_text(json.dumps(raw))
+    (run / "report.json").write_text(json.dumps({"kind": "fit", "params": {}}))
+    code, _, err = cli("rescore", run)
+    assert code == 2 and "nothing to re-score" in err, err
