@@ -36,7 +36,7 @@ def test_rescore_a_run_folder(cli, tmp_path):
     m = r["methods"]
     assert set(m) == {"calm_holtrop", "calm_michell", "calm_panel", "waves_nmri", "waves_snnm", "waves_stawave2"}
     assert m["waves_nmri"]["own"] and not any(v["own"] for k, v in m.items() if k != "waves_nmri")
-    assert r["conditions"]["sea_state"] == [3.0, 9.0, 0.0] and r["conditions"]["speeds_kn"] == [15.0]
+    assert r["conditions"]["sea_states"] == [[3.0, 9.0, 0.0]] and r["conditions"]["speeds_kn"] == [15.0]
     # the parent's nominal values are the methods' own, called directly
     s, t, u = study.problem.design.model(p0), 6.25, 15.0 * KNOT
     assert m["calm_holtrop"]["parent"] == pytest.approx(float(calm_water(s, t, u, "holtrop").total), rel=1e-9)

@@ -14,6 +14,8 @@ from ._objectives import KAw as KAw
 from ._objectives import MeanAddedResistance as MeanAddedResistance
 from ._objectives import MichellCalmResistance as MichellCalmResistance
 from ._objectives import Objective as Objective
+from ._objectives import ProfilePower as ProfilePower
+from ._objectives import ProfileResistance as ProfileResistance
 from ._objectives import WindAddedResistance as WindAddedResistance
 from ._problems import TARGETS as TARGETS
 from ._problems import TARGET_KINDS as TARGET_KINDS

@@ -24,6 +24,7 @@ from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
@@ -207,3 +208,62 @@ class WindAddedResistance(Objective):
             raise ValueError("wind_added_resistance needs wind_speed > 0 [m/s]")
         return cls(_scalar(options["speed_kn"] * KNOT), _scalar(options["wind_speed"]),
                    _scalar(np.radians(options.get("wind_angle_deg", 0.0))))
+
+
+class ProfileResistance(Objective):
+    """An operating profile's resistance [N]: the weighted mean over its points i of calm-water R_T(U_i) by
+    ``method`` (:func:`~hullopt.resistance.calm_water`) plus, where the point has a sea state (``hs`` > 0), the
+    mean added resistance in it (NMRI, long-crested, motion part when ``motion``): Σ wᵢ (R_T + R_AW)ᵢ / Σ wᵢ.
+    Points: ``speed`` [m/s], ``weights``, ``hs`` [m] (0: calm water), ``tp`` [s], ``heading`` [rad], each (k,)."""
+
+    name: ClassVar[str] = "profile_resistance"
+    unit: ClassVar[str] = "N"
+    description: ClassVar[str] = "operating profile: weighted mean of R_T + R_AW over speeds and sea states"
+    options: ClassVar[tuple[str, ...]] = ("profile", "method", "motion")
+    power: ClassVar[bool] = False
+
+    speed: Float[ArrayLike, " k"]
+    weights: Float[ArrayLike, " k"]
+    hs: Float[ArrayLike, " k"]
+    tp: Float[ArrayLike, " k"]
+    heading: Float[ArrayLike, " k"]
+    method: str = eqx.field(static=True, default="holtrop")
+    motion: bool = eqx.field(static=True, default=True)
+    waves: bool = eqx.field(static=True, default=True)
+
+    def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
+        u = jnp.asarray(self.speed, dtype=float)
+        r = calm_water(sections, draft, u, self.method).total
+        if self.waves:  # a point without a sea state adds nothing (its H_s replaced before, its R_AW after)
+            wet = jnp.asarray(self.hs) > 0
+
+            def point(ui, h, t, a):
+                return mean_added_resistance("nmri", sections, draft, ui, h, t, a, motion=self.motion).total
+
+            raw = jax.vmap(point)(u, jnp.where(wet, self.hs, 1.0), jnp.asarray(self.tp, dtype=float),
+                                  jnp.asarray(self.heading, dtype=float))
+            r = r + jnp.where(wet, raw, 0.0)
+        w = jnp.asarray(self.weights, dtype=r.dtype)
+        return jnp.sum(w * r * (u if self.power else 1.0)) / jnp.sum(w)
+
+    @classmethod
+    def from_config(cls, options: Mapping[str, Any]) -> ProfileResistance:
+        points = options.get("profile") or []
+        if not points:
+            raise ValueError(f"{cls.name} needs a profile: [[profile]] tables with speed_kn (weight, hs, tp, "
+                             "heading_deg)")
+        col = {k: np.asarray([float(p[k]) for p in points]) for k in ("speed_kn", "weight", "hs", "tp", "heading_deg")}
+        if col["weight"].sum() <= 0:
+            raise ValueError("profile: the weights are all 0")
+        return cls(col["speed_kn"] * KNOT, col["weight"], col["hs"], col["tp"], np.radians(col["heading_deg"]),
+                   method=options.get("method") or "holtrop", motion=bool(options.get("motion", True)),
+                   waves=bool(np.any(col["hs"] > 0)))
+
+
+class ProfilePower(ProfileResistance):
+    """An operating profile's effective power [W]: Σ wᵢ Uᵢ (R_T + R_AW)ᵢ / Σ wᵢ (see :class:`ProfileResistance`)."""
+
+    name: ClassVar[str] = "profile_power"
+    unit: ClassVar[str] = "W"
+    description: ClassVar[str] = "operating profile: weighted mean effective power U (R_T + R_AW)"
+    power: ClassVar[bool] = True

@@ -683,12 +683,11 @@ def rescored_table(report: dict) -> str:
     the conditions above it."""
     r = report["rescored"]
     c = r["conditions"]
-    sea = c.get("sea_state")
-    lines = [f"speeds {', '.join(f'{v:g}' for v in c['speeds_kn'])} kn (weights "
-             f"{', '.join(f'{w:g}' for w in c['weights'])}) × {', '.join(f'{f:g}' for f in c['speed_factors'])}"]
-    if sea:
-        lines.append(f"sea state H_s {sea[0]:g} m, T_p {sea[1]:g} s "
-                     f"({', '.join(f'{t:+g}' for t in c['tp_shifts_s'])} s), heading {sea[2]:g}°")
+    lines = [f"operating points (speed × {', '.join(f'{f:g}' for f in c['speed_factors'])}; T_p "
+             f"{', '.join(f'{t:+g}' for t in c['tp_shifts_s'])} s):"]
+    for u, w, sea in zip(c["speeds_kn"], c["weights"], c["sea_states"]):
+        lines.append(f"{u:g} kn, weight {w:g}, " + ("calm water" if not sea else
+                                                    f"H_s {sea[0]:g} m, T_p {sea[1]:g} s, heading {sea[2]:g}°"))
     if r.get("note"):
         lines.append(r["note"])
     methods = r["methods"]

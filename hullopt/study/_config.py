@@ -107,6 +107,17 @@ class DeformConfig(DesignConfig):
     parent: str | None = None
 
 
+class ProfilePoint(_Strict):
+    """One point of an operating profile (``[[profile]]``): a speed, its weight (time share or importance) and
+    optionally a sea state (``hs`` 0: calm water)."""
+
+    speed_kn: float = Field(gt=0, description="ship speed [kn]")
+    weight: float = Field(default=1.0, ge=0, description="the point's weight (e.g. its share of the time)")
+    hs: float = Field(default=0.0, ge=0, description="significant wave height [m] (0: calm water)")
+    tp: float = Field(default=10.0, gt=0, description="peak period [s]")
+    heading_deg: float = Field(default=0.0, ge=-360, le=360, description="wave heading [deg, 0 head seas]")
+
+
 #: Every objective option a config may give, in config units; an objective kind takes those its class names
 #: in ``options`` (:class:`~hullopt.optimise.Objective`).
 OPTION_FIELDS: dict[str, tuple] = {
@@ -124,6 +135,8 @@ OPTION_FIELDS: dict[str, tuple] = {
         default=None, min_length=1, description="an operating profile's speeds [kn]")),
     "weights": (list[Annotated[float, Field(ge=0)]] | None, Field(
         default=None, description="the profile's weights, one a speed")),
+    "profile": (list[ProfilePoint], Field(min_length=1, description="the operating profile's points "
+                                                                    "(the config's [[profile]] tables)")),
 }
 
 
@@ -310,6 +323,20 @@ class RunConfig(_Strict):
     sweep: SweepConfig | None = None
     solver: SolverConfig = SolverConfig()
     constraints: ConstraintsConfig = ConstraintsConfig()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _profile(cls, data):
+        """``[[profile]]`` at the top level is the operating profile of the objective (its ``profile`` option)."""
+        if isinstance(data, dict) and "profile" in data:
+            data = dict(data)
+            profile = data.pop("profile")
+            if isinstance(data.get("objective"), dict):
+                data["objective"] = {**data["objective"], "profile": profile}
+            else:
+                raise ValueError("profile: an operating profile needs an [objective] (kind = \"profile_resistance\" "
+                                 "or \"profile_power\")")
+        return data
 
     def constraint_options(self, name: str) -> ObjectiveOptions:
         """The options of the objective ``name`` as a constraint: the sweep's measure's if it is that kind,

@@ -4,10 +4,10 @@ SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, 
 counts only if it holds under at least one method of each kind other than the objective's own, in every
 condition; each design where it does not is warned of.
 
-Conditions: the calm-water speeds and weights of the ``[objective]`` (``speeds_kn`` and ``weights``, else
-``speed_kn``), the profile's weighted mean at 0.9, 1 and 1.1 times them; the sea state (H_s, T_p, heading) of
-the objective or the sweep's measure when either is ``mean_added_resistance``, at T_p − 2 s, T_p, T_p + 2 s and
-at 0.9 and 1.1 times the speed (no sea state: no added-resistance opinion, and the report says so).
+The operating points (:func:`conditions`): an operating-profile objective's own, else the objective's speeds
+with the sea state of the objective or of the sweep's measure. Each method's value is the profile's weighted
+mean, in the conditions :data:`CONDITIONS` (no sea state anywhere: no added-resistance opinion, and the report
+says so).
 """
 
 from __future__ import annotations
@@ -29,10 +29,10 @@ RESCORE_WAVES = ("nmri", "snnm", "stawave2")
 """The added-resistance methods a design is re-scored by (STAWAVE-1 is STAWAVE-2's simpler sibling)."""
 
 SPEED_FACTORS = (0.9, 1.0, 1.1)
-"""Off the profile: the speeds a design is re-scored at, as factors of the profile's."""
+"""Off the profile: the speeds a design is re-scored at, as factors of the profile's (reported)."""
 
 TP_SHIFTS = (-2.0, 0.0, 2.0)
-"""s: the peak periods a design is re-scored at, as shifts of the sea state's."""
+"""s: the peak periods a design is re-scored at, as shifts of the sea states' (reported)."""
 
 HOLDS = 1e-3
 """A design holds a gain under a method when its value is at most the parent's times (1 + HOLDS) in every
@@ -53,42 +53,52 @@ def _own_method(cfg: RunConfig) -> dict[str, str | None]:
 
 
 def conditions(cfg: RunConfig) -> dict:
-    """The conditions of :func:`rescore` (config units): ``speeds_kn``, ``weights``, and ``sea_state`` ``(hs, tp,
-    heading_deg)`` or None when neither the objective nor the sweep's measure has one."""
+    """The operating points of :func:`rescore` (config units): ``speeds_kn``, ``weights`` and per point a
+    ``sea_states`` entry ``[hs, tp, heading_deg]`` or None (calm water only). An operating-profile objective
+    gives its points; another objective its speeds (``speeds_kn`` and ``weights``, else ``speed_kn``) with the
+    sea state of the objective or of the sweep's measure when either is ``mean_added_resistance`` (else none)."""
     o = cfg.objective
+    profile = getattr(o, "profile", None)
+    if profile:
+        return {"speeds_kn": [p.speed_kn for p in profile], "weights": [p.weight for p in profile],
+                "sea_states": [[p.hs, p.tp, p.heading_deg] if p.hs > 0 else None for p in profile]}
     speeds = list(getattr(o, "speeds_kn", None) or [o.speed_kn])
     weights = list(getattr(o, "weights", None) or [1.0] * len(speeds))
     sea = None
     for table in (o, getattr(cfg.sweep, "measure", None)):
         if table is not None and table.kind == "mean_added_resistance":
-            sea = (table.hs, table.tp, table.heading_deg)
+            sea = [table.hs, table.tp, table.heading_deg]
             break
-    return {"speeds_kn": speeds, "weights": weights, "sea_state": sea}
+    return {"speeds_kn": speeds, "weights": weights, "sea_states": [sea] * len(speeds)}
 
 
-def _program(model, p0, stacked, draft, speeds, weights, sea):
-    """Every method's value [N] of the parent and each design (stacked on a leading axis): calm-water R_T's
-    profile mean per speed factor ``(1 + k, 3)``, and the mean R_AW per condition ``(1 + k, 5)`` (T_p shifts at
-    the mean speed, then the speed factors at T_p)."""
+CONDITIONS = ((1.0, 0.0), (0.9, 0.0), (1.1, 0.0), (1.0, -2.0), (1.0, 2.0))
+"""(speed factor, T_p shift [s]) of the conditions every design is re-scored in: the profile, ±10 % speed, ±2 s
+T_p (calm water sees only the first three)."""
+
+
+def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool):
+    """Every method's value [N] of the parent and each design (stacked on a leading axis) in each condition of
+    :data:`CONDITIONS` ``(1 + k, 5)``: calm-water R_T and, when ``waves``, the mean R_AW, each the profile's
+    weighted mean (the points without a sea state, ``hs`` 0, add no R_AW)."""
     params = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), p0, stacked)
-    factors = jnp.asarray(SPEED_FACTORS)
-    u_mean = jnp.sum(weights * speeds) / jnp.sum(weights)
+    factors = jnp.asarray([c[0] for c in CONDITIONS])
+    shifts = jnp.asarray([c[1] for c in CONDITIONS])
+    wet = hs > 0
+    w = weights / jnp.sum(weights)
 
     def one(p):
         s = model(p)
-        out = {}
-        for m in CALM_METHODS:
-            r = jax.vmap(lambda f, m=m: calm_water(s, draft, f * speeds, m).total)(factors)  # (3, k)
-            out[f"calm_{m}"] = r @ weights / jnp.sum(weights)
-        if sea is not None:
-            hs, tp, heading = sea
-            cond = [(u_mean, tp + dt) for dt in TP_SHIFTS] + [(f * u_mean, tp) for f in (SPEED_FACTORS[0],
-                                                                                      SPEED_FACTORS[2])]
-            u = jnp.stack([c[0] for c in cond])
-            t = jnp.stack([jnp.asarray(c[1], dtype=float) for c in cond])
+        out = {f"calm_{m}": jax.vmap(lambda f, m=m: calm_water(s, draft, f * speeds, m).total @ w)(factors)
+               for m in CALM_METHODS}
+        if waves:
             for m in RESCORE_WAVES:
-                out[f"waves_{m}"] = jax.vmap(
-                    lambda ui, ti, m=m: mean_added_resistance(m, s, draft, ui, hs, ti, heading).total)(u, t)
+                def point(f, dt, u, h, t, a, m=m):
+                    r = mean_added_resistance(m, s, draft, f * u, jnp.where(h > 0, h, 1.0), t + dt, a).total
+                    return jnp.where(h > 0, r, 0.0)
+
+                per = jax.vmap(lambda f, dt: jax.vmap(lambda *x: point(f, dt, *x))(speeds, hs, tp, heading))
+                out[f"waves_{m}"] = per(factors, shifts) @ w
         return out
 
     return jax.lax.map(one, params)
@@ -111,8 +121,8 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
     Returns
     -------
     tuple of (dict, list of str)
-        ``rescored``: ``conditions`` (``speeds_kn``, ``weights``, ``speed_factors``, ``sea_state`` [hs m, tp s,
-        heading deg] or None, ``tp_shifts_s``), and ``methods``: per method (``calm_holtrop``, … ``waves_snnm``)
+        ``rescored``: ``conditions`` (the operating points of :func:`conditions`: ``speeds_kn``, ``weights``,
+        ``sea_states`` [hs m, tp s, heading deg] or None each; ``speed_factors``, ``tp_shifts_s``), and ``methods``: per method (``calm_holtrop``, … ``waves_snnm``)
         its ``kind``, ``own`` (the objective's method), ``parent`` and ``designs`` [N] at the nominal
         condition, ``change_pct`` per design at the nominal condition and ``worst_pct`` over every condition, and
         ``holds`` per design; ``verdict``: per design and kind whether the gain holds under at least one
@@ -120,24 +130,24 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
     """
     cond = conditions(cfg)
     d = prob.design
-    speeds = np.asarray(cond["speeds_kn"], float) * KNOT
-    weights = np.asarray(cond["weights"], float)
-    sea = None if cond["sea_state"] is None else (float(cond["sea_state"][0]), float(cond["sea_state"][1]),
-                                                  float(np.radians(cond["sea_state"][2])))
-    stacked = jax.tree.map(lambda *a: np.stack([np.asarray(v, float) for v in a]), *designs)
-    values = jax.device_get(cached_call("rescore", _program, (d.model, prob.p0, stacked, d.draft, speeds, weights),
-                                        (sea,), key=[key, "rescore"]))
+    seas = [s or [0.0, 10.0, 0.0] for s in cond["sea_states"]]
+    hs, tp, heading = (np.asarray([s[i] for s in seas], float) for i in range(3))
+    args = (d.model, prob.p0, jax.tree.map(lambda *a: np.stack([np.asarray(v, float) for v in a]), *designs),
+            d.draft, np.asarray(cond["speeds_kn"], float) * KNOT, np.asarray(cond["weights"], float), hs, tp,
+            np.radians(heading))
+    waves = bool(np.any(hs > 0))
+    values = jax.device_get(cached_call("rescore", _program, args, (waves,), key=[key, "rescore"]))
     own = _own_method(cfg)
-    nominal = {"calm": 1, "waves": 1}  # the nominal condition's column: speed factor 1; T_p shift 0
     methods = {}
     for name, v in values.items():
-        v = np.asarray(v, float)
+        v = np.asarray(v, float)  # (1 + k, conditions); column 0 the profile itself
         kind, method = name.split("_", 1)
-        change = 100.0 * (v[1:] / v[:1] - 1.0)  # (k, conditions)
+        v = v[:, :3] if kind == "calm" else v  # calm water does not see the sea state
+        change = 100.0 * (v[1:] / v[:1] - 1.0)
         methods[name] = {
             "kind": kind, "method": method, "own": own[kind] == method, "unit": "N",
-            "parent": float(v[0, nominal[kind]]), "designs": [float(x) for x in v[1:, nominal[kind]]],
-            "change_pct": [float(x) for x in change[:, nominal[kind]]],
+            "parent": float(v[0, 0]), "designs": [float(x) for x in v[1:, 0]],
+            "change_pct": [float(x) for x in change[:, 0]],
             "worst_pct": [float(x) for x in change.max(axis=1)],
             "holds": [bool(x) for x in np.all(v[1:] <= v[:1] * (1.0 + HOLDS), axis=1)],
         }
@@ -157,7 +167,7 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
         verdict.append(row)
     rescored = {"conditions": {**cond, "speed_factors": list(SPEED_FACTORS), "tp_shifts_s": list(TP_SHIFTS)},
                 "methods": methods, "verdict": verdict}
-    if sea is None:
+    if not waves:
         rescored["note"] = ("no sea state in the objective or the sweep's measure: the designs are not re-scored "
                             "in waves")
     return rescored, warnings

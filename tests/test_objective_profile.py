@@ -1,0 +1,110 @@
+"""The operating-profile objectives: the weighted mean of calm-water R_T plus the sea-state mean R_AW over
+speeds and sea states (and its effective power), against the methods called one point at a time; the config's
+[[profile]] tables; the gradient against central differences."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from helpers import check_grad
+
+from hullopt.constants import KNOT
+from hullopt.geometry import Sections
+from hullopt.models import wigley
+from hullopt.resistance import calm_water
+from hullopt.waves import mean_added_resistance
+
+PROFILE = """kind = "minimise"
+[hull]
+parent = "wigley"
+draft = 6.25
+[[design.apex_move]]
+segment = -1
+x_fixed1 = 50.0
+x_moved = 85.0
+x_fixed2 = 100.0
+[targets]
+cb = 0.4442
+[objective]
+kind = "{kind}"
+{extra}
+[[profile]]
+speed_kn = 12
+weight = 2
+[[profile]]
+speed_kn = 15
+hs = 3
+tp = 9
+[[profile]]
+speed_kn = 18
+hs = 2
+tp = 8
+heading_deg = 30
+"""
+
+
+def _load(tmp_path, kind="profile_resistance", extra=""):
+    from hullopt.study import load_config
+
+    path = tmp_path / "p.toml"
+    path.write_text(PROFILE.format(kind=kind, extra=extra))
+    return load_config(path)[0]
+
+
+@pytest.mark.parametrize("kind", ["profile_resistance", "profile_power"])
+def test_profile_is_the_weighted_sum_of_the_methods_point_by_point(tmp_path, kind):
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=41, m=11)
+    objective = _load(tmp_path, kind).objective.build()
+    value = float(jax.jit(objective.__call__)(hull, 6.25))
+    points = [(12.0, 2.0, None), (15.0, 1.0, (3.0, 9.0, 0.0)), (18.0, 1.0, (2.0, 8.0, 30.0))]
+    total = 0.0
+    for kn, w, sea in points:
+        u = kn * KNOT
+        r = float(calm_water(hull, 6.25, u, "holtrop").total)
+        if sea is not None:
+            r += float(jax.jit(lambda s, u=u, sea=sea: mean_added_resistance(
+                "nmri", s, 6.25, u, sea[0], sea[1], np.radians(sea[2])).total)(hull))
+        total += w * r * (u if kind == "profile_power" else 1.0)
+    assert value == pytest.approx(total / 4.0, rel=1e-9)
+    assert objective.unit == ("W" if kind == "profile_power" else "N")
+
+
+def test_profile_tables_in_the_config(tmp_path):
+    from hullopt.errors import HullError
+    from hullopt.study import load_config
+
+    cfg = _load(tmp_path)
+    assert [p.speed_kn for p in cfg.objective.profile] == [12.0, 15.0, 18.0]
+    assert [p.weight for p in cfg.objective.profile] == [2.0, 1.0, 1.0]
+    assert _load(tmp_path, extra='method = "michell"').objective.build().method == "michell"
+    with pytest.raises(HullError, match="speed_kn: kind = 'profile_resistance' takes no 'speed_kn'"):
+        _load(tmp_path, extra="speed_kn = 15")
+    calm = tmp_path / "calm.toml"
+    calm.write_text(PROFILE.format(kind="profile_resistance", extra="").replace("hs = 3\n", "").replace(
+        "hs = 2\n", ""))
+    assert not load_config(calm)[0].objective.build().waves  # no sea state: calm water only
+    none = tmp_path / "none.toml"
+    none.write_text(PROFILE.format(kind="k_aw", extra="").replace('kind = "k_aw"\n', "").replace("[objective]\n",
+                                                                                                  ""))
+    with pytest.raises(HullError, match="an operating profile needs an \\[objective\\]"):
+        load_config(none)
+
+
+@pytest.mark.slow
+def test_profile_gradient_matches_differences(tmp_path):
+    """d/dα of the profile for the Wigley whose beam scales by 1 + α (a design parameter's path), calm water and
+    the reflection part (the motion part's head-sea gradient: the xfail below)."""
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10)
+    objective = _load(tmp_path, extra="motion = false").objective.build()
+    f = jax.jit(lambda a: objective(Sections(hull.x, hull.yz * jnp.array([1.0 + a[0], 1.0]), hull.lpp), 6.25))
+    check_grad(f, np.array([0.05]), rtol=1e-6)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(reason="known defect: in head seas the gradient of NMRI's sea-state mean motion part R_AWM with "
+                          "respect to the beam is 0.2-0.25 % off central differences (at 30 deg it agrees to 1e-5)")
+def test_head_sea_motion_part_gradient_matches_differences():
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10)
+    f = jax.jit(lambda a: mean_added_resistance("nmri", Sections(hull.x, hull.yz * jnp.array([1.0 + a[0], 1.0]),
+                                                                  hull.lpp), 6.25, 15 * KNOT, 3.0, 9.0, 0.0).total)
+    check_grad(f, np.array([0.05]), rtol=1e-4)
