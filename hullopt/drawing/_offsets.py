@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._types import Stations, Waterlines
 from ..geometry import Sections, atomic_write_bytes
 
 # The standard station list of seed 003 (station numbers, Lpp/10 apart).
@@ -41,7 +42,7 @@ def station_label(s: Fraction) -> str:
     return f"{int(whole)} {rest}" if whole else str(rest)
 
 
-def half_breadths(sections: Sections, x, z) -> np.ndarray:
+def half_breadths(sections: Sections, x: Stations, z: Waterlines) -> np.ndarray:
     """Half-breadths ``(len(x), len(z))`` [m]: at each station position (sections interpolated linearly
     along x, point by point) the outermost crossing of the section with each waterline, 0 where the section
     does not reach it.
@@ -82,8 +83,8 @@ def _write(path, header: list[str], rows: list[list[str]], meta: dict[str, str],
     return Path(path)
 
 
-def write_offsets_wide(sections: Sections, path: str | os.PathLike, x=None, z=None, name: str = "",
-                       dense: bool = False) -> Path:
+def write_offsets_wide(sections: Sections, path: str | os.PathLike, x: Stations | None = None,
+                       z: Waterlines | None = None, name: str = "", dense: bool = False) -> Path:
     """Wide layout: header ``x,<z1>,…``, one row per station (default: the sections' own stations) with
     half-breadths [m] at waterlines ``z`` [m] (default: 11 from the keel to the lowest deck edge).
 

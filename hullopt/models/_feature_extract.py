@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._types import Offsets, Stations
 from ..errors import HullError
 
 #: Chord-frame values of a segment with no shape (degenerate or straight): apex at mid-chord on the chord,
@@ -220,8 +221,8 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     return keel, deck, segments
 
 
-def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float = 0.0, level: int = 2,
-                     dense: int = 600, cut_tol=None):
+def extract_features(x: Stations, yz: Offsets, lpp: float, flat_tol: float | None = None, lobe_tol: float | None = None,
+                     smoothing: float = 0.0, level: int = 2, dense: int = 600, cut_tol: float | None = None):
     """Feature arrays of a parent hull given as sections ``x (n,)``, ``yz (n, m, 2)`` (numpy).
 
     ``flat_tol`` [m] (default 0.1 % of the greatest breadth B) decides what is flat, ``cut_tol`` [m²]

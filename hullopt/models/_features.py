@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -557,7 +558,8 @@ def _edit_weights(h: FeatureHull, ed: ContourEdit) -> np.ndarray:
     return w
 
 
-def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> FeatureModel:
+def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributions: Sequence[Distribution] = (),
+                  edits: Sequence[ContourEdit] = ()) -> FeatureModel:
     """Precompute a design on ``hull`` (numpy, once): ``moves`` :class:`ApexMove`, ``distributions``
     :class:`Distribution` (each feature curve in at most one), ``edits`` :class:`ContourEdit`.
     Raises :class:`HullError` on an inconsistent design (fixed ends not on the apex line, …).

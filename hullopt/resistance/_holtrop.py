@@ -15,6 +15,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Draft, Speeds
 from ..constants import G, NU_SEA, RHO_SEA  # NU_SEA: sea water at 15 °C (ITTC), as the paper's example
 from ..geometry import Sections, longitudinal_integrals, safe_div, wetted_surface
 
@@ -62,7 +63,7 @@ class HoltropResult(eqx.Module):
     lam: Float[Array, ""]
 
 
-def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:
+def holtrop_mennen(h: HoltropHull, speed: Speeds, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:
     """Total calm-water resistance [N] at ``speed`` [m/s] (any shape: vectorised).
 
     Parameters
@@ -133,7 +134,8 @@ def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_S
     return HoltropResult(total, r_f, k1, r_app, r_w, r_b, r_tr, r_a, cf, ca, fn, c1, c2, c5, m1, m2, lam)
 
 
-def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_stern: float = 0.0) -> HoltropHull:
+def holtrop_hull(sections: Sections, draft: Draft, entrance_fraction: float = 0.05,
+                 c_stern: float = 0.0) -> HoltropHull:
     """The method's inputs measured on our geometry at an even-keel ``draft`` [m].
 
     L, B = waterline length (between the waterline's ends) and breadth; S = wetted surface
