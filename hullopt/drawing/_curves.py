@@ -10,6 +10,7 @@ import numpy as np
 from jaxtyping import ArrayLike, Float
 
 from ..constants import RHO_SEA
+from ..geometry import TINY_LENGTH
 from ._save import save_figure
 
 
@@ -102,7 +103,7 @@ def plot_hydrostatic_curves(table: HydrostaticTable, path: str | os.PathLike, na
     """
     plt, fig, axes = _figure(2, 4, figsize=(15, 8), sharey=True)
     t = np.asarray(table.draft, dtype=float)
-    keep = t < depth - 1e-9 if depth is not None else np.ones(t.shape, bool)
+    keep = t < depth - TINY_LENGTH if depth is not None else np.ones(t.shape, bool)
     t = t[keep]
     for ax, (title, xlabel, curves) in zip(axes.flat, _HYDRO_PANELS):
         for j, (key, label, s) in enumerate(curves):

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._types import Mask, Values, Vectors
-from ..geometry import Sections, safe_div, safe_sqrt
+from ..geometry import TINY_LENGTH, Sections, safe_div, safe_sqrt
 
 
 def surface_curvatures(r_u: Vectors, r_v: Vectors, r_uu: Vectors, r_uv: Vectors, r_vv: Vectors) -> tuple[Array, Array]:
@@ -106,7 +106,7 @@ def safe_unit(e, eps):
     return safe_div(e, length[..., None], ok[..., None]), length, ok
 
 
-def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_ok: Mask | None = None):
+def polyline_curvature(points: Float[Array, "... k d"], eps: float = TINY_LENGTH, edge_ok: Mask | None = None):
     """Discrete curvature vectors at the interior vertices of polylines ``points (..., k, d)`` [m].
 
     ``κ_i = (t_i − t_{i−1}) / ((ℓ_{i−1} + ℓ_i)/2)`` with ``t`` the unit edge tangents and ``ℓ`` the edge
@@ -143,7 +143,7 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
     return kappa, jnp.where(ok, ds, 0.0), ok
 
 
-def section_curvature(sections: Sections, eps: float = 1e-9) -> Float[Array, "n m"]:
+def section_curvature(sections: Sections, eps: float = TINY_LENGTH) -> Float[Array, "n m"]:
     """Signed curvature [1/m] of every half-section polyline at its points (0 at the two ends and next
     to repeated points): ``±|κ|`` of :func:`polyline_curvature` (exactly ``1/R`` on the chords of a
     circle), positive where the section turns left going from

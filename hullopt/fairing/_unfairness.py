@@ -51,7 +51,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._types import Mask
-from ..geometry import CoonsSurface, Sections, safe_div
+from ..geometry import TINY_LENGTH, CoonsSurface, Sections, safe_div
 from ._curvature import safe_unit, graph_curvatures, polyline_curvature
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(3)
@@ -293,7 +293,7 @@ def measure(surface: CoonsSurface, name: str = "lines", mask: Mask | None = None
     return r @ r
 
 
-def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
+def unfairness(sections: Sections, eps: float = TINY_LENGTH) -> Float[Array, ""]:
     """Unfairness of any hull given as :class:`~hullopt.geometry.Sections` (dimensionless, ≥ 0): the
     variation of curvature along every section and along every longitudinal line of the ``n × m`` grid::
 

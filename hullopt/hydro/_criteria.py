@@ -29,6 +29,7 @@ from jaxtyping import Array, Float
 
 from .._types import Angle, Length
 from ..geometry import safe_div
+from ._tolerances import ANGLE_TOL
 
 # (key, label, unit, required); angles in degrees in this table and in reports, radians in code.
 CRITERIA = (
@@ -142,7 +143,7 @@ def criteria_from_gz(gz: Array, gm0: Length, flooding_angle: Angle | None = None
     heel = jnp.linspace(0.0, max_heel, n_grid)
     h = max_heel / (n_grid - 1)
     # max GZ at heels ≥ 30°
-    beyond = heel >= a - 1e-12
+    beyond = heel >= a - ANGLE_TOL
     masked = jnp.where(beyond, grid, -jnp.inf)
     i30 = jnp.argmax(masked)
     _, gz30 = _parabola_peak(grid, i30, h, lowest=jnp.argmax(beyond) + 1)

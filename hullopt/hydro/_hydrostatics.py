@@ -14,6 +14,7 @@ from jaxtyping import Array, Float
 from .._types import Draft, Drafts, Volume
 from ..constants import RHO_SEA
 from ..geometry import Sections, longitudinal_integrals, section_integrals, wetted_surface
+from ._tolerances import BISECTION_TOL
 
 
 class Hydrostatics(eqx.Module):
@@ -181,7 +182,7 @@ def volume_at(sections: Sections, draft: Draft) -> Array:
     return longitudinal_integrals(sections, draft).volume
 
 
-def draft_for_volume(sections: Sections, volume: Volume, rtol: float = 1e-12) -> Array:
+def draft_for_volume(sections: Sections, volume: Volume, rtol: float = BISECTION_TOL) -> Array:
     """The draft [m] at which the hull displaces ``volume`` [m³].
 
     A bracketed root find (optimistix bisection between keel and deck: the volume curve is monotone but
@@ -210,7 +211,7 @@ def draft_for_volume(sections: Sections, volume: Volume, rtol: float = 1e-12) ->
     def residual(t, target):
         return (volume_at(sections, t) - target) / target
 
-    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo), flip="detect")
+    solver = optx.Bisection(rtol=rtol, atol=BISECTION_TOL * (hi - lo), flip="detect")
     sol = optx.root_find(
         residual,
         solver,

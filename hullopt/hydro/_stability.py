@@ -32,6 +32,7 @@ from jaxtyping import Array, Bool, Float
 from .._types import Angle, Angles, Length, Lengths, Scalar, Volume, Volumes
 from ..geometry import Sections, polygon_integrals, safe_div, simpson_weights
 from ._criteria import Criteria, criteria_from_gz, criteria_heels
+from ._tolerances import ANGLE_TOL, BISECTION_TOL
 
 
 def icll_sheer(sections: Sections) -> Float[Array, " n"]:
@@ -160,7 +161,7 @@ def _level_bounds(sections: Sections, heel) -> tuple[Array, Array]:
     return jnp.min(z), jnp.max(z)
 
 
-def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = 1e-12,
+def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = BISECTION_TOL,
                  atol: float | None = None) -> Array:
     """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad]
     displaces ``volume`` [m³]. Bisection between the lowest and highest point of the hull (robust when the
@@ -196,7 +197,7 @@ def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = 
         sec, phi, target = args
         return heeled_integrals(sec, phi, h).volume / target - 1.0
 
-    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo) if atol is None else atol, flip=False)
+    solver = optx.Bisection(rtol=rtol, atol=BISECTION_TOL * (hi - lo) if atol is None else atol, flip=False)
     sol = optx.root_find(
         residual, solver, 0.5 * (lo + hi), args=(sections, heel, jnp.asarray(volume, dtype=dtype)),
         options={"lower": lo, "upper": hi}, max_steps=256, throw=False,
@@ -459,7 +460,7 @@ def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg
     n_gauss = extra.shape[0] - n_grid
     step = 0.5 * jnp.pi / (n_grid - 1)
     idx = jnp.clip(jnp.round(heels / step), 0, n_grid - 1).astype(int)  # the nearest heel of the uniform grid
-    on_grid = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= 1e-12)
+    on_grid = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= ANGLE_TOL)
     fields = ("heel", "gz", "kn", "level", "trim", "converged")
 
     def solve(at: Array, take: Array) -> Stability:

@@ -53,7 +53,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..errors import HullError
-from ..geometry import Sections, atomic_write_bytes, safe_div
+from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, safe_div
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -112,8 +112,8 @@ class FeatureHull(eqx.Module):
         xyz = lambda p: np.column_stack([x, p])  # noqa: E731
         fwd = x >= float(self.lpp) / 2
         fob, fos = ends[:, 0], ends[:, -1]
-        has_fob = fob[:, 0] > keel[:, 0] + 1e-9
-        has_fos = np.hypot(*(deck - fos).T) > 1e-9
+        has_fob = fob[:, 0] > keel[:, 0] + TINY_LENGTH
+        has_fos = np.hypot(*(deck - fos).T) > TINY_LENGTH
         return {
             "fore_profile": xyz(keel)[fwd],
             "aft_profile": xyz(keel)[~fwd],
@@ -707,7 +707,7 @@ def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
         i = int(np.argmin(yz[..., 0].min(-1)))
         raise HullError(f"the frame at x = {x[i]:g} m crosses the centreline (y < 0): the deformation folds it")
     for i in range(len(x)):
-        pts = yz[i][np.concatenate([[True], np.hypot(*np.diff(yz[i], axis=0).T) > 1e-9])]
+        pts = yz[i][np.concatenate([[True], np.hypot(*np.diff(yz[i], axis=0).T) > TINY_LENGTH])]
         if len(pts) > 3 and not LineString(pts).is_simple:
             raise HullError(f"the frame at x = {x[i]:g} m crosses itself (feature lines crossing or a folded "
                             "segment): reduce the deformation")

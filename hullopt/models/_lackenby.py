@@ -35,7 +35,7 @@ import numpy as np
 
 from .._types import Draft
 from ..errors import HullError
-from ..geometry import Sections, longitudinal_integrals, simpson_weights, volume_lcb
+from ..geometry import SAME_POINT, Sections, longitudinal_integrals, simpson_weights, volume_lcb
 
 _NEWTON_STEPS = 8  # quadratic convergence from the first-order start: round-off in 3–4 steps
 
@@ -81,7 +81,7 @@ def lackenby_basis(sections: Sections, draft: Draft) -> tuple[np.ndarray, np.nda
     mid = lpp / 2.0
     if np.any(np.diff(x) <= 0.0):
         raise HullError("sections.x: stations must be strictly increasing for a Lackenby shift")
-    at_mid = np.flatnonzero(np.abs(x - mid) <= 1e-9 * lpp)
+    at_mid = np.flatnonzero(np.abs(x - mid) <= SAME_POINT * lpp)
     if at_mid.size == 0:
         raise HullError(f"sections.x: a Lackenby shift needs a station at midship (x = Lpp/2 = {mid:g} m), "
                         "the section it holds; this hull has none")

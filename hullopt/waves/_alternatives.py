@@ -21,7 +21,7 @@ from jaxtyping import Array, Float
 
 from .._types import Angle, Angles, Density, Draft, Frequencies, Gravity, Length, Lengths, Period, Scalar, Speed
 from ..constants import G, RHO_SEA
-from ..geometry import Sections, longitudinal_integrals
+from ..geometry import DIVISION_FLOOR, Sections, longitudinal_integrals
 from ._added_resistance import BF_KINK, outer_grid, froude_number, nmri_added_resistance
 from ._motions import motion_added_resistance, motion_response
 from ._bessel import alpha_t
@@ -234,7 +234,7 @@ def snnm(p: Particulars, speed: Speed, omega: Frequencies, heading: Angles = 0.0
     def kern(e, ang):
         return jnp.sin(ang) ** 2 + two_wu_g * (jnp.cos(a) - jnp.cos(e) * jnp.cos(ang))
 
-    lam_over_l = 2.0 * jnp.pi / jnp.maximum(k * lpp, 1e-300)
+    lam_over_l = 2.0 * jnp.pi / jnp.maximum(k * lpp, DIVISION_FLOOR)
 
     def a_t(ti):
         return jnp.where(lam_over_l <= 2.5, 1.0 - jnp.exp(-4.0 * jnp.pi * (ti * k / (2 * jnp.pi) - ti / (2.5 * lpp))), 0.0)

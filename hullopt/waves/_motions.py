@@ -42,7 +42,7 @@ from jaxtyping import Array, Complex, Float
 from .._types import Angle, Angles, Draft, Frequencies, Length, Lengths, Scalar, Speed
 from ..constants import G, RHO_SEA
 from ..errors import HullError
-from ..geometry import Sections, longitudinal_integrals, natural_cubic_spline, simpson_weights
+from ..geometry import TINY_LENGTH, Sections, longitudinal_integrals, natural_cubic_spline, simpson_weights
 from ._sections2d import heave_potential, section_panels
 
 
@@ -99,7 +99,7 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     k = omega**2 / g
     cos_a, sin_a = jnp.cos(heading), jnp.sin(heading)
     we = omega + k * speed * cos_a
-    we = jnp.maximum(jnp.abs(we), 1e-3 * jnp.sqrt(g / jnp.maximum(x[-1] - x[0], 1e-9)))
+    we = jnp.maximum(jnp.abs(we), 1e-3 * jnp.sqrt(g / jnp.maximum(x[-1] - x[0], TINY_LENGTH)))
     a, b, fk, dif, kappa = jax.vmap(lambda nd: _station_coefficients(nd, we, k, sin_a, rho, g, n_gauss))(nodes)
     a, b = jnp.where(wet, a, 0.0), jnp.where(wet, b, 0.0)
     fk, dif, kappa = jnp.where(wet, fk, 0.0), jnp.where(wet, dif, 0.0), jnp.where(wet, kappa, 0.0)

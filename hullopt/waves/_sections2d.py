@@ -42,7 +42,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from .._types import Complexes, Draft, Scalar
 from ..constants import G, RHO_SEA
-from ..geometry import Sections, safe_div, safe_sqrt
+from ..geometry import TINY_LENGTH, Sections, safe_div, safe_sqrt
 
 EULER_GAMMA = 0.5772156649015329
 # Both branches of exp1_scaled are evaluated for every element (vectorised, then selected), so the cost is
@@ -388,7 +388,7 @@ def section_panels(sections: Sections, draft: Draft, n_panels: int = 20):
         (n,) bool: the station has an immersed section.
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
-    b_ref = jnp.maximum(sections.max_half_breadth, 1e-9)
+    b_ref = jnp.maximum(sections.max_half_breadth, TINY_LENGTH)
     nodes, total = jax.vmap(lambda yz: _resample_polyline(yz, t, n_panels, 1e-3 * b_ref))(sections.yz)
     depth = -jnp.min(nodes[..., 1], axis=-1)
     halfb = jnp.max(nodes[..., 0], axis=-1)

@@ -19,7 +19,7 @@ from jaxtyping import Array, Bool, Float
 
 from .._types import Draft, Lengths, Polygon
 from ..errors import HullError
-from ..geometry import Sections, closed_half_polygon, level_widths
+from ..geometry import SAME_POINT, Sections, closed_half_polygon, level_widths
 
 KINDS = ("superstructure", "cargo", "mast")
 """Part kinds: ``superstructure`` (bridge, deckhouse, funnel: A_SS, C_BR, H_BR), ``cargo`` (containers, hatch
@@ -132,7 +132,7 @@ def _ccw_convex(poly: npt.ArrayLike, what: str) -> np.ndarray:
     if area2 < 0:
         poly, d = poly[::-1], np.roll(poly[::-1], -1, axis=0) - poly[::-1]
     cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
-    if np.any(cross < -1e-9 * np.abs(d).max() ** 2):
+    if np.any(cross < -SAME_POINT * np.abs(d).max() ** 2):
         raise HullError(f"{what}: the polygon must be convex (split a non-convex shape into convex parts)")
     return poly
 
