@@ -121,7 +121,7 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = TINY_LENGTH
     points : Array, (..., k, d) float
         Polyline vertices [m], ``k ≥ 3``.
     eps : float
-        Shortest edge [m] that counts (1e-9 by default).
+        Shortest edge [m] that counts (:data:`~hullopt.geometry.TINY_LENGTH`, 1e-9 m, by default).
     edge_ok : Array, (..., k−1) bool, optional
         Edges to use; ``None``: all of them.
 
@@ -154,7 +154,7 @@ def section_curvature(sections: Sections, eps: float = TINY_LENGTH) -> Float[Arr
     sections : Sections
         The hull: ``yz (n, m, 2)`` [m].
     eps : float
-        Shortest edge [m] that counts (1e-9 by default).
+        Shortest edge [m] that counts (:data:`~hullopt.geometry.TINY_LENGTH`, 1e-9 m, by default).
 
     Returns
     -------
