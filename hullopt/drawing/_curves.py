@@ -4,11 +4,44 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import numpy as np
+from jaxtyping import ArrayLike, Float
 
 from ..constants import RHO_SEA
+from ..geometry import TINY_LENGTH
 from ._save import save_figure
+
+
+# What the plots read of hydro's results (drawing sits beside hydro, not above it: it takes them by shape)
+@runtime_checkable
+class HydrostaticTable(Protocol):
+    """Hydrostatics at k drafts (:func:`hullopt.hydro.hydrostatic_table`): ``draft`` and each curve, (k,) SI."""
+
+    draft: ArrayLike
+    displacement: ArrayLike
+
+
+@runtime_checkable
+class GZCurve(Protocol):
+    """A GZ curve (:class:`hullopt.hydro.StabilityCurve`): heels [rad], GZ [m], GM₀ [m], ∇ [m³], KG [m]."""
+
+    heel: ArrayLike
+    gz: ArrayLike
+    gm0: ArrayLike
+    volume: ArrayLike
+    kg: ArrayLike
+
+
+@runtime_checkable
+class GZCriteria(Protocol):
+    """Criteria of a GZ curve (:class:`hullopt.hydro.Criteria`): GZ max [m], its angle and the vanishing angle
+    [rad]."""
+
+    gz_max: ArrayLike
+    angle_gz_max: ArrayLike
+    vanishing_angle: ArrayLike
 
 
 def _figure(*args, **kw):
@@ -39,8 +72,9 @@ _HYDRO_PANELS = [
 ]
 
 
-def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "", depth: float | None = None,
-                            design_draft: float | None = None, rho: float = RHO_SEA) -> Path:
+def plot_hydrostatic_curves(table: HydrostaticTable, path: str | os.PathLike, name: str = "",
+                            depth: float | None = None, design_draft: float | None = None,
+                            rho: float = RHO_SEA) -> Path:
     """Curves of form: the quantities of a :class:`~hullopt.hydro.Hydrostatics` table (fields ``(k,)``, SI)
     against the draft T [m] (the vertical axis of every panel, as drawn by hand), grouped in eight panels
     by unit (Δ [t] with ∇ [m³] on the top axis at density ``rho`` [kg/m³]; areas [m²]; TPC [t/cm];
@@ -69,7 +103,7 @@ def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "", dept
     """
     plt, fig, axes = _figure(2, 4, figsize=(15, 8), sharey=True)
     t = np.asarray(table.draft, dtype=float)
-    keep = t < depth - 1e-9 if depth is not None else np.ones(t.shape, bool)
+    keep = t < depth - TINY_LENGTH if depth is not None else np.ones(t.shape, bool)
     t = t[keep]
     for ax, (title, xlabel, curves) in zip(axes.flat, _HYDRO_PANELS):
         for j, (key, label, s) in enumerate(curves):
@@ -98,7 +132,7 @@ def plot_hydrostatic_curves(table, path: str | os.PathLike, name: str = "", dept
     return _save(plt, fig, path)
 
 
-def plot_gz(curve, path: str | os.PathLike, criteria=None, name: str = "") -> Path:
+def plot_gz(curve: GZCurve, path: str | os.PathLike, criteria: GZCriteria | None = None, name: str = "") -> Path:
     """The GZ curve of a :class:`~hullopt.hydro.StabilityCurve`, the GM₀ tangent (GZ = GM₀·φ, drawn to
     1 rad) and, with ``criteria``, the maximum, the angle of vanishing stability and the 30°/40° marks.
 
@@ -144,7 +178,8 @@ def plot_gz(curve, path: str | os.PathLike, criteria=None, name: str = "") -> Pa
     return _save(plt, fig, path)
 
 
-def plot_cross_curves(displacements, heels, kn, path: str | os.PathLike, name: str = "") -> Path:
+def plot_cross_curves(displacements: Float[ArrayLike, ' k'], heels: Float[ArrayLike, ' h'], kn: Float[ArrayLike, 'k h'],
+                      path: str | os.PathLike, name: str = "") -> Path:
     """Cross curves of stability: KN [m] against displacement [t] (``displacements (k,)``), one line per heel
     [rad] (``heels (h,)``, ``kn (k, h)``), each in its own colour and labelled at its end, the legend outside
     the axes.

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._types import Lengths, Waterlines
 from ..errors import HullError
 from ..geometry import Sections, atomic_write_bytes, sections_at
 from ._save import save_figure
@@ -90,7 +91,8 @@ def station_sections(sections: Sections, per_station: int = 1) -> tuple[np.ndarr
 
 
 def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_buttocks: int = 4,
-               waterlines=None, buttocks=None, draft: float | None = None) -> LinesPlan:
+               waterlines: Waterlines | None = None, buttocks: Lengths | None = None,
+               draft: float | None = None) -> LinesPlan:
     """Cut the lines plan from ``sections``: stations 0…10, waterlines (default ``n_waterlines`` equally
     spaced from the keel to the lowest deck edge) and buttocks (default ``n_buttocks`` equally spaced
     inside the largest half-breadth); with ``draft`` [m above the baseline] the design waterline (DWL) in

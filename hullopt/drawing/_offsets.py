@@ -5,12 +5,14 @@ waterline numbers)."""
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
 
-from ..geometry import Sections, atomic_write_bytes
+from .._types import Stations, Waterlines
+from ..geometry import SAME_POINT, TINY_LENGTH, Sections, atomic_write_bytes
 
 # The standard station list of seed 003 (station numbers, Lpp/10 apart).
 SEED003_STATIONS = tuple(Fraction(s) for s in (
@@ -41,7 +43,7 @@ def station_label(s: Fraction) -> str:
     return f"{int(whole)} {rest}" if whole else str(rest)
 
 
-def half_breadths(sections: Sections, x, z) -> np.ndarray:
+def half_breadths(sections: Sections, x: Stations | Sequence[float], z: Waterlines) -> np.ndarray:
     """Half-breadths ``(len(x), len(z))`` [m]: at each station position (sections interpolated linearly
     along x, point by point) the outermost crossing of the section with each waterline, 0 where the section
     does not reach it.
@@ -82,8 +84,8 @@ def _write(path, header: list[str], rows: list[list[str]], meta: dict[str, str],
     return Path(path)
 
 
-def write_offsets_wide(sections: Sections, path: str | os.PathLike, x=None, z=None, name: str = "",
-                       dense: bool = False) -> Path:
+def write_offsets_wide(sections: Sections, path: str | os.PathLike, x: Stations | Sequence[float] | None = None,
+                       z: Waterlines | None = None, name: str = "", dense: bool = False) -> Path:
     """Wide layout: header ``x,<z1>,…``, one row per station (default: the sections' own stations) with
     half-breadths [m] at waterlines ``z`` [m] (default: 11 from the keel to the lowest deck edge).
 
@@ -137,11 +139,11 @@ def knuckles(sections: Sections, top: float, angle_deg: float = 30.0) -> dict[in
     baseline and ``top`` — one per station, as the offset reader splits a station's spline once. Corners
     closer than ``1e-4 · top`` in height share one height (so one waterline)."""
     yz = np.asarray(sections.yz, float)
-    breadth = max(float(yz[..., 0].max()), 1e-9)
+    breadth = max(float(yz[..., 0].max()), TINY_LENGTH)
     out: dict[int, float] = {}
     heights: list[float] = []
     for i, p in enumerate(yz):
-        p = p[np.r_[True, np.any(np.abs(np.diff(p, axis=0)) > 1e-9 * breadth, axis=1)]]
+        p = p[np.r_[True, np.any(np.abs(np.diff(p, axis=0)) > SAME_POINT * breadth, axis=1)]]
         if len(p) < 3:
             continue
         d = np.diff(p, axis=0)

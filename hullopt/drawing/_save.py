@@ -7,11 +7,19 @@ import io
 import os
 import sys
 from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
 
 from ..geometry import atomic_write_bytes
 
 
-def save_figure(fig, path: str | os.PathLike, **savefig_kw) -> Path:
+@runtime_checkable
+class Figure(Protocol):
+    """A matplotlib figure, by what :func:`save_figure` uses of it (matplotlib is imported only to draw)."""
+
+    def savefig(self, fname: Any, **kwargs: Any) -> Any: ...
+
+
+def save_figure(fig: Figure, path: str | os.PathLike, **savefig_kw) -> Path:
     """Save ``fig`` to ``path`` atomically and close it (also when saving fails); ``savefig_kw`` go to
     ``Figure.savefig`` (``dpi``, ``bbox_inches``…). A reader never sees a half-written file, and a failed save
     leaves no temporary file. ValueError for a format matplotlib cannot write, OSError for a bad folder.

@@ -9,10 +9,11 @@ from __future__ import annotations
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ..geometry import Sections, safe_div, safe_sqrt
+from .._types import Mask, Values, Vectors
+from ..geometry import TINY_LENGTH, Sections, safe_div, safe_sqrt
 
 
-def surface_curvatures(r_u, r_v, r_uu, r_uv, r_vv) -> tuple[Array, Array]:
+def surface_curvatures(r_u: Vectors, r_v: Vectors, r_uu: Vectors, r_uv: Vectors, r_vv: Vectors) -> tuple[Array, Array]:
     """Gaussian ``K`` [1/m²] and mean ``H`` [1/m] curvature of a parametric surface ``r(u, v)``.
 
     Inputs are the first and second partial derivatives, shape ``(..., 3)``. With the fundamental forms
@@ -46,7 +47,7 @@ def surface_curvatures(r_u, r_v, r_uu, r_uv, r_vv) -> tuple[Array, Array]:
     return (ll * nn - mm**2) / det, (e * nn - 2 * f * mm + g * ll) / (2 * det)
 
 
-def graph_curvatures(fx, fz, fxx, fxz, fzz) -> tuple[Array, Array]:
+def graph_curvatures(fx: Values, fz: Values, fxx: Values, fxz: Values, fzz: Values) -> tuple[Array, Array]:
     """Gaussian ``K`` [1/m²] and mean ``H`` [1/m] curvature of the hull side ``y = f(x, z)`` from the
     partial derivatives of ``f`` (any shapes, broadcast). With ``W² = 1 + fx² + fz²``::
 
@@ -76,7 +77,7 @@ def graph_curvatures(fx, fz, fxx, fxz, fzz) -> tuple[Array, Array]:
     return k, h
 
 
-def curve_curvature(dy, d2y) -> Array:
+def curve_curvature(dy: Values, d2y: Values) -> Array:
     """Signed curvature [1/m] of a plane curve ``y(t)`` (a frame line ``y(z)`` or a waterline ``y(x)``)::
 
         κ = −y'' / (1 + y'²)^{3/2}    (positive where the hull is convex).
@@ -105,7 +106,7 @@ def safe_unit(e, eps):
     return safe_div(e, length[..., None], ok[..., None]), length, ok
 
 
-def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_ok=None):
+def polyline_curvature(points: Float[Array, "... k d"], eps: float = TINY_LENGTH, edge_ok: Mask | None = None):
     """Discrete curvature vectors at the interior vertices of polylines ``points (..., k, d)`` [m].
 
     ``κ_i = (t_i − t_{i−1}) / ((ℓ_{i−1} + ℓ_i)/2)`` with ``t`` the unit edge tangents and ``ℓ`` the edge
@@ -120,7 +121,7 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
     points : Array, (..., k, d) float
         Polyline vertices [m], ``k ≥ 3``.
     eps : float
-        Shortest edge [m] that counts (1e-9 by default).
+        Shortest edge [m] that counts (:data:`~hullopt.geometry.TINY_LENGTH`, 1e-9 m, by default).
     edge_ok : Array, (..., k−1) bool, optional
         Edges to use; ``None``: all of them.
 
@@ -142,7 +143,7 @@ def polyline_curvature(points: Float[Array, "... k d"], eps: float = 1e-9, edge_
     return kappa, jnp.where(ok, ds, 0.0), ok
 
 
-def section_curvature(sections: Sections, eps: float = 1e-9) -> Float[Array, "n m"]:
+def section_curvature(sections: Sections, eps: float = TINY_LENGTH) -> Float[Array, "n m"]:
     """Signed curvature [1/m] of every half-section polyline at its points (0 at the two ends and next
     to repeated points): ``±|κ|`` of :func:`polyline_curvature` (exactly ``1/R`` on the chords of a
     circle), positive where the section turns left going from
@@ -153,7 +154,7 @@ def section_curvature(sections: Sections, eps: float = 1e-9) -> Float[Array, "n 
     sections : Sections
         The hull: ``yz (n, m, 2)`` [m].
     eps : float
-        Shortest edge [m] that counts (1e-9 by default).
+        Shortest edge [m] that counts (:data:`~hullopt.geometry.TINY_LENGTH`, 1e-9 m, by default).
 
     Returns
     -------

@@ -50,7 +50,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..geometry import CoonsSurface, Sections, safe_div
+from .._types import Mask
+from ..geometry import TINY_LENGTH, CoonsSurface, Sections, safe_div
 from ._curvature import safe_unit, graph_curvatures, polyline_curvature
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(3)
@@ -86,7 +87,7 @@ def _dkappa(d1, d2, d3):
     return -d3 / q**1.5 + 3.0 * d1 * d2**2 / q**2.5
 
 
-def line_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
+def line_residuals(surface: CoonsSurface, mask: Mask | None = None) -> Float[Array, " k"]:
     """Residuals of ``"lines"``: ``(dκ/ds) √(w ds)`` on every frame line and waterline (module docstring).
 
     ``mask (s, w)``: offsets that belong to the hull (default ``y > 0``).
@@ -163,7 +164,7 @@ def _mean(fx, fz, fxx, fxz, fzz):
     return graph_curvatures(fx, fz, fxx, fxz, fzz)[1]
 
 
-def jump_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
+def jump_residuals(surface: CoonsSurface, mask: Mask | None = None) -> Float[Array, " k"]:
     """Residuals of ``"jumps"``: jumps of section curvature across waterline edges and of waterline
     curvature across station edges (module docstring). ``mask (s, w)``: hull offsets (default ``y > 0``).
 
@@ -183,7 +184,7 @@ def jump_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
     return jnp.concatenate([_edge_jumps(surface, cells, _kappa_s, "z"), _edge_jumps(surface, cells, _kappa_w, "x")])
 
 
-def mean_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
+def mean_residuals(surface: CoonsSurface, mask: Mask | None = None) -> Float[Array, " k"]:
     """Residuals of ``"mean"``: the surface gradient of the mean curvature inside each patch and its jumps
     across all interior patch edges (module docstring). ``mask (s, w)``: hull offsets (default ``y > 0``).
 
@@ -220,7 +221,7 @@ def mean_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
     )
 
 
-def knot_residuals(surface: CoonsSurface, mask=None) -> Float[Array, " k"]:
+def knot_residuals(surface: CoonsSurface, mask: Mask | None = None) -> Float[Array, " k"]:
     """Residuals of ``"knots"``: jumps of ``dκ/ds`` of every frame line and waterline at its interior
     knots (the patch corners), ``[[dκ/ds]] √h̄``. ``mask (s, w)``: hull offsets (default ``y > 0``).
 
@@ -268,7 +269,7 @@ RESIDUALS: dict[str, Callable[..., Array]] = {
 }
 
 
-def measure(surface: CoonsSurface, name: str = "lines", mask=None) -> Float[Array, ""]:
+def measure(surface: CoonsSurface, name: str = "lines", mask: Mask | None = None) -> Float[Array, ""]:
     """The unfairness functional ``name`` (``"knots"``, ``"lines"``, ``"jumps"`` or ``"mean"``) of ``surface``:
     ``Σ r²`` of its residuals (dimensionless; see the module docstring for the formulas).
 
@@ -292,7 +293,7 @@ def measure(surface: CoonsSurface, name: str = "lines", mask=None) -> Float[Arra
     return r @ r
 
 
-def unfairness(sections: Sections, eps: float = 1e-9) -> Float[Array, ""]:
+def unfairness(sections: Sections, eps: float = TINY_LENGTH) -> Float[Array, ""]:
     """Unfairness of any hull given as :class:`~hullopt.geometry.Sections` (dimensionless, ≥ 0): the
     variation of curvature along every section and along every longitudinal line of the ``n × m`` grid::
 

@@ -33,3 +33,6 @@ from ._print import split_for_print as split_for_print
 from ._safe import safe_div as safe_div
 from ._safe import safe_norm as safe_norm
 from ._safe import safe_sqrt as safe_sqrt
+from ._tolerances import DIVISION_FLOOR as DIVISION_FLOOR
+from ._tolerances import SAME_POINT as SAME_POINT
+from ._tolerances import TINY_LENGTH as TINY_LENGTH

@@ -30,10 +30,11 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._types import Values
 from ._splines import natural_cubic_spline
 
 
-def hermite_basis(t, nu: int = 0) -> Array:
+def hermite_basis(t: Values, nu: int = 0) -> Array:
     """The cubic Hermite blending functions ``(H00, H01, H10, H11)`` or a derivative of them.
 
     Parameters

@@ -7,6 +7,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Draft
 from ._safe import safe_div, safe_sqrt
 from ._sections import Sections, closed_half_polygon, polygon_integrals, section_integrals
 
@@ -223,7 +224,7 @@ class LongitudinalIntegrals(eqx.Module):
     a_transom: Float[Array, ""]
 
 
-def longitudinal_integrals(sections: Sections, draft) -> LongitudinalIntegrals:
+def longitudinal_integrals(sections: Sections, draft: Draft) -> LongitudinalIntegrals:
     """:class:`LongitudinalIntegrals` of ``sections`` at the waterline ``z = draft`` [m] (even keel): the
     kernel's :func:`section_integrals` at every station, :func:`simpson_weights` along x. Pure JAX:
     jit/vmap/grad in the geometry and the draft. ``lcb``, ``kb`` and ``lcf`` are 0 where the hull is dry.

@@ -19,6 +19,7 @@ import re
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
 from typing import TYPE_CHECKING
 
 import jax
@@ -26,6 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Draft
 from ._safe import safe_div, safe_sqrt
 from ._sections import Sections
 
@@ -35,7 +37,7 @@ if TYPE_CHECKING:
 EXPORT_FORMATS = ("stl", "obj", "ply", "glb", "x3d")
 
 
-def surface_grid(sections: Sections, xp=jnp) -> Float[ArrayLike, "n m 3"]:
+def surface_grid(sections: Sections, xp: ModuleType = jnp) -> Float[ArrayLike, "n m 3"]:
     """Port-side hull surface points ``(x, y, z)`` [m] on the structured station × point grid; ``xp = numpy``
     for a numpy grid (exports, which run no JAX op).
 
@@ -188,7 +190,7 @@ def _slope_factor(y: Array, d2: Array, knife: Array, dx: Array) -> Array:
     return safe_sqrt(dx[..., None] ** 2 + d2) / dx[..., None]
 
 
-def wetted_surface(sections: Sections, draft) -> Float[Array, ""]:
+def wetted_surface(sections: Sections, draft: Draft) -> Float[Array, ""]:
     """Wetted surface [m²] of both sides below ``z = draft``, from the sections' wet girths and the normal
     slope of the surface between neighbouring stations.
 

@@ -8,10 +8,12 @@ denominator by 1 there first keeps both branches finite.
 from __future__ import annotations
 
 import jax.numpy as jnp
-from jaxtyping import Array
+from jaxtyping import Array, ArrayLike, Float
+
+from .._types import Mask, Reals
 
 
-def safe_div(num, den, ok=None, fill=0.0) -> Array:
+def safe_div(num: Reals, den: Reals, ok: Mask | None = None, fill: Reals = 0.0) -> Array:
     """``num / den`` where ``ok`` (default ``den != 0``), else ``fill``, with finite gradients on both
     branches.
 
@@ -34,7 +36,7 @@ def safe_div(num, den, ok=None, fill=0.0) -> Array:
     return jnp.where(ok, num / jnp.where(ok, den, 1.0), fill)
 
 
-def safe_sqrt(sq, ok=None) -> Array:
+def safe_sqrt(sq: Reals, ok: Mask | None = None) -> Array:
     """``√sq`` where ``ok`` (default ``sq > 0``), else 0, with finite gradients (also at 0).
 
     Parameters
@@ -54,7 +56,7 @@ def safe_sqrt(sq, ok=None) -> Array:
     return jnp.where(ok, jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)
 
 
-def safe_norm(v) -> Array:
+def safe_norm(v: Float[ArrayLike, '... d']) -> Array:
     """Euclidean norm along the last axis, with a finite gradient (0) at the zero vector.
 
     Parameters

@@ -20,6 +20,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Draft, Length, Lengths, Offsets, Stations
 from ._safe import safe_div
 
 
@@ -36,9 +37,9 @@ class Sections(eqx.Module):
         Length between perpendiculars [m]; the FP is at ``x = lpp``.
     """
 
-    x: Float[ArrayLike, " n"]  # numpy where a model is built without running JAX, JAX under transforms
-    yz: Float[ArrayLike, "n m 2"]
-    lpp: Float[ArrayLike, ""]
+    x: Stations  # numpy where a model is built without running JAX, JAX under transforms
+    yz: Offsets
+    lpp: Length
 
     @property
     def n(self) -> int:
@@ -172,7 +173,7 @@ def level_widths(poly: Float[ArrayLike, "... k 2"], levels: Float[ArrayLike, " K
     return jnp.sum(width, axis=0)
 
 
-def polygon_integrals(poly: Float[ArrayLike, "... k 2"], level) -> EdgeIntegrals:
+def polygon_integrals(poly: Float[ArrayLike, "... k 2"], level: Lengths) -> EdgeIntegrals:
     """Sum of :func:`clipped_edge_integrals` over the edges of closed polygons (last point joins the first).
 
     Parameters
@@ -193,7 +194,7 @@ def polygon_integrals(poly: Float[ArrayLike, "... k 2"], level) -> EdgeIntegrals
     return EdgeIntegrals(*(jnp.sum(v, axis=-1) for v in (e.area, e.moment_z, e.moment_y, e.width)))
 
 
-def section_integrals(sections: Sections, draft) -> EdgeIntegrals:
+def section_integrals(sections: Sections, draft: Draft) -> EdgeIntegrals:
     """Half-section integrals below the waterline ``z = draft`` at every station, each ``(n,)``.
 
     ``area`` [m²] (one side), ``moment_z`` = ∫ z dA [m³], ``moment_y`` = ∫ y dA [m³], ``width`` = the

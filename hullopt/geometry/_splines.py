@@ -5,7 +5,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 
 class CubicSpline(eqx.Module):
@@ -78,7 +78,7 @@ def natural_cubic_spline(knots: Float[Array, " k"], values: Float[Array, "k ..."
     return CubicSpline(knots, y[:-1], b, c[:-1], d)
 
 
-def spline_matrix(knots, at) -> np.ndarray:
+def spline_matrix(knots: Float[ArrayLike, ' k'], at: Float[ArrayLike, ' p']) -> np.ndarray:
     """Matrix ``W (len(at), len(knots))`` with ``s(at) = W @ values`` for the natural spline on ``knots``.
 
     A natural spline is linear in its values, so with fixed knots (static preprocessing, numpy) the

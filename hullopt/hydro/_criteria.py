@@ -19,13 +19,17 @@ to a neighbour) and smooth between such switches.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._types import Angle, Length
 from ..geometry import safe_div
+from ._tolerances import ANGLE_TOL
 
 # (key, label, unit, required); angles in degrees in this table and in reports, radians in code.
 CRITERIA = (
@@ -73,7 +77,7 @@ def _upper(flooding_angle) -> Array:
     return forty if flooding_angle is None else jnp.minimum(forty, jnp.asarray(flooding_angle))
 
 
-def criteria_heels(flooding_angle=None, n_grid: int = 91, max_heel: float = np.pi / 2) -> Array:
+def criteria_heels(flooding_angle: Angle | None = None, n_grid: int = 91, max_heel: float = np.pi / 2) -> Array:
     """The heels [rad] at which :func:`criteria_from_gz` needs GZ: Gauss nodes on [0, 30°] and
     [30°, min(40°, θf)], then a uniform grid of ``n_grid`` heels on [0, max_heel] (``max_heel`` > 30°).
 
@@ -109,8 +113,8 @@ def _parabola_peak(g: Array, i: Array, h, lowest: Array | int = 1) -> tuple[Arra
     return d * h, jnp.where(ok, g1 - 0.25 * (g0 - g2) * d, g[i])
 
 
-def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_heel: float = np.pi / 2,
-                     tau: float = 0.01) -> Criteria:
+def criteria_from_gz(gz: Array, gm0: Length, flooding_angle: Angle | None = None, n_grid: int = 91,
+                     max_heel: float = np.pi / 2, tau: float = 0.01) -> Criteria:
     """The criteria from GZ [m] at :func:`criteria_heels` (same arguments) and GM₀ [m].
 
     Parameters
@@ -139,7 +143,7 @@ def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_
     heel = jnp.linspace(0.0, max_heel, n_grid)
     h = max_heel / (n_grid - 1)
     # max GZ at heels ≥ 30°
-    beyond = heel >= a - 1e-12
+    beyond = heel >= a - ANGLE_TOL
     masked = jnp.where(beyond, grid, -jnp.inf)
     i30 = jnp.argmax(masked)
     _, gz30 = _parabola_peak(grid, i30, h, lowest=jnp.argmax(beyond) + 1)
@@ -165,8 +169,8 @@ def criteria_from_gz(gz: Array, gm0, flooding_angle=None, n_grid: int = 91, max_
     return Criteria(value, required, smooth - required, gz_max, angle, vanishing)
 
 
-def intact_criteria(gz_fn, gm0, flooding_angle=None, n_grid: int = 91, max_heel: float = np.pi / 2,
-                    tau: float = 0.01) -> Criteria:
+def intact_criteria(gz_fn: Callable[[Array], Array], gm0: Length, flooding_angle: Angle | None = None, n_grid: int = 91,
+                    max_heel: float = np.pi / 2, tau: float = 0.01) -> Criteria:
     """The criteria for a GZ curve given as a function ``gz_fn(heels (k,) [rad]) -> (k,) [m]``.
 
     Parameters

@@ -11,8 +11,10 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._types import Draft, Drafts, Volume
 from ..constants import RHO_SEA
 from ..geometry import Sections, longitudinal_integrals, section_integrals, wetted_surface
+from ._tolerances import BISECTION_TOL
 
 
 class Hydrostatics(eqx.Module):
@@ -51,7 +53,7 @@ class Hydrostatics(eqx.Module):
         return {k: np.asarray(v).tolist() for k, v in vars(self).items()}
 
 
-def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
+def sectional_areas(sections: Sections, draft: Draft) -> Float[Array, " n"]:
     """Immersed area of each full section (both sides) [m²]: the sectional-area curve A(x).
 
     Parameters
@@ -69,7 +71,7 @@ def sectional_areas(sections: Sections, draft) -> Float[Array, " n"]:
     return 2.0 * section_integrals(sections, draft).area
 
 
-def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatics:
+def hydrostatics(sections: Sections, draft: Draft, rho: float = RHO_SEA) -> Hydrostatics:
     """Hydrostatics at ``draft`` [m above the baseline]; see :class:`Hydrostatics`.
 
     Exact for the polyline sections; along x, Simpson's rule on the station positions (the kernel's
@@ -142,7 +144,7 @@ def hydrostatics(sections: Sections, draft, rho: float = RHO_SEA) -> Hydrostatic
     )
 
 
-def hydrostatic_table(sections: Sections, drafts, rho: float = RHO_SEA) -> Hydrostatics:
+def hydrostatic_table(sections: Sections, drafts: Drafts, rho: float = RHO_SEA) -> Hydrostatics:
     """:func:`hydrostatics` at every draft of ``drafts (k,)``: each field becomes ``(k,)`` (one ``vmap``).
 
     Parameters
@@ -162,7 +164,7 @@ def hydrostatic_table(sections: Sections, drafts, rho: float = RHO_SEA) -> Hydro
     return jax.vmap(hydrostatics, in_axes=(None, 0, None))(sections, jnp.asarray(drafts), rho)
 
 
-def volume_at(sections: Sections, draft) -> Array:
+def volume_at(sections: Sections, draft: Draft) -> Array:
     """Displaced volume [m³] at ``draft`` (cheaper than the full :func:`hydrostatics`).
 
     Parameters
@@ -180,7 +182,7 @@ def volume_at(sections: Sections, draft) -> Array:
     return longitudinal_integrals(sections, draft).volume
 
 
-def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:
+def draft_for_volume(sections: Sections, volume: Volume, rtol: float = BISECTION_TOL) -> Array:
     """The draft [m] at which the hull displaces ``volume`` [m³].
 
     A bracketed root find (optimistix bisection between keel and deck: the volume curve is monotone but
@@ -209,7 +211,7 @@ def draft_for_volume(sections: Sections, volume, rtol: float = 1e-12) -> Array:
     def residual(t, target):
         return (volume_at(sections, t) - target) / target
 
-    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo), flip="detect")
+    solver = optx.Bisection(rtol=rtol, atol=BISECTION_TOL * (hi - lo), flip="detect")
     sol = optx.root_find(
         residual,
         solver,

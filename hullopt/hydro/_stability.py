@@ -29,8 +29,10 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
+from .._types import Angle, Angles, Length, Lengths, Scalar, Volume, Volumes
 from ..geometry import Sections, polygon_integrals, safe_div, simpson_weights
 from ._criteria import Criteria, criteria_from_gz, criteria_heels
+from ._tolerances import ANGLE_TOL, BISECTION_TOL
 
 
 def icll_sheer(sections: Sections) -> Float[Array, " n"]:
@@ -55,7 +57,7 @@ def icll_sheer(sections: Sections) -> Float[Array, " n"]:
     return 0.01 * jnp.where(xi > 0.0, forward, aft)
 
 
-def with_sheer(sections: Sections, sheer) -> Sections:
+def with_sheer(sections: Sections, sheer: Lengths) -> Sections:
     """Sections with each deck edge raised by ``sheer`` ((n,) or scalar, m ≥ 0): one point is appended
     straight above the deck edge, so ``m`` grows by one. Pass a given deck line as ``z_deck(x) − z_edge``.
 
@@ -115,7 +117,7 @@ class HeeledIntegrals(eqx.Module):
     it: Float[Array, ""]
 
 
-def heeled_integrals(sections: Sections, heel, level, trim=0.0) -> HeeledIntegrals:
+def heeled_integrals(sections: Sections, heel: Angle, level: Length, trim: Scalar = 0.0) -> HeeledIntegrals:
     """Volume and centre of buoyancy below the waterplane ``z' = level + trim·(x − Lpp/2)`` at ``heel``
     [rad] (see the module docstring). Exact per section, Simpson along x; differentiable in everything.
 
@@ -159,7 +161,8 @@ def _level_bounds(sections: Sections, heel) -> tuple[Array, Array]:
     return jnp.min(z), jnp.max(z)
 
 
-def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12, atol: float | None = None) -> Array:
+def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = BISECTION_TOL,
+                 atol: float | None = None) -> Array:
     """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad]
     displaces ``volume`` [m³]. Bisection between the lowest and highest point of the hull (robust when the
     deck or the bilge leaves the water), differentiable by the implicit function theorem.
@@ -194,7 +197,7 @@ def heeled_level(sections: Sections, heel, volume, rtol: float = 1e-12, atol: fl
         sec, phi, target = args
         return heeled_integrals(sec, phi, h).volume / target - 1.0
 
-    solver = optx.Bisection(rtol=rtol, atol=1e-12 * (hi - lo) if atol is None else atol, flip=False)
+    solver = optx.Bisection(rtol=rtol, atol=BISECTION_TOL * (hi - lo) if atol is None else atol, flip=False)
     sol = optx.root_find(
         residual, solver, 0.5 * (lo + hi), args=(sections, heel, jnp.asarray(volume, dtype=dtype)),
         options={"lower": lo, "upper": hi}, max_steps=256, throw=False,
@@ -212,7 +215,8 @@ class Equilibrium(eqx.Module):
     converged: Bool[Array, ""]
 
 
-def heeled_equilibrium(sections: Sections, heel, volume, lcg, kg, free_trim: bool = True) -> Equilibrium:
+def heeled_equilibrium(sections: Sections, heel: Angle, volume: Volume, lcg: Length, kg: Length,
+                       free_trim: bool = True) -> Equilibrium:
     """Sink (and, with ``free_trim``, trim) the hull heeled by ``heel`` [rad] until it displaces ``volume``
     [m³] and, with free trim, B lies on the vertical through G = (lcg, 0, kg) in the longitudinal plane:
     ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim; with free trim only to a volume
@@ -276,7 +280,7 @@ class Upright(eqx.Module):
     bmt: Float[Array, ""]
 
 
-def upright(sections: Sections, volume) -> Upright:
+def upright(sections: Sections, volume: Volume) -> Upright:
     """Draft, LCB, KB and BM_T upright on even keel at ``volume`` [m³], from the full (heel 0) sections, so
     a raised deck line is included. ``lcb`` is the LCG that floats the hull level;
     GM₀ = KB + BM_T − KG − FSC.
@@ -317,7 +321,8 @@ class StabilityCurve(eqx.Module):
     gm0: Float[Array, ""]
 
 
-def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim: bool = True) -> StabilityCurve:
+def gz_curve(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg: Length | None = None,
+             fsc: Length = 0.0, free_trim: bool = True) -> StabilityCurve:
     """Righting levers at ``heels (k,)`` [rad] for the loading ``volume`` [m³], ``kg`` [m above the
     baseline], ``lcg`` [m from the AP] (default: the upright LCB, so the hull floats on even keel upright)
     and free-surface correction ``fsc`` [m]. One ``vmap`` over heels; differentiable in the geometry and
@@ -376,7 +381,7 @@ def gz_curve(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim
     )
 
 
-def cross_curves(sections: Sections, volumes, heels, free_trim: bool = True) -> Float[Array, "v k"]:
+def cross_curves(sections: Sections, volumes: Volumes, heels: Angles, free_trim: bool = True) -> Float[Array, "v k"]:
     """KN [m] at every volume ``(v,)`` [m³] and heel ``(k,)`` [rad]: the cross curves of stability, each
     with KG = 0 and LCG at the upright LCB of its volume (free trim) or even keel (fixed trim).
 
@@ -411,8 +416,9 @@ class Stability(eqx.Module):
     criteria: Criteria
 
 
-def stability(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_trim: bool = True,
-              flooding_angle=None, n_grid: int = 91, tau: float = 0.01) -> Stability:
+def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg: Length | None = None,
+              fsc: Length = 0.0, free_trim: bool = True, flooding_angle: Angle | None = None, n_grid: int = 91,
+              tau: float = 0.01) -> Stability:
     """:func:`gz_curve` at ``heels`` [rad] and :func:`~hullopt.hydro.criteria_from_gz` (IS Code 2008
     §2.2), from one ``vmap`` over the requested heels and the criteria's heels. Requested heels that all lie on
     the criteria's uniform grid (within 1e-12 rad; e.g. 0…90° in 5° steps with the default grid) are not solved
@@ -454,7 +460,7 @@ def stability(sections: Sections, volume, kg, heels, lcg=None, fsc=0.0, free_tri
     n_gauss = extra.shape[0] - n_grid
     step = 0.5 * jnp.pi / (n_grid - 1)
     idx = jnp.clip(jnp.round(heels / step), 0, n_grid - 1).astype(int)  # the nearest heel of the uniform grid
-    on_grid = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= 1e-12)
+    on_grid = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= ANGLE_TOL)
     fields = ("heel", "gz", "kn", "level", "trim", "converged")
 
     def solve(at: Array, take: Array) -> Stability:

@@ -35,7 +35,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._types import Offsets, Stations
 from ..errors import HullError
+from ..geometry import SAME_POINT, TINY_LENGTH
 
 #: Chord-frame values of a segment with no shape (degenerate or straight): apex at mid-chord on the chord,
 #: auxiliary apexes where a parabola has them (equally spaced in u, v = η(1 − (1 − ρ)²)).
@@ -176,7 +178,7 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     p = np.asarray(p, dtype=np.float64)
     cut_tol = 10.0 * flat_tol**2 if cut_tol is None else cut_tol  # = 1e-5 B² with flat_tol's default 1e-3 B
     step = np.hypot(*np.diff(p, axis=0).T)
-    p = p[np.concatenate([[True], step > 1e-9 * max(1.0, np.abs(p).max())])]
+    p = p[np.concatenate([[True], step > SAME_POINT * max(1.0, np.abs(p).max())])]
     keel, deck = p[0].copy(), p[-1].copy()
     if len(p) < 3:
         return keel, deck, [(keel, deck, DEFAULT_APEX, default_aux(level))]
@@ -194,7 +196,7 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     if len(curved) < 2:
         return keel, deck, [(curved[0], curved[-1], DEFAULT_APEX, default_aux(level))]
     # Parts: maximal runs off the centreline, each with its bounding centreline points.
-    on = curved[:, 0] <= 1e-9 * max(1.0, np.abs(curved).max())
+    on = curved[:, 0] <= SAME_POINT * max(1.0, np.abs(curved).max())
     segments = []
     i = 0
     last = len(curved) - 1
@@ -220,8 +222,8 @@ def extract_station(p: np.ndarray, flat_tol: float, lobe_tol: float, smoothing: 
     return keel, deck, segments
 
 
-def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float = 0.0, level: int = 2,
-                     dense: int = 600, cut_tol=None):
+def extract_features(x: Stations, yz: Offsets, lpp: float, flat_tol: float | None = None, lobe_tol: float | None = None,
+                     smoothing: float = 0.0, level: int = 2, dense: int = 600, cut_tol: float | None = None):
     """Feature arrays of a parent hull given as sections ``x (n,)``, ``yz (n, m, 2)`` (numpy).
 
     ``flat_tol`` [m] (default 0.1 % of the greatest breadth B) decides what is flat, ``cut_tol`` [m²]
@@ -265,7 +267,7 @@ def extract_features(x, yz, lpp, flat_tol=None, lobe_tol=None, smoothing: float 
     yz = np.asarray(yz, dtype=np.float64)
     if yz.ndim != 3 or yz.shape[0] != x.shape[0] or yz.shape[2] != 2:
         raise HullError(f"sections must be (n, m, 2) with n = {x.shape[0]} stations, got {yz.shape}")
-    breadth = 2.0 * max(float(yz[..., 0].max()), 1e-9)
+    breadth = 2.0 * max(float(yz[..., 0].max()), TINY_LENGTH)
     flat_tol = 1e-3 * breadth if flat_tol is None else flat_tol
     lobe_tol = 3e-4 * breadth if lobe_tol is None else lobe_tol
     cut_tol = 1e-5 * breadth**2 if cut_tol is None else cut_tol

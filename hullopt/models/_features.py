@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -52,7 +53,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..errors import HullError
-from ..geometry import Sections, atomic_write_bytes, safe_div
+from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, safe_div
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -111,8 +112,8 @@ class FeatureHull(eqx.Module):
         xyz = lambda p: np.column_stack([x, p])  # noqa: E731
         fwd = x >= float(self.lpp) / 2
         fob, fos = ends[:, 0], ends[:, -1]
-        has_fob = fob[:, 0] > keel[:, 0] + 1e-9
-        has_fos = np.hypot(*(deck - fos).T) > 1e-9
+        has_fob = fob[:, 0] > keel[:, 0] + TINY_LENGTH
+        has_fos = np.hypot(*(deck - fos).T) > TINY_LENGTH
         return {
             "fore_profile": xyz(keel)[fwd],
             "aft_profile": xyz(keel)[~fwd],
@@ -557,7 +558,8 @@ def _edit_weights(h: FeatureHull, ed: ContourEdit) -> np.ndarray:
     return w
 
 
-def feature_model(hull: FeatureHull, moves=(), distributions=(), edits=()) -> FeatureModel:
+def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributions: Sequence[Distribution] = (),
+                  edits: Sequence[ContourEdit] = ()) -> FeatureModel:
     """Precompute a design on ``hull`` (numpy, once): ``moves`` :class:`ApexMove`, ``distributions``
     :class:`Distribution` (each feature curve in at most one), ``edits`` :class:`ContourEdit`.
     Raises :class:`HullError` on an inconsistent design (fixed ends not on the apex line, …).
@@ -705,7 +707,7 @@ def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
         i = int(np.argmin(yz[..., 0].min(-1)))
         raise HullError(f"the frame at x = {x[i]:g} m crosses the centreline (y < 0): the deformation folds it")
     for i in range(len(x)):
-        pts = yz[i][np.concatenate([[True], np.hypot(*np.diff(yz[i], axis=0).T) > 1e-9])]
+        pts = yz[i][np.concatenate([[True], np.hypot(*np.diff(yz[i], axis=0).T) > TINY_LENGTH])]
         if len(pts) > 3 and not LineString(pts).is_simple:
             raise HullError(f"the frame at x = {x[i]:g} m crosses itself (feature lines crossing or a folded "
                             "segment): reduce the deformation")

@@ -33,13 +33,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._types import Draft
 from ..errors import HullError
-from ..geometry import Sections, longitudinal_integrals, simpson_weights, volume_lcb
+from ..geometry import SAME_POINT, Sections, longitudinal_integrals, simpson_weights, volume_lcb
 
 _NEWTON_STEPS = 8  # quadratic convergence from the first-order start: round-off in 3–4 steps
 
 
-def _particulars(x, area, bwl, draft, lpp):
+def _particulars(x, area, bwl, draft: Draft, lpp):
     """Cb and LCB [% Lpp from midship, forward +] of stations at ``x`` with full-section areas ``area``,
     by the same rules as :func:`hullopt.hydro.hydrostatics` (the kernel's :func:`volume_lcb`)."""
     volume, lcb = volume_lcb(x, area)
@@ -51,7 +52,7 @@ _particulars_jit = jax.jit(_particulars)
 
 
 @jax.jit
-def _section_data(sections: Sections, draft):
+def _section_data(sections: Sections, draft: Draft):
     """Full-section areas ``(n,)`` [m²] and the waterline breadth [m] at ``draft``."""
     li = longitudinal_integrals(sections, draft)
     return li.area, li.bwl
@@ -70,7 +71,7 @@ def _half_body(xi, y):
     return cp, xbar, k2, p
 
 
-def lackenby_basis(sections: Sections, draft) -> tuple[np.ndarray, np.ndarray, dict]:
+def lackenby_basis(sections: Sections, draft: Draft) -> tuple[np.ndarray, np.ndarray, dict]:
     """The static part of a Lackenby shift: ``G (n, 2)`` with ``x_new = x + G @ (c_A, c_F)`` [m], the
     full-section areas ``(n,)`` [m²] at ``draft`` and the half-body integrals (``cp``, ``xbar``, ``k2``,
     ``p``, ``lever``, ``a`` — each ``(aft, fore)`` — and the waterline breadth ``bwl`` [m]). HullError if the hull has no midship station or too few
@@ -80,7 +81,7 @@ def lackenby_basis(sections: Sections, draft) -> tuple[np.ndarray, np.ndarray, d
     mid = lpp / 2.0
     if np.any(np.diff(x) <= 0.0):
         raise HullError("sections.x: stations must be strictly increasing for a Lackenby shift")
-    at_mid = np.flatnonzero(np.abs(x - mid) <= 1e-9 * lpp)
+    at_mid = np.flatnonzero(np.abs(x - mid) <= SAME_POINT * lpp)
     if at_mid.size == 0:
         raise HullError(f"sections.x: a Lackenby shift needs a station at midship (x = Lpp/2 = {mid:g} m), "
                         "the section it holds; this hull has none")
@@ -121,7 +122,7 @@ def lackenby_first_order(info: dict, cp: float, b: float, d_cp: float, d_b: floa
 
 
 @jax.jit
-def _newton(x, g, c0, area, bwl, draft, lpp, target):
+def _newton(x, g, c0, area, bwl, draft: Draft, lpp, target):
     def residual(c):
         r = _particulars(x + g @ c, area, bwl, draft, lpp) - target
         return r * jnp.asarray([1.0, 0.01])  # LCB in fractions of Lpp: both of order one alike
@@ -133,7 +134,7 @@ def _newton(x, g, c0, area, bwl, draft, lpp, target):
     return c, _particulars(x + g @ c, area, bwl, draft, lpp)
 
 
-def lackenby(sections: Sections, draft, *, cb: float | None = None, lcb_pct: float | None = None,
+def lackenby(sections: Sections, draft: Draft, *, cb: float | None = None, lcb_pct: float | None = None,
              refine: bool = True) -> Sections:
     """Shift the stations of ``sections`` (Lackenby 1950, see the module) to reach block coefficient ``cb``
     and LCB ``lcb_pct`` [% Lpp from midship, forward +] at ``draft`` [m]; ``None`` holds the parent's.

@@ -39,7 +39,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import HullError
-from ..geometry import Sections
+from ..geometry import DIVISION_FLOOR, SAME_POINT, Sections
 
 if TYPE_CHECKING:
     import trimesh  # imported where used: it takes ~0.5 s, and most commands need no mesh
@@ -295,7 +295,7 @@ def _near_other_edges(p: np.ndarray, ids: np.ndarray, which: np.ndarray, gap: fl
     within 30° of parallel to it — the other side of a seam or of a sliver narrower than ``gap``. The edge
     that continues the boundary past a shared vertex does not count (its nearest point is that vertex)."""
     a, d = p[:, 0], p[:, 1] - p[:, 0]
-    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), DIVISION_FLOOR)
     unit = d / np.sqrt(dd)[:, None]
     seg_lo = np.minimum(p[:, 0, 0], p[:, 1, 0]) - gap
     seg_hi = np.maximum(p[:, 0, 0], p[:, 1, 0]) + gap
@@ -537,7 +537,7 @@ def _join_seams(pieces: list[tuple[np.ndarray, bool]], tol: float, gap: float) -
 def _port_runs(piece: np.ndarray, x: float) -> list[np.ndarray]:
     """The port parts (y ≥ 0) of an open piece of a whole hull's cut: each runs between centreline
     crossings or to the piece's ends."""
-    tiny = 1e-9 * max(np.abs(piece).max(), 1.0)
+    tiny = SAME_POINT * max(np.abs(piece).max(), 1.0)
     y = piece[:, 0]
     cross = np.flatnonzero((y[:-1] > 0) != (y[1:] > 0))
     pts = []
@@ -567,7 +567,7 @@ def _port_arc(loop: np.ndarray, x: float) -> np.ndarray | None:
     if np.allclose(loop[0], loop[-1]):
         loop = loop[:-1]
     y = loop[:, 0]
-    tiny = 1e-9 * max(np.abs(loop).max(), 1.0)
+    tiny = SAME_POINT * max(np.abs(loop).max(), 1.0)
     if np.all(y < tiny) or np.all(y > -tiny):
         if np.all(np.abs(y) < tiny):
             return None  # a sliver in the centre plane

@@ -33,8 +33,10 @@ import hashlib
 import io
 import json
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 from urllib.parse import parse_qsl
 
 import numpy as np
@@ -101,7 +103,7 @@ def split_spec(spec: str) -> tuple[str, dict[str, str]]:
     return base, params
 
 
-def take_param(params: dict[str, str], key: str, spec: str, kind=float, default=None):
+def take_param(params: dict[str, str], key: str, spec: str, kind: Callable[[str], Any] = float, default: Any = None):
     """Take one parameter of a hull spec (removing it from ``params``).
 
     Parameters

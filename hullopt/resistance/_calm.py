@@ -24,6 +24,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._types import Draft, Speeds
 from ..errors import HullError
 from ..geometry import Sections
 from ._holtrop import HoltropHull, holtrop_hull, holtrop_mennen
@@ -85,7 +86,7 @@ def check_method(method: str, what: str = "method") -> str:
     return method
 
 
-def calm_water(sections: Sections, draft, speed, method: str = "holtrop", *, n_levels: int = 33,
+def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "holtrop", *, n_levels: int = 33,
                lambda_panels: int = 128, stations: int = STATIONS, girth: int = GIRTH) -> CalmWater:
     """Calm-water resistance R_T [N] and its parts at ``speed`` U [m/s] (any shape), R_W by ``method``.
 

@@ -15,8 +15,13 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Draft, Speeds
 from ..constants import G, NU_SEA, RHO_SEA  # NU_SEA: sea water at 15 °C (ITTC), as the paper's example
 from ..geometry import Sections, longitudinal_integrals, safe_div, wetted_surface
+
+#: m (of √A_BT) and dimensionless (of √c3): added under a square root that may be 0 (no bulb), so its derivative
+#: stays finite there; far below any real bulb area.
+_SQRT_FLOOR = 1e-30
 
 
 class HoltropHull(eqx.Module):
@@ -62,7 +67,7 @@ class HoltropResult(eqx.Module):
     lam: Float[Array, ""]
 
 
-def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:
+def holtrop_mennen(h: HoltropHull, speed: Speeds, rho: float = RHO_SEA, nu: float = NU_SEA) -> HoltropResult:
     """Total calm-water resistance [N] at ``speed`` [m/s] (any shape: vectorised).
 
     Parameters
@@ -104,9 +109,9 @@ def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_S
     bl = B / L
     c7 = jnp.where(bl < 0.11, 0.229577 * bl ** (1 / 3), jnp.where(bl < 0.25, bl, 0.5 - 0.0625 / bl))
     c1 = 2223105.0 * c7**3.78613 * (T / B) ** 1.07961 * (90.0 - h.ie) ** -1.37565
-    sq_abt = jnp.sqrt(jnp.maximum(h.A_BT, 0.0) + 1e-30)
+    sq_abt = jnp.sqrt(jnp.maximum(h.A_BT, 0.0) + _SQRT_FLOOR)
     c3 = 0.56 * sq_abt**3 / (B * T * (0.31 * sq_abt + h.T_F - h.h_B))
-    c2 = jnp.exp(-1.89 * jnp.sqrt(c3 + 1e-30))
+    c2 = jnp.exp(-1.89 * jnp.sqrt(c3 + _SQRT_FLOOR))
     c5 = 1.0 - 0.8 * h.A_T / (B * T * h.cm)
     c16 = jnp.where(cp < 0.8, 8.07981 * cp - 13.8673 * cp**2 + 6.984388 * cp**3, 1.73014 - 0.7067 * cp)
     m1 = 0.0140407 * L / T - 1.75254 * vol ** (1 / 3) / L - 4.79323 * B / L - c16
@@ -133,7 +138,8 @@ def holtrop_mennen(h: HoltropHull, speed, rho: float = RHO_SEA, nu: float = NU_S
     return HoltropResult(total, r_f, k1, r_app, r_w, r_b, r_tr, r_a, cf, ca, fn, c1, c2, c5, m1, m2, lam)
 
 
-def holtrop_hull(sections: Sections, draft, entrance_fraction: float = 0.05, c_stern: float = 0.0) -> HoltropHull:
+def holtrop_hull(sections: Sections, draft: Draft, entrance_fraction: float = 0.05,
+                 c_stern: float = 0.0) -> HoltropHull:
     """The method's inputs measured on our geometry at an even-keel ``draft`` [m].
 
     L, B = waterline length (between the waterline's ends) and breadth; S = wetted surface

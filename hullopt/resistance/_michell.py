@@ -42,6 +42,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array
 
+from .._types import Draft, Speeds, Values
 from ..constants import G, RHO_SEA
 from ..errors import HullError
 from ..geometry import Sections, closed_half_polygon, level_widths, safe_div
@@ -85,7 +86,7 @@ def _phi(a):
     return jnp.where(small, lo_series, lo), jnp.where(small, up_series, up)
 
 
-def _depth_weights(levels, draft, c):
+def _depth_weights(levels, draft: Draft, c):
     """Weights W_j(c) with ∫_{z_0}^{T} Y(z) e^{c(z − T)} dz = Σ_j W_j Y(z_j) for Y linear between the levels
     ``z_j`` (z_{K−1} = T); ``c`` (L,) → (L, K)."""
     h = jnp.diff(levels)  # (K−1,)
@@ -98,7 +99,7 @@ def _depth_weights(levels, draft, c):
     return jnp.concatenate([w_lo, zero], axis=1) + jnp.concatenate([zero, w_up], axis=1)
 
 
-def half_breadths(sections: Sections, draft, n_levels: int = 33):
+def half_breadths(sections: Sections, draft: Draft, n_levels: int = 33):
     """Half-breadths Y (n, K) [m] of the sections at ``n_levels`` equally spaced heights from the keel to
     ``draft``, and the heights (K,) [m]. At the keel itself Y is extrapolated linearly from the two levels
     above (second order, like the rest): a flat bottom's crossing rule is ambiguous there, and a deformed
@@ -112,7 +113,7 @@ def half_breadths(sections: Sections, draft, n_levels: int = 33):
     return jnp.concatenate([y0, y], axis=1), levels
 
 
-def michell_integrand(sections: Sections, draft, k0, lam, n_levels: int = 33) -> Array:
+def michell_integrand(sections: Sections, draft: Draft, k0: Values, lam: Values, n_levels: int = 33) -> Array:
     """|P + iQ|² [m⁴] at the wave numbers ``lam`` (any shape) of Michell's integral, k₀ = g/U² [1/m].
 
     Parameters
@@ -160,7 +161,7 @@ def _check(n_levels: int, panels: int):
         raise HullError(f"panels {panels!r}: expected a positive integer (Gauss–Legendre panels in λ)")
 
 
-def michell_wave_resistance(sections: Sections, draft, speed, *, rho: float = RHO_SEA, g: float = G,
+def michell_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rho: float = RHO_SEA, g: float = G,
                             n_levels: int = 33, panels: int = 256, lam_max: float = LAMBDA_MAX) -> Array:
     """Wave resistance R_w [N] by Michell's thin-ship integral (deep water) at ``speed`` U [m/s].
 
@@ -216,7 +217,7 @@ def michell_wave_resistance(sections: Sections, draft, speed, *, rho: float = RH
     return jnp.reshape(jax.vmap(one)(flat), speed.shape)
 
 
-def wave_resistance_coefficient(r_w, speed, wetted_surface, rho: float = RHO_SEA) -> Array:
+def wave_resistance_coefficient(r_w: Values, speed: Speeds, wetted_surface: Values, rho: float = RHO_SEA) -> Array:
     """C_w = R_w/(½ρU²S) (dimensionless) from R_w [N], U [m/s] and the wetted surface S [m²].
 
     Parameters

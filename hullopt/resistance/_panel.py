@@ -45,8 +45,9 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Draft, Speed, Speeds, Values
 from ..constants import G, RHO_SEA
 from ..errors import HullError
 from ..geometry import Sections, safe_div, safe_norm
@@ -143,7 +144,7 @@ def _girth_points_jvp(count, primals, tangents):
     return out, jax.tree.map(lambda a, b: 0.5 * (a + b), above, below)
 
 
-def hull_panels(sections: Sections, draft, stations: int = STATIONS, girth: int = GIRTH) -> Panels:
+def hull_panels(sections: Sections, draft: Draft, stations: int = STATIONS, girth: int = GIRTH) -> Panels:
     """The port side of the hull below ``draft`` as ``(stations − 1)·girth`` panels, plus ``girth`` panels on each
     end section (a wet transom or bow face; collapsed to nothing on a closed end).
 
@@ -337,7 +338,7 @@ def _spectral_rectangles(panels: Panels):
     return centre, 0.5 * span[:, None] * ev, 0.5 * width[:, None] * eh
 
 
-def kelvin_spectrum(panels: Panels, sigma, k0, lam) -> Array:
+def kelvin_spectrum(panels: Panels, sigma: Float[ArrayLike, ' N'], k0: Values, lam: Values) -> Array:
     """The submerged sources' (both sides) Havelock amplitude S(λ) at wave numbers k₀λ; each panel's integral
     exact for the rectangle of :func:`_spectral_rectangles`: A·e^{a·c}·shc(a·h₁)·shc(a·h₂), h the half-sides.
 
@@ -406,7 +407,7 @@ def _waterplane(panels: Panels, stations: int, girth: int):
     return awp, xf, ix
 
 
-def panel_wave_resistance(sections: Sections, draft, speed, *, rho: float = RHO_SEA, g: float = G,
+def panel_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rho: float = RHO_SEA, g: float = G,
                           stations: int = STATIONS, girth: int = GIRTH, lambda_panels: int = 256,
                           lam_max: float = LAMBDA_MAX) -> PanelResult:
     """Wave resistance R_w [N], sinkage and trim by the Rankine-source panel method at ``speed`` U [m/s].
@@ -467,8 +468,9 @@ def panel_wave_resistance(sections: Sections, draft, speed, *, rho: float = RHO_
     return PanelResult(r_wave=r.reshape(speed.shape), sinkage=s.reshape(speed.shape), trim=t.reshape(speed.shape))
 
 
-def wave_pattern(sections: Sections, draft, speed, x, y, *, g: float = G, stations: int = STATIONS,
-                 girth: int = GIRTH, angles: int = 600, theta_max: float = 1.35) -> Array:
+def wave_pattern(sections: Sections, draft: Draft, speed: Speed, x: Float[ArrayLike, ' P'], y: Float[ArrayLike, ' Q'],
+                 *, g: float = G, stations: int = STATIONS, girth: int = GIRTH, angles: int = 600,
+                 theta_max: float = 1.35) -> Array:
     """The Kelvin wave pattern ζ(x, y) [m] of the panel method's sources at ``speed``: each source's free waves
     behind it (far-field, no local disturbance), from the linearised free surface with the radiation condition
     (derivation: ζ = (U/g)φ_x, the pole of each Fourier mode),

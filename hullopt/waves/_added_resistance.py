@@ -21,6 +21,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._types import Angles, Draft, Frequencies, Lengths, Speed, Speeds, Values
 from ..constants import G, RHO_SEA
 from ..geometry import Sections
 from ._bessel import alpha_t
@@ -29,7 +30,7 @@ C_U_SLOPE, C_U_INTERCEPT, C_U_MIN = -310.0, 68.0, 10.0
 BF_KINK = (C_U_INTERCEPT - C_U_MIN) / -C_U_SLOPE  # 58/310 = 0.1871: where C_U reaches its floor
 
 
-def speed_coefficient(bf, smooth: float | None = None) -> Array:
+def speed_coefficient(bf: Values, smooth: float | None = None) -> Array:
     """C_U = max(68 − 310·Bf, 10) (patent eqs. 11–12), or with ``smooth = τ`` the soft maximum
     10 + τ·softplus((58 − 310·Bf)/τ), which is C^∞, lies above the exact value by at most τ·ln 2 (at the
     kink Bf = 0.1871) and within 1 % of τ beyond |Bf − 0.1871| > 4.6τ/310 (τ = 1: ±0.015 in Bf).
@@ -66,7 +67,7 @@ def positive_part(bf, smooth: float | None = None) -> Array:
     return jnp.where(bf >= w, bf, ramp)
 
 
-def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
+def k_aw(bf: Values, fn: Values, alpha_T: Values = 1.0, smooth: float | None = None) -> Array:
     """K_AW = Bf⁺·α_T·(1 + C_U(Bf⁺)·Fn) (patent eq. 2 over ½ρgζ²B; claim 1), Bf⁺ = max(Bf, 0)
     (:func:`positive_part`: eq. 11 holds for Bf > 0 and the reflection part is never negative). With
     α_T = 1 this is the short-wave value the patent's tables list.
@@ -103,7 +104,7 @@ def k_aw(bf, fn, alpha_T=1.0, smooth: float | None = None) -> Array:
     return bf * alpha_T * (1.0 + speed_coefficient(bf, smooth) * fn)
 
 
-def froude_number(speed, lpp, g: float = G) -> Array:
+def froude_number(speed: Speeds, lpp: Lengths, g: float = G) -> Array:
     """Fn = U/√(g·Lpp).
 
     Parameters
@@ -123,7 +124,7 @@ def froude_number(speed, lpp, g: float = G) -> Array:
     return jnp.asarray(speed, dtype=float) / jnp.sqrt(g * jnp.asarray(lpp, dtype=float))
 
 
-def omega_from_wavelength(wavelength, g: float = G) -> Array:
+def omega_from_wavelength(wavelength: Lengths, g: float = G) -> Array:
     """Deep-water circular frequency ω = √(2πg/λ) [rad/s] of waves of length λ [m].
 
     Parameters
@@ -141,7 +142,7 @@ def omega_from_wavelength(wavelength, g: float = G) -> Array:
     return jnp.sqrt(2.0 * jnp.pi * g / jnp.asarray(wavelength, dtype=float))
 
 
-def encounter_wavenumber(omega, speed, heading, g: float = G) -> Array:
+def encounter_wavenumber(omega: Frequencies, speed: Speeds, heading: Angles, g: float = G) -> Array:
     """k_e = k(1 + Ω cos α)² with k = ω²/g, Ω = ωU/g [1/m] (patent eq. 7). In following seas k_e → 0 where
     U cos α meets the phase speed (the reflected wave cannot catch the ship), and grows again beyond.
 
@@ -191,19 +192,9 @@ def outer_grid(omega, heading):
     return omega.reshape(omega.shape + (1,) * heading.ndim), heading
 
 
-def nmri_added_resistance(
-    sections: Sections,
-    draft,
-    speed,
-    omega,
-    heading=0.0,
-    amplitude=1.0,
-    *,
-    rho: float = RHO_SEA,
-    g: float = G,
-    smooth: float | None = None,
-    aft: str = "exclude",
-) -> NMRIResult:
+def nmri_added_resistance(sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                          amplitude: Lengths = 1.0, *, rho: float = RHO_SEA, g: float = G, smooth: float | None = None,
+                          aft: str = "exclude") -> NMRIResult:
     """R_AWR and K_AW in regular waves of frequencies ``omega`` [rad/s] from headings ``heading`` [rad].
 
     ``draft`` [m] is both the waterline for Bf and d in α_T; ``speed`` U [m/s]; ``amplitude`` ζ_a [m];

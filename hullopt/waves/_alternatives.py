@@ -19,8 +19,9 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._types import Angle, Angles, Density, Draft, Frequencies, Gravity, Length, Lengths, Period, Scalar, Speed
 from ..constants import G, RHO_SEA
-from ..geometry import Sections, longitudinal_integrals
+from ..geometry import DIVISION_FLOOR, Sections, longitudinal_integrals
 from ._added_resistance import BF_KINK, outer_grid, froude_number, nmri_added_resistance
 from ._motions import motion_added_resistance, motion_response
 from ._bessel import alpha_t
@@ -41,7 +42,7 @@ class Particulars(eqx.Module):
     l_run: Float[Array, ""]
 
 
-def particulars(sections: Sections, draft) -> Particulars:
+def particulars(sections: Sections, draft: Draft) -> Particulars:
     """:class:`Particulars` of the hull at ``draft`` (even keel); exact for the polyline sections,
     Simpson along x.
 
@@ -103,7 +104,8 @@ def _within_45(heading):
     return jnp.cos(heading) >= jnp.cos(jnp.pi / 4) - 1e-12
 
 
-def stawave1(p: Particulars, omega, heading=0.0, amplitude=1.0, rho=RHO_SEA, g=G) -> WaveResistance:
+def stawave1(p: Particulars, omega: Frequencies, heading: Angles = 0.0, amplitude: Lengths = 1.0,
+             rho: Density = RHO_SEA, g: Gravity = G) -> WaveResistance:
     """STAWAVE-1 (ITTC 7.5-04-01-01.1, ISO 15016): R = (1/16)ρgH_s²B√(B/L_BWL) in a sea state, i.e. the
     frequency-independent reflection ½ρgζ_a²B√(B/L_BWL) per regular wave (so the spectral mean gives the
     published formula exactly); heading within ±45° of the bow only, no speed dependence, no motion part.
@@ -132,7 +134,8 @@ def stawave1(p: Particulars, omega, heading=0.0, amplitude=1.0, rho=RHO_SEA, g=G
     return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
 
 
-def stawave2(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho=RHO_SEA, g=G) -> WaveResistance:
+def stawave2(p: Particulars, speed: Speed, omega: Frequencies, heading: Angles = 0.0, amplitude: Lengths = 1.0,
+             kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G) -> WaveResistance:
     """STAWAVE-2 (ITTC 7.5-04-01-01.1, ISO 15016:2015; METHODS §2.2), headings within ±45° of the bow.
 
     R_AWML = 4ρgζ²(B²/L) ω̄^b1 exp[(b1/d1)(1 − ω̄^d1)] 60.3 C_B^1.34 Fr^1.5 e^(−3.5Fr),
@@ -173,7 +176,8 @@ def stawave2(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25,
     return WaveResistance(motion=motion, reflection=jnp.where(ok, refl, 0.0) * jnp.ones_like(motion))
 
 
-def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho=RHO_SEA, g=G) -> WaveResistance:
+def snnm(p: Particulars, speed: Speed, omega: Frequencies, heading: Angles = 0.0, amplitude: Lengths = 1.0,
+         kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G) -> WaveResistance:
     """SNNM (Liu & Papanikolaou 2020; ITTC 7.5-04-01-01.1 Rev 06), all headings; METHODS §2.3, even keel.
 
     Motion part as published for 0 ≤ α ≤ π/2; for π/2 < α ≤ π it is taken linearly in α down to 0 at
@@ -230,7 +234,7 @@ def snnm(p: Particulars, speed, omega, heading=0.0, amplitude=1.0, kyy=0.25, rho
     def kern(e, ang):
         return jnp.sin(ang) ** 2 + two_wu_g * (jnp.cos(a) - jnp.cos(e) * jnp.cos(ang))
 
-    lam_over_l = 2.0 * jnp.pi / jnp.maximum(k * lpp, 1e-300)
+    lam_over_l = 2.0 * jnp.pi / jnp.maximum(k * lpp, DIVISION_FLOOR)
 
     def a_t(ti):
         return jnp.where(lam_over_l <= 2.5, 1.0 - jnp.exp(-4.0 * jnp.pi * (ti * k / (2 * jnp.pi) - ti / (2.5 * lpp))), 0.0)
@@ -280,19 +284,21 @@ class WaveMethod(eqx.Module):
             WAVE_METHODS[name] = cls
 
     @abc.abstractmethod
-    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
-                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+    def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                 amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+                 smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
+                 motion: bool = True) -> WaveResistance:
         """Added resistance [N] in regular waves of amplitude ζ_a [m], shape W + H for ``omega`` [rad/s] W and
         ``heading`` [rad] H, as :func:`method_resistance` takes the arguments (those the method does not use
         are ignored)."""
 
     @abc.abstractmethod
-    def valid(self, heading) -> Array:
+    def valid(self, heading: Angles) -> Array:
         """Whether the method applies at ``heading`` [rad] (bool, the shape of ``heading``); elsewhere its
         R_AW is 0."""
 
     @abc.abstractmethod
-    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+    def heading_breaks(self, sections: Sections, draft: Draft, aft: str = "exclude") -> Array:
         """Headings [rad] where the response has a kink or a jump in heading (:func:`heading_breaks`)."""
 
     def label(self, motion: bool = True) -> str:
@@ -304,10 +310,11 @@ class WaveMethod(eqx.Module):
         """Points of the direction integral of the reflection part for ``n_dir`` of the motion part."""
         return n_dir
 
-    def mean(self, sections: Sections, draft, speed, hs, tp, heading=0.0, *, spectrum: str = "pm", gamma=3.3,
-             spreading_s=None, omega_max=None, kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude",
-             order: int = 8, n_dir: int = 16, kg=None, motion: bool = True,
-             motion_knots: int | None = 20) -> WaveResistance:
+    def mean(self, sections: Sections, draft: Draft, speed: Speed, hs: Length, tp: Period, heading: Angle = 0.0, *,
+             spectrum: str = "pm", gamma: Scalar = 3.3, spreading_s: float | None = None,
+             omega_max: Scalar | None = None, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+             smooth: float | None = None, aft: str = "exclude", order: int = 8, n_dir: int = 16,
+             kg: Length | None = None, motion: bool = True, motion_knots: int | None = 20) -> WaveResistance:
         """Mean added resistance [N] in a sea state, as :func:`mean_added_resistance` takes the arguments: one
         spectral mean of both parts, the direction integral split at :meth:`heading_breaks`."""
         opts = self._spectral_options(sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order)
@@ -320,7 +327,7 @@ class WaveMethod(eqx.Module):
         m = spectral_mean(response, hs, tp, heading, n_dir=self.reflection_directions(n_dir), **opts)
         return WaveResistance(motion=m[0], reflection=m[1])
 
-    def _spectral_options(self, sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order) -> dict:
+    def _spectral_options(self, sections, draft: Draft, aft, spectrum, gamma, spreading_s, omega_max, order) -> dict:
         return dict(spectrum=spectrum, gamma=gamma, spreading_s=spreading_s, omega_max=omega_max, order=order,
                     breaks=None if spreading_s is None else self.heading_breaks(sections, draft, aft))
 
@@ -335,8 +342,10 @@ class NMRI(WaveMethod):
     includes: ClassVar[tuple[str, ...]] = ("motion", "reflection")
     headings: ClassVar[str] = "all"
 
-    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
-                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+    def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                 amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+                 smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
+                 motion: bool = True) -> WaveResistance:
         r = nmri_added_resistance(sections, draft, speed, omega, heading, amplitude, rho=rho, g=g, smooth=smooth,
                                   aft=aft).r_awr
         if not motion:
@@ -344,7 +353,7 @@ class NMRI(WaveMethod):
         m = motion_added_resistance(sections, draft, speed, omega, heading, amplitude, kg=kg, kyy=kyy, rho=rho, g=g)
         return WaveResistance(motion=m, reflection=r)
 
-    def valid(self, heading) -> Array:
+    def valid(self, heading: Angles) -> Array:
         return jnp.ones(jnp.shape(heading), dtype=bool)
 
     def label(self, motion: bool = True) -> str:
@@ -354,7 +363,7 @@ class NMRI(WaveMethod):
         # NMRI's reflection part has more structure in heading than its kinks (METHODS §2.6)
         return 5 * n_dir // 2
 
-    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+    def heading_breaks(self, sections: Sections, draft: Draft, aft: str = "exclude") -> Array:
         grid = jnp.linspace(0.0, jnp.pi, 64)
         bf = bluntness_of_waterline(waterline(sections, draft), grid, aft)
         out = []
@@ -369,10 +378,11 @@ class NMRI(WaveMethod):
             out += [root, -root]
         return jnp.concatenate(out)
 
-    def mean(self, sections: Sections, draft, speed, hs, tp, heading=0.0, *, spectrum: str = "pm", gamma=3.3,
-             spreading_s=None, omega_max=None, kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude",
-             order: int = 8, n_dir: int = 16, kg=None, motion: bool = True,
-             motion_knots: int | None = 20) -> WaveResistance:
+    def mean(self, sections: Sections, draft: Draft, speed: Speed, hs: Length, tp: Period, heading: Angle = 0.0, *,
+             spectrum: str = "pm", gamma: Scalar = 3.3, spreading_s: float | None = None,
+             omega_max: Scalar | None = None, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+             smooth: float | None = None, aft: str = "exclude", order: int = 8, n_dir: int = 16,
+             kg: Length | None = None, motion: bool = True, motion_knots: int | None = 20) -> WaveResistance:
         """As :meth:`WaveMethod.mean`; with the motion part, the two parts apart: the motion part (smooth in
         heading) by one plain Gauss rule in direction, from ``motion_knots`` λ/L knots
         (:func:`~hullopt.waves.motion_response`; None: a strip-theory solve at every node)."""
@@ -406,14 +416,16 @@ class Stawave1(WaveMethod):
     includes: ClassVar[tuple[str, ...]] = ("reflection",)
     headings: ClassVar[str] = "within ±45° of the bow"
 
-    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
-                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+    def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                 amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+                 smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
+                 motion: bool = True) -> WaveResistance:
         return stawave1(particulars(sections, draft), omega, heading, amplitude, rho, g)
 
-    def valid(self, heading) -> Array:
+    def valid(self, heading: Angles) -> Array:
         return _within_45(heading)
 
-    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+    def heading_breaks(self, sections: Sections, draft: Draft, aft: str = "exclude") -> Array:
         """±π/4: the ±45° validity limit, a jump to 0."""
         return jnp.array([0.25 * jnp.pi, -0.25 * jnp.pi])
 
@@ -426,8 +438,10 @@ class Stawave2(Stawave1):
     description: ClassVar[str] = "motion + reflection, empirical"
     includes: ClassVar[tuple[str, ...]] = ("motion", "reflection")
 
-    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
-                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+    def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                 amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+                 smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
+                 motion: bool = True) -> WaveResistance:
         return stawave2(particulars(sections, draft), speed, omega, heading, amplitude, kyy, rho, g)
 
 
@@ -440,14 +454,16 @@ class SNNM(WaveMethod):
     includes: ClassVar[tuple[str, ...]] = ("motion", "reflection")
     headings: ClassVar[str] = "all"
 
-    def __call__(self, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kyy=0.25,
-                 rho=RHO_SEA, g=G, smooth=None, aft: str = "exclude", kg=None, motion: bool = True) -> WaveResistance:
+    def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                 amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
+                 smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
+                 motion: bool = True) -> WaveResistance:
         return snnm(particulars(sections, draft), speed, omega, heading, amplitude, kyy, rho, g)
 
-    def valid(self, heading) -> Array:
+    def valid(self, heading: Angles) -> Array:
         return jnp.ones(jnp.shape(heading), dtype=bool)
 
-    def heading_breaks(self, sections: Sections, draft, aft: str = "exclude") -> Array:
+    def heading_breaks(self, sections: Sections, draft: Draft, aft: str = "exclude") -> Array:
         """±E1 (the reflection's fullness factor switches: a jump), ±E2 (kinks; a kink at θ is one at θ ± π
         too, so ±(π − E1), ±(π − E2) need no entry), π/2 (the motion part's cap and the |cos α|^½ in T34) and
         0 ≡ π (the fold in following seas)."""
@@ -484,8 +500,9 @@ def wave_method(method: str) -> WaveMethod:
     return WAVE_METHODS[method]()
 
 
-def method_resistance(method: str, sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *,
-                      kyy=0.25, rho=RHO_SEA, g=G, smooth=None, aft="exclude", kg=None,
+def method_resistance(method: str, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies,
+                      heading: Angles = 0.0, amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA,
+                      g: Gravity = G, smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
                       motion: bool = True) -> WaveResistance:
     """Added resistance [N] in regular waves by ``method`` (one of :data:`METHODS`), motion and reflection
     parts. NMRI: R_AW = R_AWM + R_AWR(Bf), the motion part by strip theory
@@ -533,7 +550,7 @@ def method_resistance(method: str, sections: Sections, draft, speed, omega, head
                                smooth=smooth, aft=aft, kg=kg, motion=motion)
 
 
-def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude") -> Array:
+def heading_breaks(method: str, sections: Sections, draft: Draft, aft: str = "exclude") -> Array:
     """Headings [rad] (0 = head seas) where ``method``'s response has a kink or a jump in heading, for the
     direction integral of a short-crested sea (:func:`~hullopt.waves.spectral_mean`'s ``breaks``).
 
@@ -568,10 +585,11 @@ def heading_breaks(method: str, sections: Sections, draft, aft: str = "exclude")
     return wave_method(method).heading_breaks(sections, draft, aft)
 
 
-def mean_added_resistance(method: str, sections: Sections, draft, speed, hs, tp, heading=0.0, *,
-                          spectrum: str = "pm", gamma=3.3, spreading_s=None, omega_max=None, kyy=0.25,
-                          rho=RHO_SEA, g=G, smooth=None, aft="exclude", order: int = 8,
-                          n_dir: int = 16, kg=None, motion: bool = True,
+def mean_added_resistance(method: str, sections: Sections, draft: Draft, speed: Speed, hs: Length, tp: Period,
+                          heading: Angle = 0.0, *, spectrum: str = "pm", gamma: Scalar = 3.3,
+                          spreading_s: float | None = None, omega_max: Scalar | None = None, kyy: Scalar = 0.25,
+                          rho: Density = RHO_SEA, g: Gravity = G, smooth: float | None = None, aft: str = "exclude",
+                          order: int = 8, n_dir: int = 16, kg: Length | None = None, motion: bool = True,
                           motion_knots: int | None = 20) -> WaveResistance:
     """Mean added resistance [N] in a sea state (H_s [m], peak period T_p [s], mean heading [rad]) by
     ``method``, motion and reflection parts; see :func:`~hullopt.waves.spectral_mean` for the spectrum,

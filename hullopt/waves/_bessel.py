@@ -12,6 +12,8 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.special import i0, i1, i1e
 
+from .._types import Values
+
 # K0(x) + log(x/2) I0(x) on [0, 2], in y = x² − 2 (Cephes k0.c, A).
 _K0_A = (
     1.37446543561352307156e-16, 4.25981614279661018399e-14, 1.03496952576338420167e-11,
@@ -77,7 +79,7 @@ def _x_log_half_x(x):
 
 
 @jax.custom_jvp
-def k0e(x):
+def k0e(x: Values):
     """Exponentially scaled K0: ``exp(x) K0(x)``."""
     x = jnp.asarray(x, dtype=float)
     small, xs, xl = _split(x)
@@ -87,7 +89,7 @@ def k0e(x):
 
 
 @jax.custom_jvp
-def k1e(x):
+def k1e(x: Values):
     """Exponentially scaled K1: ``exp(x) K1(x)``."""
     x = jnp.asarray(x, dtype=float)
     small, xs, xl = _split(x)
@@ -110,7 +112,7 @@ def _k1e_jvp(primals, tangents):
     return b, (b - a - b / x) * dx  # d/dx e^x K1 = e^x (K1 − K0 − K1/x)
 
 
-def k0(x):
+def k0(x: Values):
     """Modified Bessel function of the second kind, order 0 (x > 0).
 
     Parameters
@@ -127,7 +129,7 @@ def k0(x):
     return k0e(x) * jnp.exp(-x)
 
 
-def k1(x):
+def k1(x: Values):
     """Modified Bessel function of the second kind, order 1 (x > 0).
 
     Parameters
@@ -144,7 +146,7 @@ def k1(x):
     return k1e(x) * jnp.exp(-x)
 
 
-def alpha_t(x):
+def alpha_t(x: Values):
     """The NMRI draft factor α_T(x) = π²I₁²(x) / (π²I₁²(x) + K₁²(x)), x = k_e·d ≥ 0, elementwise.
 
     Never forms I₁, K₁ where they over/underflow: for x ≤ 2, with r = π I₁/K₁ = π·xI₁/(xK₁) and

@@ -39,9 +39,10 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float
 
+from .._types import Angle, Angles, Draft, Frequencies, Length, Lengths, Scalar, Speed
 from ..constants import G, RHO_SEA
 from ..errors import HullError
-from ..geometry import Sections, longitudinal_integrals, natural_cubic_spline, simpson_weights
+from ..geometry import TINY_LENGTH, Sections, longitudinal_integrals, natural_cubic_spline, simpson_weights
 from ._sections2d import heave_potential, section_panels
 
 
@@ -98,7 +99,7 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     k = omega**2 / g
     cos_a, sin_a = jnp.cos(heading), jnp.sin(heading)
     we = omega + k * speed * cos_a
-    we = jnp.maximum(jnp.abs(we), 1e-3 * jnp.sqrt(g / jnp.maximum(x[-1] - x[0], 1e-9)))
+    we = jnp.maximum(jnp.abs(we), 1e-3 * jnp.sqrt(g / jnp.maximum(x[-1] - x[0], TINY_LENGTH)))
     a, b, fk, dif, kappa = jax.vmap(lambda nd: _station_coefficients(nd, we, k, sin_a, rho, g, n_gauss))(nodes)
     a, b = jnp.where(wet, a, 0.0), jnp.where(wet, b, 0.0)
     fk, dif, kappa = jnp.where(wet, fk, 0.0), jnp.where(wet, dif, 0.0), jnp.where(wet, kappa, 0.0)
@@ -151,8 +152,9 @@ def _one_frequency(nodes, wet, x, w, xi, lcb_terms, omega, heading, speed, kyy_m
     return we, k, eta3, eta5, r
 
 
-def motions(sections: Sections, draft, speed, omega, heading=0.0, kg=None, kyy=0.25, *, n_panels: int = 12,
-            n_gauss: int = 2, n_strips: int | None = 25, rho: float = RHO_SEA, g: float = G) -> Motions:
+def motions(sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angle = 0.0,
+            kg: Length | None = None, kyy: Scalar = 0.25, *, n_panels: int = 12, n_gauss: int = 2,
+            n_strips: int | None = 25, rho: float = RHO_SEA, g: float = G) -> Motions:
     """Heave and pitch RAOs and R_AWM of a hull in regular waves by strip theory (STF 1970 + Frank close-fit).
 
     Parameters
@@ -245,7 +247,7 @@ def _hydrostatics_jvp(primals, tangents):
     return longitudinal_integrals(sections, t), jax.tree_util.tree_map(lambda a, b: 0.5 * (a + b), up, down)
 
 
-def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips=None):
+def _solver(sections, draft: Draft, speed: Speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips=None):
     """The hull's frequency-independent parts, and ``(omega, heading) -> (ω_e, k, η3, η5, R_AWM)``."""
     if n_strips is not None and (not isinstance(n_strips, int) or n_strips < 5 or n_strips % 2 == 0):
         raise HullError(f"n_strips: expected an odd integer >= 5 (or None for the hull's stations), got {n_strips!r}")
@@ -266,9 +268,10 @@ def _solver(sections, draft, speed, kg, kyy, n_panels, n_gauss, rho, g, n_strips
     return one
 
 
-def motion_added_resistance(sections: Sections, draft, speed, omega, heading=0.0, amplitude=1.0, *, kg=None,
-                            kyy=0.25, n_panels: int = 12, n_gauss: int = 2, n_strips: int | None = 25,
-                            rho: float = RHO_SEA, g: float = G) -> Array:
+def motion_added_resistance(sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
+                            amplitude: Lengths = 1.0, *, kg: Length | None = None, kyy: Scalar = 0.25,
+                            n_panels: int = 12, n_gauss: int = 2, n_strips: int | None = 25, rho: float = RHO_SEA,
+                            g: float = G) -> Array:
     """R_AWM [N] in regular waves of amplitude ``amplitude`` [m], frequencies ``omega`` (W,) [rad/s] and
     headings ``heading`` (H,) [rad] (0 head seas), shape W + H as the other methods' (``omega`` outer
     ``heading``); see :func:`motions` for the model and the other parameters.
@@ -351,8 +354,9 @@ def motion_validity_warning(fn: float, lpp_over_b: float) -> str | None:
 MOTION_LAMBDA_RANGE = (0.3, 3.0)
 
 
-def motion_response(sections: Sections, draft, speed, *, knots: int = 20, kg=None, kyy=0.25, n_panels: int = 12,
-                    n_gauss: int = 2, n_strips: int | None = 25, rho: float = RHO_SEA, g: float = G):
+def motion_response(sections: Sections, draft: Draft, speed: Speed, *, knots: int = 20, kg: Length | None = None,
+                    kyy: Scalar = 0.25, n_panels: int = 12, n_gauss: int = 2, n_strips: int | None = 25,
+                    rho: float = RHO_SEA, g: float = G):
     """R_AWM/ζ_a² as a function of frequency and heading for a sea-state mean: computed by strip theory at
     ``knots`` wavelengths equally spaced in ln(λ/L) over :data:`MOTION_LAMBDA_RANGE` (the ship's own scale, so
     the cost does not depend on the spectrum's quadrature) and interpolated by a natural cubic spline in

@@ -11,6 +11,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._types import Angle, Angles, Draft, Speed, Values
 from ..constants import G
 from ..geometry import Sections
 from ._added_resistance import froude_number, k_aw, speed_coefficient
@@ -33,8 +34,9 @@ class ProgramResult(eqx.Module):
     sections: Sections
 
 
-def evaluate_modifications(sections: Sections, modify: Callable[[Sections, Array], Sections], params, draft, speed,
-                           heading=0.0, g: float = G, smooth: float | None = None):
+def evaluate_modifications(sections: Sections, modify: Callable[[Sections, Array], Sections], params: Values,
+                           draft: Draft, speed: Speed, heading: Angles = 0.0, g: float = G,
+                           smooth: float | None = None):
     """(Bf, C_U, K_AW) of the original hull and of ``modify(sections, p)`` for each ``p`` in ``params`` (k,)
     (one ``vmap``); each output is (k + 1,), the original first. Pure: jit/grad-able.
 
@@ -73,8 +75,8 @@ def evaluate_modifications(sections: Sections, modify: Callable[[Sections, Array
     return tuple(jnp.concatenate([b[None], m]) for b, m in zip(base, mods)) + (fn,)
 
 
-def select_lower_k_aw(sections: Sections, modify: Callable[[Sections, Array], Sections], params, draft, speed,
-                      heading=0.0, g: float = G) -> ProgramResult:
+def select_lower_k_aw(sections: Sections, modify: Callable[[Sections, Array], Sections], params: Values, draft: Draft,
+                      speed: Speed, heading: Angle = 0.0, g: float = G) -> ProgramResult:
     """Claim 6: compute Bf, K_AW of ``sections`` (steps 1802–1803), modify it by ``modify(sections, p)`` for
     every ``p`` in ``params`` (1804), recompute (1806), compare and keep the hull with the lowest K_AW
     (1807–1808; the original on ties). ``modify`` may be any pure ``(Sections, p) -> Sections``, e.g.

@@ -38,10 +38,11 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array
+from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Complexes, Draft, Scalar
 from ..constants import G, RHO_SEA
-from ..geometry import Sections, safe_div, safe_sqrt
+from ..geometry import TINY_LENGTH, Sections, safe_div, safe_sqrt
 
 EULER_GAMMA = 0.5772156649015329
 # Both branches of exp1_scaled are evaluated for every element (vectorised, then selected), so the cost is
@@ -112,7 +113,7 @@ def _exp1_scaled_jvp(primals, tangents):
     return f, (f - 1.0 / z) * jnp.asarray(dz, dtype=complex)
 
 
-def exp1(z):
+def exp1(z: Complexes):
     """The exponential integral E₁(z) = ∫_z^∞ e^{−t}/t dt for complex ``z`` (principal branch).
 
     Parameters
@@ -277,8 +278,8 @@ def far_field_damping(nodes, omega, rho: float = RHO_SEA, g: float = G, n_gauss:
     return rho * omega * jnp.abs(far) ** 2
 
 
-def heave_coefficients(nodes, omega, rho: float = RHO_SEA, g: float = G, n_gauss: int = 4,
-                       infinite: bool = False):
+def heave_coefficients(nodes: Float[ArrayLike, 'N 2'], omega: Scalar, rho: float = RHO_SEA, g: float = G,
+                       n_gauss: int = 4, infinite: bool = False):
     """Sectional heave added mass a33 [kg/m] and damping b33 [kg/(m s)] of one section (both sides).
 
     ``nodes`` (N+1, 2): the port half-section's panel ends, keel to waterline (z ≤ 0 measured from the
@@ -309,7 +310,7 @@ def heave_coefficients(nodes, omega, rho: float = RHO_SEA, g: float = G, n_gauss
     return -rho * integral.real, rho * omega * integral.imag
 
 
-def _clip_below(yz, draft, on_vertex_below: bool):
+def _clip_below(yz, draft: Draft, on_vertex_below: bool):
     """Each segment's part below ``draft`` in one convention for a vertex exactly at the draft: below
     (``on_vertex_below``, the branch of drafts just above it) or above (just below it). Returns the part's ends
     a, b (m−1, 2), its length (m−1,) — linear in the draft along a crossing segment, so a zero-length part
@@ -332,7 +333,7 @@ def _clip_below(yz, draft, on_vertex_below: bool):
     return a, b, jnp.where(keep, (s_b - s_a) * full, 0.0), keep
 
 
-def _resample_one(yz, draft, n_panels, min_half_breadth, on_vertex_below):
+def _resample_one(yz, draft: Draft, n_panels, min_half_breadth, on_vertex_below):
     a, b, seg, keep = _clip_below(yz, draft, on_vertex_below)
     cum = jnp.concatenate([jnp.zeros(1), jnp.cumsum(seg)])
     total = cum[-1]
@@ -351,7 +352,7 @@ def _resample_one(yz, draft, n_panels, min_half_breadth, on_vertex_below):
     return jnp.stack([y, p[:, 1] - draft], axis=-1), total
 
 
-def _resample_polyline(yz, draft, n_panels, min_half_breadth):
+def _resample_polyline(yz, draft: Draft, n_panels, min_half_breadth):
     """The part of one half-section polyline (m, 2) below ``draft``, resampled to ``n_panels`` + 1 nodes
     equally spaced in arclength (cosine-clustered towards the waterline and keel), z from the waterline.
 
@@ -365,7 +366,7 @@ def _resample_polyline(yz, draft, n_panels, min_half_breadth):
     return 0.5 * (up + down), total
 
 
-def section_panels(sections: Sections, draft, n_panels: int = 20):
+def section_panels(sections: Sections, draft: Draft, n_panels: int = 20):
     """Every station's immersed half-section as ``n_panels`` panels: nodes (n, n_panels+1, 2) with z from the
     waterline (≤ 0), keel to waterline, and ``wet`` (n,) bool: the station has an immersed section (stations
     without one get a small semicircle, so the solve stays regular; mask their coefficients with ``wet``).
@@ -387,7 +388,7 @@ def section_panels(sections: Sections, draft, n_panels: int = 20):
         (n,) bool: the station has an immersed section.
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
-    b_ref = jnp.maximum(sections.max_half_breadth, 1e-9)
+    b_ref = jnp.maximum(sections.max_half_breadth, TINY_LENGTH)
     nodes, total = jax.vmap(lambda yz: _resample_polyline(yz, t, n_panels, 1e-3 * b_ref))(sections.yz)
     depth = -jnp.min(nodes[..., 1], axis=-1)
     halfb = jnp.max(nodes[..., 0], axis=-1)

@@ -12,12 +12,14 @@ peak (the JONSWAP peak enhancement is narrow). Nodes are static, so everything i
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from math import gamma as _gamma
 
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array
+from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Angle, Angles, Frequencies, Length, Lengths, Period, Scalar, Values
 from ..constants import G
 
 SPECTRA = ("pm", "jonswap")
@@ -35,7 +37,7 @@ BEAUFORT = {
 }
 
 
-def bretschneider(omega, hs, tp) -> Array:
+def bretschneider(omega: Frequencies, hs: Lengths, tp: Values) -> Array:
     """Two-parameter (modified) Pierson–Moskowitz spectrum S(ω) [m²s] for H_s [m] and peak period T_p [s]:
     S = (5/16) H_s² ω_p⁴ ω⁻⁵ exp(−(5/4)(ω_p/ω)⁴), ω_p = 2π/T_p; m0 = H_s²/16 exactly. The ITTC 1978 form
     (173 H_s²/T_1⁴, 691/T_1⁴) is this spectrum with rounded constants and T_1 = 0.772 T_p.
@@ -61,7 +63,7 @@ def bretschneider(omega, hs, tp) -> Array:
     return jnp.where(pos, 5.0 / 16.0 * hs**2 * wp**4 / w**5 * jnp.exp(-1.25 * (wp / w) ** 4), 0.0)
 
 
-def ittc_1978(omega, hs, t1) -> Array:
+def ittc_1978(omega: Frequencies, hs: Lengths, t1: Values) -> Array:
     """ITTC 1978 spectrum S = A/ω⁵ exp(−B/ω⁴), A = 173 H_s²/T_1⁴, B = 691/T_1⁴, T_1 the mean period [s].
 
     Parameters
@@ -94,7 +96,7 @@ def _jonswap_norm(gamma):
     return 1.0 - 0.287 * jnp.log(gamma)
 
 
-def jonswap(omega, hs, tp, gamma=3.3) -> Array:
+def jonswap(omega: Frequencies, hs: Lengths, tp: Values, gamma: Values = 3.3) -> Array:
     """JONSWAP spectrum [m²s]: (1 − 0.287 ln γ)·:func:`bretschneider`·γ^r (DNV-RP-C205 §3.5.5), whose
     normalisation keeps m0 ≈ H_s²/16: within 0.33 % for 1 ≤ γ ≤ 5 (+0.24 % at γ = 3.3), within 1 % up to
     γ ≈ 6.3, then falling off (−1.75 % at γ = 7, −6.9 % at 10; measured by quadrature, the same for every
@@ -120,7 +122,7 @@ def jonswap(omega, hs, tp, gamma=3.3) -> Array:
     return _jonswap_norm(gamma) * bretschneider(omega, hs, tp) * _peak_enhancement(omega * tp / (2 * jnp.pi), gamma)
 
 
-def spreading(theta, s=1.0) -> Array:
+def spreading(theta: Angles, s: float = 1.0) -> Array:
     """cos-2s spreading D(θ) = 2^(2s) Γ(1+s)² / (π Γ(1+2s)) cos^(2s) θ for |θ| ≤ π/2, else 0 [1/rad];
     ∫D dθ = 1. s = 1 (wind sea) gives (2/π) cos² θ; s = 0.75 is used for swell.
 
@@ -169,7 +171,7 @@ def beaufort_sea_state(number: int) -> tuple[float, float]:
     return hs, float(2 * np.pi / 0.877 * np.sqrt(hs / (0.21 * G)))
 
 
-def frequency_nodes(tp, omega_max=None, order: int = 8) -> tuple[Array, Array]:
+def frequency_nodes(tp: Period, omega_max: Scalar | None = None, order: int = 8) -> tuple[Array, Array]:
     """Quadrature nodes ω_i [rad/s] and weights w_i with ∫ f(ω) S_PM(ω) dω ≈ (H_s²/16) Σ w_i f(ω_i) for
     the Bretschneider spectrum of peak period ``tp`` [s] (over ω ≤ ``omega_max`` if given).
 
@@ -204,7 +206,8 @@ def frequency_nodes(tp, omega_max=None, order: int = 8) -> tuple[Array, Array]:
     return wp * (1.25 / u) ** 0.25, w
 
 
-def direction_nodes(s=None, order: int = 16, breaks=None) -> tuple[Array, Array]:
+def direction_nodes(s: float | None = None, order: int = 16,
+                    breaks: Float[ArrayLike, ' K'] | None = None) -> tuple[Array, Array]:
     """Relative directions θ_j [rad] and weights (summing to 1) for cos-2s spreading ``s``; a single
     direction (0, weight 1) when ``s`` is None (long-crested).
 
@@ -260,20 +263,10 @@ def direction_nodes(s=None, order: int = 16, breaks=None) -> tuple[Array, Array]
     return theta.reshape(-1), w / jnp.sum(w)  # exact normalisation: the energy is kept
 
 
-def spectral_mean(
-    response,
-    hs,
-    tp,
-    heading=0.0,
-    *,
-    spectrum: str = "pm",
-    gamma=3.3,
-    spreading_s=None,
-    omega_max=None,
-    order: int = 8,
-    n_dir: int = 16,
-    breaks=None,
-) -> Array:
+def spectral_mean(response: Callable[[Array, Array], Array], hs: Length, tp: Period, heading: Angle = 0.0, *,
+                  spectrum: str = "pm", gamma: Scalar = 3.3, spreading_s: float | None = None,
+                  omega_max: Scalar | None = None, order: int = 8, n_dir: int = 16,
+                  breaks: Float[ArrayLike, ' K'] | None = None) -> Array:
     """Mean added resistance [N] in a sea state: 2∫∫ S(ω) D(θ) response(ω, α + θ) dω dθ.
 
     ``response(omega (k,), heading (h,)) → (k, h, ...)`` is R_AW/ζ_a² [N/m²] in regular waves; ``hs`` [m], ``tp``

@@ -14,6 +14,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Angles, Draft, Scalar
 from ..geometry import Sections, safe_div, section_integrals
 
 AFT_OPTIONS = ("exclude", "include")  # the first is the default (see bluntness_of_waterline)
@@ -55,7 +56,7 @@ class Waterline(eqx.Module):
         return jnp.arctan2(-self.dy, self.dx)
 
 
-def waterline(sections: Sections, draft) -> Waterline:
+def waterline(sections: Sections, draft: Draft) -> Waterline:
     """The waterline at ``draft`` [m above the baseline], exact for the sections' ruled surface.
 
     Parameters
@@ -94,7 +95,7 @@ def _side_integral(wl: Waterline, kx, ky, aft: str):
     return jnp.sum(safe_div(proj * proj * (-dy), l2, lit), axis=0)
 
 
-def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "exclude") -> Array:
+def bluntness_of_waterline(wl: Waterline, heading: Angles = 0.0, aft: str = "exclude") -> Array:
     """Bf(α) of a waterline, for headings ``α`` [rad] (any shape; 0 = head seas, π = following seas).
 
     Bf = (1/B)[∫_I sin²(α+β_w) sin β_w dl + ∫_II sin²(α−β_w) sin β_w dl] (patent eq. 3), I and II the lit
@@ -153,7 +154,7 @@ def bluntness_of_waterline(wl: Waterline, heading=0.0, aft: str = "exclude") -> 
     return safe_div(total, b, pos).reshape(shape)
 
 
-def bluntness(sections: Sections, draft, heading=0.0, aft: str = "exclude") -> Array:
+def bluntness(sections: Sections, draft: Draft, heading: Angles = 0.0, aft: str = "exclude") -> Array:
     """Bluntness coefficient Bf of the waterline at ``draft`` [m] for headings ``heading`` [rad];
     see :func:`bluntness_of_waterline`.
 
@@ -176,7 +177,7 @@ def bluntness(sections: Sections, draft, heading=0.0, aft: str = "exclude") -> A
     return bluntness_of_waterline(waterline(sections, draft), heading, aft)
 
 
-def entrance_lengths(wl: Waterline, fraction) -> tuple[Array, Array]:
+def entrance_lengths(wl: Waterline, fraction: Scalar) -> tuple[Array, Array]:
     """Lengths [m] from the forward and the aft end of the waterline to where its half-breadth first
     reaches ``fraction`` of its maximum (STAWAVE-1's L_BWL at 0.95; SNNM's L_E, L_R at 0.99).
 

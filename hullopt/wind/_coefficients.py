@@ -35,6 +35,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._types import Angles
 from ..errors import HullError
 from ._variables import WindVariables
 
@@ -166,7 +167,7 @@ def fujiwara1998_harmonics(v: WindVariables, y56: str = "C*H_C/A_L") -> dict[str
             for comp, harm in _fujiwara1998_table(y56).items()}
 
 
-def fujiwara1998(v: WindVariables, psi, y56: str = "C*H_C/A_L") -> Coefficients:
+def fujiwara1998(v: WindVariables, psi: Angles, y56: str = "C*H_C/A_L") -> Coefficients:
     """Fujiwara, Ueno & Nimura (1998): C_X = Σ X_i cos iψ, C_Y, C_N, C_K = Σ (·)_i sin iψ.
 
     Parameters
@@ -226,7 +227,7 @@ def _iso_caa(s: dict[str, Array], a: Array) -> Array:
     return jnp.where(a < jnp.pi / 2, caa(head, a), jnp.where(a > jnp.pi / 2, caa(tail, a), beam))
 
 
-def fujiwara2005(v: WindVariables, psi) -> Coefficients:
+def fujiwara2005(v: WindVariables, psi: Angles) -> Coefficients:
     """ISO 15016:2015 C_X (Fujiwara, Ueno & Ikeda 2005) and the ShipMMG.jl C_Y, C_N (unverified); C_K = NaN.
 
     Parameters
@@ -263,7 +264,7 @@ def _isherwood_tables() -> dict[str, np.ndarray]:
     return out
 
 
-def isherwood(v: WindVariables, psi) -> Coefficients:
+def isherwood(v: WindVariables, psi: Angles) -> Coefficients:
     """Isherwood (1972), interpolated linearly in angle; C (from the bow) is ``C_bow``; C_K = NaN.
 
     Parameters
@@ -329,7 +330,7 @@ def ship_type(name: str) -> str:
     return hits[0]
 
 
-def blendermann(v: WindVariables, psi, ship: str = DEFAULT_SHIP_TYPE) -> Coefficients:
+def blendermann(v: WindVariables, psi: Angles, ship: str = DEFAULT_SHIP_TYPE) -> Coefficients:
     """Blendermann (1994) for a ship type (:func:`ship_type`); s_L = C, s_H = H_C, H_M = A_L/L.
 
     Parameters
@@ -358,7 +359,7 @@ def blendermann(v: WindVariables, psi, ship: str = DEFAULT_SHIP_TYPE) -> Coeffic
     return Coefficients(jnp.asarray(psi, dtype=float), cx, sign * cy, sign * cn, sign * ck)
 
 
-def wind_coefficients(v: WindVariables, psi, model: str = "fujiwara1998", *, ship: str = DEFAULT_SHIP_TYPE,
+def wind_coefficients(v: WindVariables, psi: Angles, model: str = "fujiwara1998", *, ship: str = DEFAULT_SHIP_TYPE,
                       y56: str = "C*H_C/A_L") -> Coefficients:
     """C_X, C_Y, C_N, C_K of ``model`` (one of :data:`MODELS`) at the relative wind angles ``psi`` [rad].
 

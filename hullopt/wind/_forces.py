@@ -10,6 +10,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._types import Angles, Density, Speeds
 from ..constants import RHO_AIR
 from ..geometry import safe_sqrt
 from ._coefficients import DEFAULT_SHIP_TYPE, Coefficients, wind_coefficients
@@ -26,7 +27,7 @@ class WindLoads(eqx.Module):
     K: Float[Array, "*angles"]
 
 
-def relative_wind(ship_speed, wind_speed, wind_angle) -> tuple[Array, Array]:
+def relative_wind(ship_speed: Speeds, wind_speed: Speeds, wind_angle: Angles) -> tuple[Array, Array]:
     """Relative wind speed [m/s] and angle ψ [rad] from the ship's speed through the air mass [m/s] and the
     true wind's speed [m/s] and angle off the bow [rad] (where it comes from; 0 = ahead, + from starboard).
 
@@ -59,7 +60,7 @@ def relative_wind(ship_speed, wind_speed, wind_angle) -> tuple[Array, Array]:
     return speed, angle
 
 
-def wind_loads(v: WindVariables, c: Coefficients, speed, rho_air=RHO_AIR) -> WindLoads:
+def wind_loads(v: WindVariables, c: Coefficients, speed: Speeds, rho_air: Density = RHO_AIR) -> WindLoads:
     """Loads for coefficients ``c`` at a relative wind ``speed`` [m/s]: X = qA_T C_X, Y = qA_L C_Y,
     N = qLA_L C_N, K = qA_L H_L C_K with q = ½ρU².
 
@@ -83,8 +84,9 @@ def wind_loads(v: WindVariables, c: Coefficients, speed, rho_air=RHO_AIR) -> Win
     return WindLoads(q * v.A_T * c.cx, q * v.A_L * c.cy, q * v.L * v.A_L * c.cn, q * v.A_L * v.H_L * c.ck)
 
 
-def wind_added_resistance(v: WindVariables, ship_speed, wind_speed, wind_angle, model: str = "fujiwara2005", *,
-                          rho_air=RHO_AIR, ship: str = DEFAULT_SHIP_TYPE) -> Array:
+def wind_added_resistance(v: WindVariables, ship_speed: Speeds, wind_speed: Speeds, wind_angle: Angles,
+                          model: str = "fujiwara2005", *, rho_air: Density = RHO_AIR,
+                          ship: str = DEFAULT_SHIP_TYPE) -> Array:
     """ISO 15016 wind added resistance ΔR_AA [N] (positive = more resistance) for a ship speed [m/s] and a
     true wind (speed [m/s], angle off the bow [rad]):
 

@@ -12,11 +12,13 @@ the ship is every pixel darker than ``threshold`` (grey level 0–1) or of a par
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import jax.numpy as jnp
 import numpy as np
 
+from .._types import Image, Polygon
 from ..errors import HullError
 from ._variables import WindVariables
 
@@ -65,7 +67,8 @@ class PartSpec:
     tolerance: float = field(default=8.0)
 
 
-def render(polygons, colours, scale: ViewScale, shape: tuple[int, int]) -> np.ndarray:
+def render(polygons: Sequence[Polygon], colours: Sequence[tuple[int, int, int]], scale: ViewScale,
+           shape: tuple[int, int]) -> np.ndarray:
     """Draw filled polygons ``(k, 2)`` in metres (u, h) into a white RGB ``uint8`` image of ``shape``.
 
     Parameters
@@ -107,7 +110,7 @@ def _rgb(image: np.ndarray) -> np.ndarray:
     return image
 
 
-def ship_mask(image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
+def ship_mask(image: Image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
     """Binary mask of the ship above the waterline: grey level below ``threshold``.
 
     Parameters
@@ -133,7 +136,7 @@ def ship_mask(image, scale: ViewScale, threshold: float = 0.5) -> np.ndarray:
     return mask
 
 
-def part_mask(image, part: PartSpec, scale: ViewScale, ship: np.ndarray) -> np.ndarray:
+def part_mask(image: Image, part: PartSpec, scale: ViewScale, ship: np.ndarray) -> np.ndarray:
     """Mask of one part above the waterline: its colour (within ``tolerance`` per channel, any lightness),
     or the ship's pixels inside its polygon.
 
@@ -269,7 +272,7 @@ class DrawingResult:
     front_mask: np.ndarray
 
 
-def drawing_variables(side_image, front_image, side: ViewScale, front: ViewScale, parts: list[PartSpec],
+def drawing_variables(side_image: Image, front_image: Image, side: ViewScale, front: ViewScale, parts: list[PartSpec],
                       threshold: float = 0.5) -> DrawingResult:
     """The wind variables of :class:`~hullopt.wind.WindVariables` from a side and a front view.
 

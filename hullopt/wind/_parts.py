@@ -9,14 +9,17 @@ their last vertex (a zero-length edge adds nothing to any integral), so parts st
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 from jaxtyping import Array, Bool, Float
 
+from .._types import Draft, Lengths, Polygon
 from ..errors import HullError
-from ..geometry import Sections, closed_half_polygon, level_widths
+from ..geometry import SAME_POINT, Sections, closed_half_polygon, level_widths
 
 KINDS = ("superstructure", "cargo", "mast")
 """Part kinds: ``superstructure`` (bridge, deckhouse, funnel: A_SS, C_BR, H_BR), ``cargo`` (containers, hatch
@@ -72,7 +75,8 @@ def _check_meta(names, kinds, groups) -> tuple[tuple[str, ...], tuple[str, ...],
     return names, kinds, groups
 
 
-def box_parts(names, kinds, x_aft, x_fore, z_low, z_top, breadth, y_centre=0.0, groups=None) -> Parts:
+def box_parts(names: Sequence[str], kinds: Sequence[str], x_aft: Lengths, x_fore: Lengths, z_low: Lengths,
+              z_top: Lengths, breadth: Lengths, y_centre: Lengths = 0.0, groups: Sequence[str] | None = None) -> Parts:
     """Rectangular parts (boxes), differentiable in their sizes: each argument is a scalar or ``(p,)`` [m].
 
     ``x_aft < x_fore`` from the AP, ``z_low < z_top`` from the baseline, full ``breadth`` centred on
@@ -128,7 +132,7 @@ def _ccw_convex(poly: npt.ArrayLike, what: str) -> np.ndarray:
     if area2 < 0:
         poly, d = poly[::-1], np.roll(poly[::-1], -1, axis=0) - poly[::-1]
     cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
-    if np.any(cross < -1e-9 * np.abs(d).max() ** 2):
+    if np.any(cross < -SAME_POINT * np.abs(d).max() ** 2):
         raise HullError(f"{what}: the polygon must be convex (split a non-convex shape into convex parts)")
     return poly
 
@@ -138,7 +142,8 @@ def _pad(polys: list[np.ndarray]) -> np.ndarray:
     return np.stack([np.concatenate([p, np.repeat(p[-1:], k - len(p), axis=0)]) for p in polys])
 
 
-def polygon_parts(names, kinds, sides, fronts, groups=None) -> Parts:
+def polygon_parts(names: Sequence[str], kinds: Sequence[str], sides: Sequence[Polygon], fronts: Sequence[Polygon],
+                  groups: Sequence[str] | None = None) -> Parts:
     """Parts from convex polygons (static input, e.g. a config): ``sides[i]`` is a list of ``(x, z)`` [m]
     and ``fronts[i]`` a list of ``(y, z)`` [m] (z from the baseline); either orientation is accepted.
 
@@ -230,7 +235,7 @@ def _level_half_breadths(sections: Sections, levels) -> Array:
     return jnp.max(level_widths(closed_half_polygon(sections.yz), levels), axis=0)
 
 
-def projections(sections: Sections, draft, parts: Parts, levels: int = 24) -> Projections:
+def projections(sections: Sections, draft: Draft, parts: Parts, levels: int = 24) -> Projections:
     """Side and front projections of the hull above ``z = draft`` and of the parts (see :class:`Projections`).
 
     The profile at a station spans from ``max(T, lowest point)`` to ``max(T, highest point)`` of its

@@ -25,6 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float
 
+from .._types import Draft
 from ..geometry import Sections, safe_div, safe_norm
 from ._parts import Parts, Projections, projections
 
@@ -340,7 +341,7 @@ def _variables(pr: Projections, x: Array) -> WindVariables:
     )
 
 
-def wind_variables(sections: Sections, draft, parts: Parts, levels: int = 24) -> WindVariables:
+def wind_variables(sections: Sections, draft: Draft, parts: Parts, levels: int = 24) -> WindVariables:
     """The wind-load explanatory variables of a hull at ``draft`` [m] with its above-deck ``parts``.
 
     Pure JAX: jit/grad/vmap-able in the sections, the draft and the parts' polygons. See the module
