@@ -53,7 +53,8 @@ def test_bad_constraints_fail_with_the_field(constraints, message):
 @pytest.mark.parametrize("override, key, kind, owners", [
     ('objective.kind="k_aw"', "hs", "k_aw", "mean_added_resistance"),
     ('objective.kind="calm_resistance"', "hs", "calm_resistance", "mean_added_resistance"),
-    ('objective.method="panel"', "method", "mean_added_resistance", "calm_resistance, calm_resistance_michell"),
+    ('objective.method="panel"', "method", "mean_added_resistance",
+     "calm_resistance, calm_resistance_michell, profile_resistance, profile_power"),
     ("objective.wind_speed=10", "wind_speed", "mean_added_resistance", "wind_added_resistance"),
 ])
 def test_an_option_of_another_objective_kind_is_an_error_naming_the_kind(override, key, kind, owners):

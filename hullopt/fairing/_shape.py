@@ -9,6 +9,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._types import Draft
 from ..geometry import Sections, safe_norm, section_integrals
 from ._unfairness import unfairness
 
@@ -25,7 +26,7 @@ KNUCKLE_FLOOR = np.deg2rad(5.0) ** 4
 relative to a parent's nearly straight station still allows it a gentle turn."""
 
 
-def sac_roughness(sections: Sections, draft) -> Float[Array, ""]:
+def sac_roughness(sections: Sections, draft: Draft) -> Float[Array, ""]:
     """Σ (A'')² Δx [m] of the sectional-area curve A(x) at ``draft`` [m above the baseline] (second divided
     differences over the stations): a fuller or hollower shoulder raises it.
 
@@ -71,7 +72,7 @@ def _turns(p):
     return jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1)), ds, s
 
 
-def section_roughness(sections: Sections, draft=None) -> Float[Array, ""]:
+def section_roughness(sections: Sections, draft: Draft | None = None) -> Float[Array, ""]:
     """The sections' variation of curvature [m⁻³]: the mean over stations of Σ (Δκ)²/Δs of each half-section
     polyline (κ the turning angle over the mean neighbouring segment length). A wavy section raises it.
 
@@ -107,7 +108,7 @@ def _turns4(sections: Sections) -> Float[Array, " n"]:
     return jax.vmap(one)(sections.yz)
 
 
-def section_knuckle(sections: Sections, draft=None) -> Float[Array, ""]:
+def section_knuckle(sections: Sections, draft: Draft | None = None) -> Float[Array, ""]:
     """The sections' knuckles [rad⁴]: the mean over stations of Σ θ⁴, θ the turning angle between neighbouring
     segments of each half-section polyline — a soft maximum of the sharpest turn, which
     :func:`section_roughness` misses where a knuckle sits beside a long segment. ``"<= 2 * parent"`` lets no
@@ -128,7 +129,7 @@ def section_knuckle(sections: Sections, draft=None) -> Float[Array, ""]:
     return jnp.mean(_turns4(sections))
 
 
-def station_knuckles(sections: Sections, draft=None) -> Float[Array, " n"]:
+def station_knuckles(sections: Sections, draft: Draft | None = None) -> Float[Array, " n"]:
     """Each station's knuckles ``(n,)`` [rad⁴]: Σ θ⁴ as :func:`section_knuckle`, floored at
     :data:`KNUCKLE_FLOOR`. As a constraint every station is held against the parent's same station: the mean
     over stations is ruled by a real hull's sharpest turns (on the KCS, 99 % of it is a 66° turn at the skeg
@@ -149,7 +150,7 @@ def station_knuckles(sections: Sections, draft=None) -> Float[Array, " n"]:
     return jnp.maximum(_turns4(sections), KNUCKLE_FLOOR)
 
 
-def unfairness_measure(sections: Sections, draft=None) -> Float[Array, ""]:
+def unfairness_measure(sections: Sections, draft: Draft | None = None) -> Float[Array, ""]:
     """:func:`~hullopt.fairing.unfairness` as a measure (the draft unused)."""
     return unfairness(sections)
 
