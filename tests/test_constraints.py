@@ -295,3 +295,49 @@ def test_the_roughness_warning_names_a_distribution_that_blends_frames(curves, h
     hint = blend_hint(cfg, load_study(cfg).problem)
     assert ('curves = "stations"' in hint and "design.distribution[0]" in hint) == hinted
     assert bool(hint) == hinted
+
+
+def test_waterline_angles_of_a_wigley_by_the_closed_form():
+    """Half-angles of entrance and run at six heights up to the DWL: on a Wigley y = B/2 (1 − ξ²)(1 − ζ²) the
+    chord from the end to the next station (ξ = 0.95) is atan(B/2 · 0.0975 · (1 − ζ²) / Δx), the same at both
+    ends; a blunter bow raises the entrance only; the gradient is finite and matches differences."""
+    from helpers import check_grad
+
+    from hullopt.fairing import WATERLINE_FRACTIONS, entrance_angle, run_angle, waterline_angles
+    from hullopt.geometry import Sections
+    from hullopt.models import wigley
+
+    s = wigley(100.0, 10.0, 6.25, 6.25, n=41, m=25)  # the heights k/6 · T lie on section points
+    zeta = 1.0 - np.asarray(WATERLINE_FRACTIONS)
+    expected = np.arctan(5.0 * 0.0975 * (1.0 - zeta**2) / 2.5)
+    got = np.asarray(jax.jit(waterline_angles)(s, 6.25))
+    np.testing.assert_allclose(got, [expected, expected], rtol=1e-12)
+    assert float(entrance_angle(s, 6.25)) == pytest.approx(expected[-1], rel=1e-12)  # iE, at the DWL
+    blunt = Sections(s.x, s.yz.at[-2, :, 0].multiply(1.5), s.lpp)
+    assert float(entrance_angle(blunt, 6.25)) > float(entrance_angle(s, 6.25))
+    assert float(run_angle(blunt, 6.25)) == pytest.approx(float(run_angle(s, 6.25)), rel=1e-12)
+    check_grad(jax.jit(lambda a: entrance_angle(Sections(s.x, s.yz * jnp.array([1.0 + a[0], 1.0]), s.lpp), 6.25)),
+               np.array([0.1]), rtol=1e-6)
+
+
+def test_sac_regions_add_up_and_place_a_shoulder():
+    """Σ (A'')² Δx per region adds up to the whole curve's; a fuller fore shoulder shows in its region."""
+    from hullopt.fairing import sac_regions, sac_roughness
+    from hullopt.geometry import Sections
+    from hullopt.models import wigley
+
+    s = wigley(100.0, 10.0, 6.25, 10.0, n=41, m=21)
+    r = np.asarray(sac_regions(s, 6.25))
+    assert r.sum() == pytest.approx(float(sac_roughness(s, 6.25)), rel=1e-12)
+    fuller = Sections(s.x, s.yz.at[26, :, 0].multiply(1.2), s.lpp)  # x = 65 m: the fore shoulder
+    d = np.asarray(sac_regions(fuller, 6.25)) - r
+    assert d[2] > 10 * max(abs(d[0]), abs(d[1]), abs(d[3]))
+
+
+def test_local_shape_measures_are_constraints():
+    from hullopt import fairing
+    from hullopt.study import limits_from
+
+    cfg = RunConfig.model_validate(_raw(waterline_angles="<= 1.1 * parent", sac_regions="<= 2 * parent"))
+    lim = limits_from(cfg)
+    assert lim.measures == (fairing.waterline_angles, fairing.sac_regions) and lim.relative == (True, True)

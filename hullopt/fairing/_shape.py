@@ -10,7 +10,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._types import Draft
-from ..geometry import Sections, safe_norm, section_integrals
+from ..geometry import Sections, closed_half_polygon, level_widths, safe_norm, section_integrals
 from ._unfairness import unfairness
 
 MERGE = 1e-3
@@ -150,6 +150,117 @@ def station_knuckles(sections: Sections, draft: Draft | None = None) -> Float[Ar
     return jnp.maximum(_turns4(sections), KNUCKLE_FLOOR)
 
 
+WATERLINE_FRACTIONS = (1 / 6, 2 / 6, 3 / 6, 4 / 6, 5 / 6, 1.0)
+"""The heights of :func:`waterline_angles`, as fractions of the draft above the keel (the last: the DWL)."""
+
+SAC_REGIONS = ((0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0))
+"""The regions of :func:`sac_regions` as fractions of the stations' span from aft: the run, the aft shoulder, the
+fore shoulder and the entrance."""
+
+
+def _end_angles(x, y):
+    """Half-angles [rad] of a waterline ``y (n,)`` [m] at stations ``x (n,)`` [m] at its aft and fore ends: the
+    chord from where it leaves the centreline (or from the end station, a transom) to the next station."""
+    n = x.shape[0]
+    wet = jax.lax.stop_gradient(y > MERGE)
+    idx = jnp.arange(n)
+    first = jnp.min(jnp.where(wet, idx, n - 1))
+    last = jnp.max(jnp.where(wet, idx, 0))
+    a = jnp.clip(first - 1, 0, n - 2)
+    f = jnp.clip(last + 1, 1, n - 1)
+    run = jnp.arctan2(y[a + 1] - y[a], x[a + 1] - x[a])
+    entrance = jnp.arctan2(y[f - 1] - y[f], x[f] - x[f - 1])
+    return jnp.stack([entrance, run])
+
+
+def waterline_angles(sections: Sections, draft: Draft) -> Float[Array, "2 h"]:
+    """Half-angles [rad] of entrance (row 0, at the fore end) and of the run (row 1, at the aft end) of the
+    waterlines at the heights :data:`WATERLINE_FRACTIONS` of the draft above the keel; the entrance at the DWL
+    (the last column) is the half-angle of entrance iE. Each is the chord from the waterline's end (where it
+    leaves the centreline, or the end station where it does not) to the next station: a fuller or blunter end
+    raises it; a run's angle beyond about 20° risks separation.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (2, h)
+        Entrance and run half-angles [rad] at each height.
+    """
+    keel = jax.lax.stop_gradient(jnp.min(sections.yz[..., 1]))
+    z = keel + (draft - keel) * jnp.asarray(WATERLINE_FRACTIONS)
+    y = level_widths(closed_half_polygon(sections.yz), z)  # (n, h)
+    return jax.vmap(lambda col: _end_angles(sections.x, col), in_axes=1, out_axes=1)(y)
+
+
+def entrance_angle(sections: Sections, draft: Draft) -> Float[Array, ""]:
+    """The largest waterline half-angle of entrance [rad] over the heights of :func:`waterline_angles`.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull.
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, scalar
+        The bluntest entrance [rad].
+    """
+    return jnp.max(waterline_angles(sections, draft)[0])
+
+
+def run_angle(sections: Sections, draft: Draft) -> Float[Array, ""]:
+    """The largest waterline half-angle of the run [rad] over the heights of :func:`waterline_angles`.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull.
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, scalar
+        The steepest run [rad].
+    """
+    return jnp.max(waterline_angles(sections, draft)[1])
+
+
+def sac_regions(sections: Sections, draft: Draft) -> Float[Array, " 4"]:
+    """Σ (A'')² Δx [m] of the sectional-area curve per region of :data:`SAC_REGIONS` (run, aft shoulder, fore
+    shoulder, entrance): a sharper shoulder or a hollow run shows in its own region, which
+    :func:`sac_roughness` (one sum over the length, ruled by the sharpest feature anywhere) does not tell apart.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (4,)
+        The regions' Σ (A'')² Δx [m]; they add up to :func:`sac_roughness`.
+    """
+    x, a = sections.x, 2.0 * section_integrals(sections, draft).area
+    h0, h1 = jnp.diff(x)[:-1], jnp.diff(x)[1:]
+    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
+    terms = d2**2 * 0.5 * (h0 + h1)
+    t = jax.lax.stop_gradient((x[1:-1] - x[0]) / (x[-1] - x[0]))
+    edges = [lo for lo, _ in SAC_REGIONS] + [SAC_REGIONS[-1][1]]
+    return jnp.stack([jnp.sum(jnp.where((t >= lo) & ((t < hi) | (hi == edges[-1])), terms, 0.0))
+                      for lo, hi in SAC_REGIONS])
+
+
 def unfairness_measure(sections: Sections, draft: Draft | None = None) -> Float[Array, ""]:
     """:func:`~hullopt.fairing.unfairness` as a measure (the draft unused)."""
     return unfairness(sections)
@@ -157,10 +268,13 @@ def unfairness_measure(sections: Sections, draft: Draft | None = None) -> Float[
 
 SHAPE_MEASURES = {"unfairness": unfairness_measure, "sac_roughness": sac_roughness,
                   "section_roughness": section_roughness, "section_knuckle": section_knuckle,
-                  "station_knuckles": station_knuckles}
+                  "station_knuckles": station_knuckles, "waterline_angles": waterline_angles,
+                  "entrance_angle": entrance_angle, "run_angle": run_angle, "sac_regions": sac_regions}
 """The shape measures a design's ``[constraints]`` may name (``name = "<= 2 * parent"``), by name: each
-``measure(sections, draft)``. ``station_knuckles`` is one value per station (a constraint, not a report value)."""
+``measure(sections, draft)``. ``station_knuckles``, ``waterline_angles`` and ``sac_regions`` are one value per
+station, height or region, each held against the parent's same one (constraints, not report values)."""
 
 SHAPE_UNITS = {"unfairness": "-", "sac_roughness": "m", "section_roughness": "m⁻³", "section_knuckle": "rad⁴",
-         "station_knuckles": "rad⁴"}
+         "station_knuckles": "rad⁴", "waterline_angles": "rad", "entrance_angle": "rad", "run_angle": "rad",
+               "sac_regions": "m"}
 """The units of :data:`SHAPE_MEASURES` (``"-"``: dimensionless)."""

@@ -46,6 +46,16 @@ OBJECTIVE_UNITS: dict[str, tuple[str, str, float]] = {
     "calm_resistance": ("calm-water resistance R_T", "kN", 1e-3),
     "calm_resistance_michell": ("calm-water resistance (Michell) R_T", "kN", 1e-3),
     "wind_added_resistance": ("wind added resistance R_AA", "kN", 1e-3),
+    "profile_resistance": ("operating profile R_T + R_AW", "kN", 1e-3),
+    "profile_power": ("operating profile power P_E", "kW", 1e-3),
+}
+# the shape measures a report compares (fairing.SHAPE_MEASURES): the same triples
+SHAPE_UNITS: dict[str, tuple[str, str, float]] = {
+    "unfairness": ("unfairness U", "", 1), "sac_roughness": ("SAC roughness Σ (A'')² Δx", "m", 1),
+    "section_roughness": ("section roughness Σ (Δκ)²/Δs", "m⁻³", 1),
+    "section_knuckle": ("section knuckles Σ θ⁴", "rad⁴", 1),
+    "entrance_angle": ("waterline half-angle of entrance (largest)", "°", 180.0 / math.pi),
+    "run_angle": ("waterline half-angle of the run (largest)", "°", 180.0 / math.pi),
 }
 
 
@@ -64,7 +74,7 @@ def units_of(key: str) -> tuple[str, str, float]:
     tuple of (str, str, float)
         ``(label, displayed unit, factor from SI)``; an unknown key as it is, with no unit and factor 1.
     """
-    known = {**PARTICULARS, **TARGET_UNITS, **OBJECTIVE_UNITS}
+    known = {**PARTICULARS, **TARGET_UNITS, **OBJECTIVE_UNITS, **SHAPE_UNITS}
     if key in known:
         return known[key]
     unit = getattr(OBJECTIVES.get(key), "unit", "") if isinstance(OBJECTIVES, dict) else ""

@@ -27,8 +27,9 @@ SI_UNITS = {"volume": "m³", "displacement": "kg", "wetted_surface": "m²", "lcb
 ROUGHNESS = 2.0
 """A design's sectional-area curve or sections rougher than this many times the parent's is warned of."""
 
-COMPARED = ("unfairness", "sac_roughness", "section_roughness")
-"""The shape measures every report compares, parent and design (the roughness warnings read the last two)."""
+COMPARED = ("unfairness", "sac_roughness", "section_roughness", "entrance_angle", "run_angle")
+"""The shape measures every report compares, parent and design (the roughness warnings read sac_roughness and
+section_roughness; the largest waterline half-angles of entrance and run, in rad)."""
 
 
 def report_measures(cfg: RunConfig, d: Design) -> dict:
