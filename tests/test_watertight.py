@@ -12,7 +12,8 @@ import pytest
 import trimesh
 
 from hullopt.geometry import Sections, to_trimesh
-from hullopt.geometry._mesh import TINY_FACE, export_mesh
+from hullopt.geometry import export_mesh
+from hullopt.geometry._mesh import TINY_FACE
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIGS = REPO / "configs"

@@ -14,5 +14,6 @@ from ._offsets import SEED003_STATIONS as SEED003_STATIONS
 from ._offsets import half_breadths as half_breadths
 from ._offsets import station_label as station_label
 from ._offsets import write_offsets_stations as write_offsets_stations
+from ._offsets import write_offset_grid as write_offset_grid
 from ._offsets import write_offsets_wide as write_offsets_wide
 from ._save import save_figure as save_figure

@@ -10,6 +10,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
+from jaxtyping import ArrayLike, Float
 
 from .._types import Stations, Waterlines
 from ..geometry import SAME_POINT, TINY_LENGTH, Sections, atomic_write_bytes
@@ -82,6 +83,36 @@ def _write(path, header: list[str], rows: list[list[str]], meta: dict[str, str],
     lines += [",".join(r) for r in rows]
     atomic_write_bytes(path, ("\n".join(lines) + "\n").encode())
     return Path(path)
+
+
+def write_offset_grid(path: str | os.PathLike, x: Stations | Sequence[float], z: Waterlines,
+                      y: Float[ArrayLike, "nx nz"], lpp: float, comment: str) -> Path:
+    """An offset table given as a grid, in the wide layout (header ``x,<z1>,…``, one row per station), at full
+    precision (a faired table read back is the table faired), written atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file to write.
+    x : (nx,) array_like
+        Station positions [m from the AP].
+    z : (nz,) array_like
+        Waterline heights [m above the baseline].
+    y : (nx, nz) array_like
+        Half-breadths [m].
+    lpp : float
+        Length between perpendiculars [m] (the ``# lpp`` line).
+    comment : str
+        The first comment line (what the table is).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    rows = [[f"{xi:.17g}", *(f"{v:.9f}" for v in row)] for xi, row in zip(np.asarray(x, float), np.asarray(y, float))]
+    return _write(path, ["x", *(f"{v:.17g}" for v in np.asarray(z, float))], rows, {"lpp": f"{float(lpp):.17g}"},
+                  comment)
 
 
 def write_offsets_wide(sections: Sections, path: str | os.PathLike, x: Stations | Sequence[float] | None = None,

@@ -12,7 +12,7 @@ import jax.numpy as jnp
 import numpy as np
 import typer
 
-from ...drawing import save_figure
+from ...drawing import save_figure, write_offset_grid
 from ...errors import HullError
 from ...fairing import RESIDUALS, curve_curvature, graph_curvatures, measure
 from ...geometry import coons_surface
@@ -51,12 +51,6 @@ def hull_offsets(spec: str, stations: int, waterlines: int):
     x = np.linspace(xs[0], xs[-1], stations)
     y = np.array([np.interp(x, xs, per_station[:, j]) for j in range(waterlines)]).T
     return x, z, np.maximum(y, 0.0), float(s.lpp), h.design_draft, h.name
-
-
-def _write_offsets(path: Path, x, z, y, lpp: float, note: str) -> None:
-    lines = [f"# {note}", f"# lpp = {lpp:.17g}", "x," + ",".join(f"{v:.17g}" for v in z)]
-    lines += [f"{xi:.17g}," + ",".join(f"{v:.9f}" for v in row) for xi, row in zip(x, y)]
-    path.write_text("\n".join(lines) + "\n")
 
 
 @partial(jax.jit, static_argnums=(3, 4))
@@ -227,7 +221,7 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
     if out is not None:
         stage("writing the offsets and the plots")
         out.mkdir(parents=True, exist_ok=True)
-        _write_offsets(out / "faired_offsets.csv", x, z, res.y, lpp, f"{name} faired by hullopt ({measure_name})")
+        write_offset_grid(out / "faired_offsets.csv", x, z, res.y, lpp, f"{name} faired by hullopt ({measure_name})")
         report["files"] = [str(out / "report.json"), str(out / "faired_offsets.csv"),
                            *_plots(out, x, z, given, res.y, lpp, name)]
         write_json(out / "report.json", report)
