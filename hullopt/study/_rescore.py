@@ -1,8 +1,9 @@
 """A second opinion on a study's designs: each design and the parent re-scored by every calm-water method
 (Holtrop–Mennen, Michell, the panel method) and every added-resistance method a naval architect compares (NMRI,
-SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). A gain over the parent
-counts only if it holds under at least one method of each kind other than the objective's own, in every
-condition; each design where it does not is warned of.
+SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In the objective's
+kind a gain counts only if a method other than the objective's own finds the design lower than the parent at
+the profile (by more than :data:`HOLDS`: a method blind to the change confirms nothing) and nowhere higher off
+it; in the other kind, if one finds it nowhere higher. Each design where that fails is warned of.
 
 The operating points (:func:`conditions`): an operating-profile objective's own, else the objective's speeds
 with the sea state of the objective or of the sweep's measure. Each method's value is the profile's weighted
@@ -45,9 +46,9 @@ def _own_method(cfg: RunConfig) -> dict[str, str | None]:
     own = {"calm": None, "waves": None}
     if o is None:
         return own
-    if o.kind in ("calm_resistance", "calm_resistance_michell"):
+    if o.kind in ("calm_resistance", "calm_resistance_michell", "profile_resistance", "profile_power"):
         own["calm"] = o.method or o.build().method
-    elif o.kind == "mean_added_resistance":
+    if o.kind == "mean_added_resistance" or (o.kind.startswith("profile_") and o.build().waves):
         own["waves"] = "nmri"
     return own
 
@@ -158,12 +159,19 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             independent = [m for m in methods.values() if m["kind"] == kind and not m["own"]]
             if not independent:
                 continue
-            row[kind] = any(m["holds"][k] for m in independent)
-            if not row[kind]:
-                worst = ", ".join(f"{m['method']} {m['worst_pct'][k]:+.1f} %" for m in independent)
-                what = "calm-water resistance" if kind == "calm" else "added resistance in waves"
-                warnings.append(f"design {k}: no independent method finds its {what} at or below the parent's in "
-                                f"every condition of the profile and off it (worst change: {worst})")
+            what = "calm-water resistance" if kind == "calm" else "added resistance in waves"
+            worst = ", ".join(f"{m['method']} {m['change_pct'][k]:+.2f} % (worst {m['worst_pct'][k]:+.2f} %)"
+                              for m in independent)
+            if own[kind] is not None:  # the objective's kind: a gain, seen by an independent method too
+                row[kind] = any(m["holds"][k] and m["change_pct"][k] < -100.0 * HOLDS for m in independent)
+                if not row[kind]:
+                    warnings.append(f"design {k}: its gain in {what} is not confirmed by any independent method "
+                                    f"(lower than the parent's at the profile, and nowhere higher off it): {worst}")
+            else:  # the other kind: no loss
+                row[kind] = any(m["holds"][k] for m in independent)
+                if not row[kind]:
+                    warnings.append(f"design {k}: no independent method finds its {what} at or below the "
+                                    f"parent's in every condition of the profile and off it: {worst}")
         verdict.append(row)
     rescored = {"conditions": {**cond, "speed_factors": list(SPEED_FACTORS), "tp_shifts_s": list(TP_SHIFTS)},
                 "methods": methods, "verdict": verdict}
