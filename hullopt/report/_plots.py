@@ -143,8 +143,9 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     """Solver convergence on log scales.
 
     A fit (``violation`` None): the cost (the sum of squared scaled residuals, penalties included) after each step.
-    A constrained minimum: ``history`` the objective alone after each round (scaled to 1 at the parent; the
-    fairness and smoothness penalties the solver adds are the report's merit series) above ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
+    A constrained minimum: ``history`` the objective alone after each round (scaled to 1 at the parent, drawn as
+    round 0; the fairness and smoothness penalties the solver adds are the report's merit series) above
+    ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
     Non-finite entries (rounds or steps not taken) are left out.
 
     Parameters
@@ -176,9 +177,10 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
         ax.grid(alpha=0.3, which="both")
         ax.set_title(title or "Convergence of the fit", loc="left", fontsize=10)
         return _save(fig, path)
-    v = np.asarray(violation, dtype=float)
+    v = np.concatenate([[np.nan], np.asarray(violation, dtype=float)])  # round 0: the parent, where the
+    h = np.concatenate([[1.0], h])  # objective is 1 by its scaling (the rounds then read as the gain they make)
     fig, (ax1, ax2) = _figure(2, 1, figsize=(6.5, 5.5), sharex=True)
-    it = np.arange(1, len(h) + 1)
+    it = np.arange(len(h))
     ok = np.isfinite(h)
     ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), "o-", ms=4, color="C0")
     _log_labels(ax1)
@@ -186,7 +188,9 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     if fin.size and fin.min() > 0 and fin.max() / fin.min() < 10:  # within a decade: plain numbers on the ticks
         from matplotlib.ticker import FuncFormatter
 
-        plain = FuncFormatter(lambda v, _: f"{v:.3g}")
+        span = fin.max() - fin.min()
+        digits = max(3, int(np.ceil(-np.log10(span / fin.max()))) + 1) if span > 0 else 3
+        plain = FuncFormatter(lambda v, _: f"{v:.{digits}g}")
         ax1.yaxis.set_major_formatter(plain)
         ax1.yaxis.set_minor_formatter(plain)
     ax1.set_ylabel("objective / parent's [-]")
