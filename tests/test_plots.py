@@ -155,8 +155,10 @@ def test_convergence_shows_objective_and_violation_on_log_scales(tmp_path, drawn
     top, bottom = fig.axes
     assert top.get_yscale() == bottom.get_yscale() == "log"
     assert "objective" in top.get_ylabel() and "violation" in bottom.get_ylabel()
-    np.testing.assert_array_equal(top.get_lines()[0].get_ydata(), f)
+    np.testing.assert_array_equal(top.get_lines()[0].get_ydata(), [1.0, *f])  # round 0: the parent, 1
+    np.testing.assert_array_equal(top.get_lines()[0].get_xdata(), np.arange(5))
     np.testing.assert_array_equal(bottom.get_lines()[0].get_ydata(), v)
+    np.testing.assert_array_equal(bottom.get_lines()[0].get_xdata(), np.arange(1, 5))
     assert bottom.get_xlabel() == "augmented-Lagrangian round"
     assert any(np.all(np.asarray(ln.get_ydata()) == 1.0) for ln in bottom.get_lines())  # the tolerance line
     plot_convergence(np.array([4.0, 1.0, 0.1, np.nan]), tmp_path / "fit.png")  # a fit: the cost per step
