@@ -52,6 +52,7 @@ def _load(tmp_path, kind="profile_resistance", extra=""):
 
 
 @pytest.mark.parametrize("kind", ["profile_resistance", "profile_power"])
+@pytest.mark.slow
 def test_profile_is_the_weighted_sum_of_the_methods_point_by_point(tmp_path, kind):
     hull = wigley(100.0, 10.0, 6.25, 10.0, n=41, m=11)
     objective = _load(tmp_path, kind).objective.build()

@@ -277,6 +277,7 @@ def test_target_kinds_measure_as_the_hydrostatics_say():
         TARGET_KINDS["gm"].measure(hull, 6.25)
 
 
+@pytest.mark.slow
 def test_fit_by_lbfgsb_meets_the_target_and_ends_on_an_active_bound():
     """A Wigley fit by both solvers to two Cb targets (one program): +4 % (reachable; both meet it) and +30 %
     (beyond the bounds: the fullness parameter is stopped by its bound). L-BFGS-B keeps every parameter within
@@ -326,6 +327,7 @@ def test_solver_method_is_a_config_choice():
         SolverConfig(method="bfgs")
 
 
+@pytest.mark.slow
 def test_a_minimums_history_keeps_the_objective_apart_from_the_merit():
     """The convergence a run shows is the objective's (scaled to 1 at the parent); the merit the solver minimises
     (objective + fairness + smoothness penalties: 0.5 U/U₀ here) is its own series. A Wigley whose

@@ -138,6 +138,7 @@ def test_vmap_over_designs_equals_each():
     np.testing.assert_allclose(np.asarray(jax.vmap(f)(scales)), [float(f(s)) for s in scales], rtol=1e-10)
 
 
+@pytest.mark.slow
 def test_wave_pattern_is_kelvins():
     """The far-field pattern of the Wigley at Fn 0.3: transverse waves on the centreline behind it at the
     wavelength 2πU²/g (within 2 %), calm ahead of the bow, and its waves inside the Kelvin wedge (19.47° from

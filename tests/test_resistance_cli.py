@@ -90,6 +90,7 @@ def test_bad_input_is_one_clear_line(capsys, args, needle):
     assert code == 2 and needle in err and err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_run_report_warns_when_calm_methods_disagree():
     """A run's report warns when its parent's calm-water R_T by Holtrop–Mennen and by Michell differ by more
     than 1.5× (the KCS bow sweep at 24 kn: 1875 vs 4104 kN), naming Michell as outside its validity; not when

@@ -91,6 +91,7 @@ def test_weld_makes_degenerate_grids_valid_in_float32(tmp_path):
 # ------------------------------------------------------------------------------------------------- writers
 
 
+@pytest.mark.slow
 def test_run_writes_a_valid_hull_and_offsets_that_read_back(cli, tmp_path):
     """`hullopt run` (the Wigley fit): hull.stl valid as read back; it and offsets.csv give the run's ∇ and
     LCB back through `hullopt hydro`."""

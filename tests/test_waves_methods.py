@@ -42,6 +42,7 @@ def test_all_methods_side_by_side(capsys, monkeypatch):
     assert d["methods"]["snnm"]["includes"] == d["methods"]["stawave2"]["includes"] == "motion + reflection, empirical"
 
 
+@pytest.mark.slow
 def test_all_methods_table_and_plot_legend(capsys, monkeypatch, tmp_path):
     """The table lists every method with what it includes and its mean R_AW [kN]; the plot's legend (outside the
     axes) names each curve: the method's total and what it counts, NMRI's two parts and its short-wave level."""
@@ -123,6 +124,7 @@ STORED = {
 
 
 @pytest.mark.parametrize("name", list(STORED))
+@pytest.mark.slow
 def test_method_class_gives_the_stored_values(name):
     """Each method through its class (regular waves, the sea-state mean long- and short-crested, the heading
     breaks) gives the values the functions gave before, and the public functions dispatch to it unchanged."""
