@@ -26,6 +26,15 @@ KNUCKLE_FLOOR = np.deg2rad(5.0) ** 4
 relative to a parent's nearly straight station still allows it a gentle turn."""
 
 
+def _sac_terms(sections: Sections, draft: Draft) -> Float[Array, " n2"]:
+    """(A'')² Δx [m] at the inner stations of the sectional-area curve A(x) at ``draft`` (second divided
+    differences; Δx the mean of the neighbouring spacings)."""
+    x, a = sections.x, 2.0 * section_integrals(sections, draft).area
+    h0, h1 = jnp.diff(x)[:-1], jnp.diff(x)[1:]
+    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
+    return d2**2 * 0.5 * (h0 + h1)
+
+
 def sac_roughness(sections: Sections, draft: Draft) -> Float[Array, ""]:
     """Σ (A'')² Δx [m] of the sectional-area curve A(x) at ``draft`` [m above the baseline] (second divided
     differences over the stations): a fuller or hollower shoulder raises it.
@@ -42,10 +51,7 @@ def sac_roughness(sections: Sections, draft: Draft) -> Float[Array, ""]:
     Array, scalar
         Σ (A'')² Δx [m].
     """
-    x, a = sections.x, 2.0 * section_integrals(sections, draft).area
-    h0, h1 = jnp.diff(x)[:-1], jnp.diff(x)[1:]
-    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
-    return jnp.sum(d2**2 * 0.5 * (h0 + h1))
+    return jnp.sum(_sac_terms(sections, draft))
 
 
 def _compact(keep, *arrays):
@@ -251,10 +257,7 @@ def sac_regions(sections: Sections, draft: Draft) -> Float[Array, " 4"]:
     Array, (4,)
         The regions' Σ (A'')² Δx [m]; they add up to :func:`sac_roughness`.
     """
-    x, a = sections.x, 2.0 * section_integrals(sections, draft).area
-    h0, h1 = jnp.diff(x)[:-1], jnp.diff(x)[1:]
-    d2 = 2.0 * ((a[2:] - a[1:-1]) / h1 - (a[1:-1] - a[:-2]) / h0) / (h0 + h1)
-    terms = d2**2 * 0.5 * (h0 + h1)
+    terms, x = _sac_terms(sections, draft), sections.x
     t = jax.lax.stop_gradient((x[1:-1] - x[0]) / (x[-1] - x[0]))
     edges = [lo for lo, _ in SAC_REGIONS] + [SAC_REGIONS[-1][1]]
     return jnp.stack([jnp.sum(jnp.where((t >= lo) & ((t < hi) | (hi == edges[-1])), terms, 0.0))
