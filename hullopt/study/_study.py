@@ -102,8 +102,8 @@ def _digest(parent: FeatureHull) -> str:
 
 
 class Study(abc.ABC):
-    """A design study of a config on a parent: :attr:`problem` (the :class:`~hullopt.study.Problem`) and
-    :meth:`solve`. Subclasses set ``kind`` (the config's), ``title`` (what the progress display shows),
+    """A design study of a config on a parent: :attr:`problem` (the :class:`~hullopt.study.Problem`),
+    :meth:`solve`, and the second look at its designs (:meth:`assess`, :meth:`rescore`). Subclasses set ``kind`` (the config's), ``title`` (what the progress display shows),
     ``limits`` (whether ``[constraints]`` hold) and ``fairness`` (the default fairness weight)."""
 
     kind: ClassVar[str]
@@ -147,7 +147,6 @@ class Study(abc.ABC):
         objectives, warnings = assess(self.cfg, self.problem, solution.designs, self.key)
         who = "" if solution.final else "design {k}: "
         return objectives, bound_warnings(self.problem, solution.designs, who) + warnings
-
 
     def rescore(self, designs: list[FeatureParams]) -> tuple[dict | None, list[str]]:
         """The designs and the parent re-scored by every method of each kind (:func:`~hullopt.study.rescore`);
