@@ -10,7 +10,7 @@ Every command prints through here so that the terminal reads the same everywhere
   it, sized to fit 100 columns;
 - :func:`say`, :func:`warn`, :func:`busy` — plain messages (no markup), warnings on stderr, a progress spinner
   with the elapsed time on anything slow;
-- :data:`EXIT_CODES` — the exit codes of every command, documented in ``hullopt --help`` and the README.
+- :data:`EXIT_CODES` — the exit codes of every command, documented in ``hullopt --help`` and docs/cli.md.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@
     parent.json   the parent it deformed        hull.stl      the final hull (closed mesh; Lpp, draft in its header)
     offsets.csv   its offset table (wide layout)
     body_plan.png, sectional_area.png, convergence.png, pareto.png (sweeps), chunks/ (sweeps)
-    report.html   the run as one self-contained page (3D hulls, plots, tables: :mod:`hullopt.app.report`)
+    report.html   the run as one self-contained page (3D hulls, plots, tables: :mod:`hullopt.report`)
 """
 
 from __future__ import annotations

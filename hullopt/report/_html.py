@@ -8,7 +8,7 @@ its ``<head>`` and every figure is drawn from data embedded beside it, so it ope
   surface grid, :func:`hullopt.geometry.surface_grid`), the body plan and the sectional-area curves at the
   draft;
 * the targets (wanted, achieved, error, tolerance, met), the particulars and objectives parent → design, each
-  with its unit (:mod:`hullopt.app.output`: resistances in kN, displacement in t);
+  with its unit (:mod:`hullopt.report`'s units: resistances in kN, displacement in t);
 * convergence: each series the run recorded (``report.json``'s ``history``) against the iteration, log scale;
 * for a sweep, the Pareto front (in kN) with each design's Bf to 3 decimals on hover, and a table of designs
   linking to their hull files (``designs/<k>/hull.stl``) where the folder has them.
@@ -524,7 +524,7 @@ def _signed(v: float, ref: float) -> str:
 
 def _shown(key: str, unit: str | None = None) -> tuple[str, str, float]:
     """``(label with unit, displayed unit, factor from SI)`` of a report key: a known particular or objective
-    by :mod:`hullopt.app.output`'s tables, any other by the SI ``unit`` the report gives (N → kN, kg → t)."""
+    by :func:`units_of`, any other by the SI ``unit`` the report gives (N → kN, kg → t)."""
     lab, (_, u) = label(key), displayed(key, 0.0)
     if u or unit in (None, "", "-"):
         return lab, u, displayed(key, 1.0)[0]

@@ -73,7 +73,7 @@ def conditions(cfg: RunConfig) -> dict:
     return {"speeds_kn": speeds, "weights": weights, "sea_states": [sea] * len(speeds)}
 
 
-CONDITIONS = ((1.0, 0.0), (0.9, 0.0), (1.1, 0.0), (1.0, -2.0), (1.0, 2.0))
+CONDITIONS = ((1.0, 0.0), *((f, 0.0) for f in SPEED_FACTORS if f != 1.0), *((1.0, t) for t in TP_SHIFTS if t))
 """(speed factor, T_p shift [s]) of the conditions every design is re-scored in: the profile, ±10 % speed, ±2 s
 T_p (calm water sees only the first three)."""
 

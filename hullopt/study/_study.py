@@ -84,7 +84,7 @@ class Solution:
     """What a study's solve found.
 
     ``report``: the JSON-able results (``kind``, ``converged``, ``met``, ``iterations``, …; see
-    :func:`hullopt.app.run.run`); ``outcome``: the parent and the final design measured (a sweep: the parent
+    :func:`hullopt.app.run.run`, which writes it as ``report.json``); ``outcome``: the parent and the final design measured (a sweep: the parent
     twice); ``designs``: the parameters of the designs to assess and write (one, or the sweep's); ``final``:
     whether there is one final hull (a sweep's hulls are its designs); ``partial``: a shard of a sweep whose other
     chunks are not done yet (nothing to assess or write)."""

@@ -50,7 +50,7 @@ def _parse_params(text: str) -> np.ndarray:
 
 def includes(method: str, motion: bool = True) -> str:
     """What ``method``'s R_AW counts (its class's description; ``hullopt waves --method all`` prints it beside
-    its numbers; the README says which to use when)."""
+    its numbers; docs/methods.md says which to use when)."""
     return WAVE_METHODS[method]().label(motion)
 
 
@@ -218,7 +218,7 @@ def _print_all(out: dict) -> None:
                for m, r in per.items()])
     table(f"R_AW in regular waves [kN], ζ = {out['amplitude']:g} m", ["λ/L", *per],
           [[f"{x:.3f}", *(r["r_aw"][i] / 1e3 for r in per.values())] for i, x in enumerate(out["lambda_over_l"])],
-          caption="Which method when: see the README (Added resistance in waves: which method).")
+          caption="Which method when: docs/methods.md (linked from the README).")
 
 
 def _plot(path: Path, out: dict) -> None:
