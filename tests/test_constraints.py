@@ -10,16 +10,16 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hullopt.study import FAIRNESS, RunConfig, parse_bound
+from hullopt.study import DEFAULT_LIMITS, FAIRNESS, RunConfig, parse_bound
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
 @pytest.mark.parametrize("text, expected", [
-    ("<= parent", (1, 1.0, True)),
-    (">= 0.98 * parent", (-1, 0.98, True)),
-    ("<=1.2e5", (1, 1.2e5, False)),
-    (" >= -3 ", (-1, -3.0, False)),
+    ("<= parent", (1, 1.0, True, 0.0)),
+    (">= 0.98 * parent", (-1, 0.98, True, 0.0)),
+    ("<=1.2e5", (1, 1.2e5, False, 0.0)),
+    (" >= -3 ", (-1, -3.0, False, 0.0)),
 ])
 def test_bounds_parse(text, expected):
     assert parse_bound("x", text) == expected
@@ -70,7 +70,8 @@ def test_an_option_of_another_objective_kind_is_an_error_naming_the_kind(overrid
 
 def test_objective_constraints_take_the_objectives_options():
     cfg = RunConfig.model_validate(_raw(calm_resistance="<= parent", wetted_surface="<= 1.01 * parent"))
-    assert cfg.constraints.bounds() == {"calm_resistance": (1, 1.0, True), "wetted_surface": (1, 1.01, True)}
+    own = {k: v for k, v in cfg.constraints.bounds().items() if k not in DEFAULT_LIMITS}
+    assert own == {"calm_resistance": (1, 1.0, True, 0.0), "wetted_surface": (1, 1.01, True, 0.0)}
     assert cfg.constraint_options("calm_resistance").speed_kn == cfg.objective.speed_kn
     raw = _raw(mean_added_resistance="<= parent")
     raw["objective"] = {"kind": "calm_resistance", "speed_kn": 15.0}  # no sea state for the constraint
@@ -144,14 +145,16 @@ def test_roughness_constraints_are_parsed_and_reach_the_limits():
 
     cfg = RunConfig.model_validate(_raw(sac_roughness="<= 2 * parent", section_roughness="<= 2 * parent",
                                         unfairness="<= 1.5 * parent"))
-    assert cfg.constraints.bounds()["sac_roughness"] == (1, 2.0, True)
+    assert cfg.constraints.bounds()["sac_roughness"] == (1, 2.0, True, 0.0)
     lim = limits_from(cfg)
-    assert lim.names == ("sac_roughness", "section_roughness", "unfairness")
-    assert lim.measures[:2] == (fairing.sac_roughness, fairing.section_roughness)
-    per_station = limits_from(RunConfig.model_validate(_raw(station_knuckles="<= 2 * parent")))
-    assert per_station.measures == (fairing.station_knuckles,) and per_station.relative == (True,)
+    named = dict(zip(lim.names, lim.measures))
+    assert {"sac_roughness", "section_roughness", "unfairness"} <= set(named)
+    assert (named["sac_roughness"], named["section_roughness"]) == (fairing.sac_roughness, fairing.section_roughness)
+    per_station = limits_from(RunConfig.model_validate(_raw(station_knuckles="<= 3 * parent")))
+    k = per_station.names.index("station_knuckles")
+    assert per_station.measures[k] == fairing.station_knuckles and float(per_station.values[k]) == 3.0
     shipped = RunConfig.model_validate(tomllib.loads((CONFIGS / "min_added_resistance.toml").read_text()))
-    assert {"sac_roughness", "section_roughness"} <= set(shipped.constraints.bounds())
+    assert {"sac_roughness", "section_roughness", "station_knuckles"} <= set(shipped.constraints.bounds())
 
 
 def test_sac_roughness_by_hand_and_against_the_report():
@@ -338,6 +341,8 @@ def test_local_shape_measures_are_constraints():
     from hullopt import fairing
     from hullopt.study import limits_from
 
-    cfg = RunConfig.model_validate(_raw(waterline_angles="<= 1.1 * parent", sac_regions="<= 2 * parent"))
+    cfg = RunConfig.model_validate(_raw(waterline_angles="<= 1.1 * parent", sac_regions="<= 3 * parent"))
     lim = limits_from(cfg)
-    assert lim.measures == (fairing.waterline_angles, fairing.sac_regions) and lim.relative == (True, True)
+    named = {k: (m, float(v)) for k, m, v in zip(lim.names, lim.measures, lim.values)}
+    assert named["waterline_angles"] == (fairing.waterline_angles, 1.1)
+    assert named["sac_regions"] == (fairing.sac_regions, 3.0)

@@ -183,16 +183,16 @@ def test_objectives_registry_is_built_from_the_classes():
     exactly the registered kinds; a new subclass is one class (registered on definition)."""
     from hullopt.study import OPTIONS
 
-    from hullopt.optimise import ProfilePower, ProfileResistance
+    from hullopt.optimise import ProfileAddedResistance, ProfilePower, ProfileResistance
 
     assert OBJECTIVES == {"k_aw": KAw, "mean_added_resistance": MeanAddedResistance,
                           "calm_resistance": CalmResistance, "calm_resistance_michell": MichellCalmResistance,
                           "wind_added_resistance": WindAddedResistance, "profile_resistance": ProfileResistance,
-                          "profile_power": ProfilePower}
+                          "profile_power": ProfilePower, "profile_added_resistance": ProfileAddedResistance}
     assert {k: c.unit for k, c in OBJECTIVES.items()} == {"k_aw": "-", "mean_added_resistance": "N",
                                                           "calm_resistance": "N", "calm_resistance_michell": "N",
                                                           "wind_added_resistance": "N", "profile_resistance": "N",
-                                                          "profile_power": "W"}
+                                                          "profile_power": "W", "profile_added_resistance": "N"}
     assert all(c.name == k and c.description and issubclass(c, Objective) for k, c in OBJECTIVES.items())
     assert {k: o.model_fields["kind"].annotation.__args__ for k, o in OPTIONS.items()} == {k: (k,) for k in OBJECTIVES}
     assert all(set(o.model_fields) == {"kind", *OBJECTIVES[k].options} for k, o in OPTIONS.items())

@@ -161,8 +161,13 @@ def test_convergence_shows_objective_and_violation_on_log_scales(tmp_path, drawn
     np.testing.assert_array_equal(bottom.get_lines()[0].get_xdata(), np.arange(1, 5))
     assert bottom.get_xlabel() == "augmented-Lagrangian round"
     assert any(np.all(np.asarray(ln.get_ydata()) == 1.0) for ln in bottom.get_lines())  # the tolerance line
-    plot_convergence(np.array([4.0, 1.0, 0.1, np.nan]), tmp_path / "fit.png")  # a fit: the cost per step
-    assert drawn[1].axes[0].get_yscale() == "log" and len(drawn[1].axes[0].get_lines()[0].get_ydata()) == 3
+    # a fit: the cost from the start (step 0), levelling off at the smoothness penalty, and what converges
+    cost, err = np.array([4.0, 1.0, 0.1, 0.09, np.nan]), np.array([2.0, 1.0, 0.3, 0.01, np.nan])
+    plot_convergence(cost, tmp_path / "fit.png", "Levenberg–Marquardt step", violation=err, fit=True)
+    top, bottom = drawn[1].axes
+    np.testing.assert_array_equal(top.get_lines()[0].get_xdata(), np.arange(4))
+    np.testing.assert_array_equal(bottom.get_lines()[0].get_ydata(), err[:4])
+    assert "target error" in bottom.get_ylabel() and top.get_title(loc="left") == "Convergence of the fit"
 
 
 def test_pareto_in_kn_with_bf_labels(tmp_path, drawn):

@@ -24,9 +24,11 @@ from rich.progress import (
 from ..drawing import write_offsets_wide
 from ..models import save_features
 from ..report import (
+    OVERLAY_NAME,
     Hulls,
     plot_body_plans,
     plot_convergence,
+    plot_overlay,
     plot_pareto,
     plot_sectional_areas,
     write_json,
@@ -71,7 +73,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     m = solution.outcome
     report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
     report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
-    report["objectives"], report["warnings"] = study.assess(solution)
+    report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
     rescored, doubts = study.rescore(solution.designs)
     if rescored is not None:
         report["rescored"], report["rescored_warnings"] = rescored, doubts
@@ -80,7 +82,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         h = report["history"]
         series = dict(h["series"])  # the PNG: the first series (a fit's cost, a minimum's objective), violation below
         violation = series.pop(VIOLATION, None)
-        plot_convergence(next(iter(series.values())), out / "convergence.png", h["iteration"], violation=violation)
+        plot_convergence(next(iter(series.values())), out / "convergence.png", h["iteration"], violation=violation,
+                         fit=cfg.kind == "fit")
     if solution.final:
         _write_hull(m, d.draft, out)
         hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
@@ -99,13 +102,16 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
 def _write_hull(m: Outcome, draft, out: Path) -> None:
     """Write the final hull's files to ``out``: ``hull.stl`` [m] (refined along the length and welded for
     float32, checked as read back: closed, one body, no degenerate face), ``offsets.csv`` (dense enough that
-    ``hullopt hydro offsets.csv`` gives the run's ∇ back; knuckles and deck carried), and the body-plan and
-    sectional-area plots at ``draft`` [m]."""
+    ``hullopt hydro offsets.csv`` gives the run's ∇ back; knuckles and deck carried), and the body-plan,
+    sectional-area and overlay (body plan, waterlines, SAC against the parent) plots at ``draft`` [m]."""
     write_hull_file(m.after, out / "hull.stl", float(draft))
     write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)
     plot_body_plans(m.before, m.after, out / "body_plan.png", draft=float(draft),
                     title=f"Body plan: parent (dashed) and design {out.name} (stations 0 AP … 10 FP)")
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
+    who = f"Design {out.name}" if out.parent.name == "designs" else "The design"
+    plot_overlay(m.before, m.after, float(draft), out / OVERLAY_NAME,
+                 title=f"{who} against its parent at T = {float(draft):g} m (parent dashed)")
 
 
 @contextlib.contextmanager

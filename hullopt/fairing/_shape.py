@@ -61,21 +61,26 @@ def _compact(keep, *arrays):
     return (*(v[order] for v in arrays), jnp.sum(keep))
 
 
-def _turns(p):
-    """Turning angles [rad] between neighbouring segments of a half-section polyline ``p (m, 2)`` [m] and the
-    segment lengths [m], its centreline points and segments under :data:`MERGE` left out, as fixed-shape
-    arrays: ``(turn (m−2,), ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded: turns 0,
-    lengths 1 m). Finite gradients: the left-out entries are replaced before any division or angle."""
+def _turns(p, at: bool = False):
+    """Turning angles [rad] between neighbouring segments of a half-section polyline ``p (m, 2)`` [m] (keel to
+    deck: a convex section turns positive, a hollow or a flare negative) and the segment lengths [m], its
+    centreline points and segments under :data:`MERGE` left out, as fixed-shape arrays: ``(turn (m−2,),
+    ds (m−1,), s)`` with the ``s`` kept segments first (the rest padded: turns 0, lengths 1 m), and with ``at``
+    the heights of the turns' vertices ``z (m−2,)`` [m] (padded with +∞). Finite gradients: the left-out
+    entries are replaced before any division or angle."""
     p, k = _compact(jax.lax.stop_gradient(p[:, 0] > CENTRELINE), p)
     d = jnp.diff(p, axis=0)
     ds = safe_norm(d)
     idx = jnp.arange(d.shape[0])
-    d, ds, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > MERGE)), d, ds)
+    d, ds, start, s = _compact(jax.lax.stop_gradient((idx < k - 1) & (ds > MERGE)), d, ds, p[:-1, 1])
     ok = idx < s
     ds = jnp.where(ok, ds, 1.0)
     t = jnp.where(ok[:, None], d / ds[:, None], jnp.array([1.0, 0.0]))
     cross = t[:-1, 0] * t[1:, 1] - t[:-1, 1] * t[1:, 0]
-    return jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1)), ds, s
+    turn = jnp.arctan2(cross, jnp.sum(t[:-1] * t[1:], 1))
+    if not at:
+        return turn, ds, s
+    return turn, ds, s, jax.lax.stop_gradient(jnp.where(idx[1:] < s, start[1:], jnp.inf))
 
 
 def section_roughness(sections: Sections, draft: Draft | None = None) -> Float[Array, ""]:
@@ -156,12 +161,78 @@ def station_knuckles(sections: Sections, draft: Draft | None = None) -> Float[Ar
     return jnp.maximum(_turns4(sections), KNUCKLE_FLOOR)
 
 
+DWL_BAND = 0.5
+"""m: :func:`dwl_turns` holds the sections' turns within this height of the DWL (either side)."""
+
+INFLECTION_FLOOR = np.deg2rad(2.0) ** 2
+"""rad²: a station's reverse turning counts at least this (one 2° hollow) in :func:`section_inflections`, so that
+a bound relative to a parent's convex station still allows the turns a deformation makes by a hair."""
+
+
+def dwl_turns(sections: Sections, draft: Draft) -> Float[Array, " n"]:
+    """Each station's turns near the waterline ``(n,)`` [rad⁴]: Σ θ⁴ of the turns (:func:`section_knuckle`)
+    whose vertex lies within :data:`DWL_BAND` of the DWL, floored at :data:`KNUCKLE_FLOOR`. Held at most the
+    parent's, station by station, it keeps a deformation from making a soft chine at the waterline, where
+    the bow wave and the reflection of waves form and the station knuckles' sum (ruled by a turn at the bilge
+    or the keel) does not see it.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (n,)
+        Each station's Σ θ⁴ [rad⁴] within the band, at least :data:`KNUCKLE_FLOOR`.
+    """
+
+    def one(p):
+        turn, _, _, z = _turns(p, at=True)
+        return jnp.sum(jnp.where(jnp.abs(z - draft) <= DWL_BAND, turn**4, 0.0))
+
+    return jnp.maximum(jax.vmap(one)(sections.yz), KNUCKLE_FLOOR)
+
+
+def section_inflections(sections: Sections, draft: Draft) -> Float[Array, " n"]:
+    """Each station's reverse turning below the waterline ``(n,)`` [rad²]: Σ max(0, −θ)² of the turns whose
+    vertex lies under the DWL (a convex section turns one way only, :func:`_turns`; a hollow, an S or a bulb's
+    neck turns back), floored at :data:`INFLECTION_FLOOR`. Held at most the parent's, station by station, a
+    deformation makes no new inflection and the parent's (a bulb's neck) may stay.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (n,)
+        Each station's Σ max(0, −θ)² [rad²] under the DWL, at least :data:`INFLECTION_FLOOR`.
+    """
+
+    def one(p):
+        turn, _, _, z = _turns(p, at=True)
+        return jnp.sum(jnp.where(z < draft, jnp.maximum(-turn, 0.0) ** 2, 0.0))
+
+    return jnp.maximum(jax.vmap(one)(sections.yz), INFLECTION_FLOOR)
+
+
 WATERLINE_FRACTIONS = (1 / 6, 2 / 6, 3 / 6, 4 / 6, 5 / 6, 1.0)
 """The heights of :func:`waterline_angles`, as fractions of the draft above the keel (the last: the DWL)."""
 
 SAC_REGIONS = ((0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0))
 """The regions of :func:`sac_regions` as fractions of the stations' span from aft: the run, the aft shoulder, the
 fore shoulder and the entrance."""
+
+
+ANGLE_FLOOR = np.deg2rad(1.0)
+"""rad: :func:`waterline_angles` are at least this, so that a bound relative to the parent's is never one on
+zero or a negative angle (a waterline that widens at its very end)."""
 
 
 def _end_angles(x, y):
@@ -184,7 +255,7 @@ def waterline_angles(sections: Sections, draft: Draft) -> Float[Array, "2 h"]:
     waterlines at the heights :data:`WATERLINE_FRACTIONS` of the draft above the keel; the entrance at the DWL
     (the last column) is the half-angle of entrance iE. Each is the chord from the waterline's end (where it
     leaves the centreline, or the end station where it does not) to the next station: a fuller or blunter end
-    raises it; a run's angle beyond about 20° risks separation.
+    raises it; a run's angle beyond about 20° risks separation. Each at least :data:`ANGLE_FLOOR`.
 
     Parameters
     ----------
@@ -201,7 +272,7 @@ def waterline_angles(sections: Sections, draft: Draft) -> Float[Array, "2 h"]:
     keel = jax.lax.stop_gradient(jnp.min(sections.yz[..., 1]))
     z = keel + (draft - keel) * jnp.asarray(WATERLINE_FRACTIONS)
     y = level_widths(closed_half_polygon(sections.yz), z)  # (n, h)
-    return jax.vmap(lambda col: _end_angles(sections.x, col), in_axes=1, out_axes=1)(y)
+    return jnp.maximum(jax.vmap(lambda col: _end_angles(sections.x, col), in_axes=1, out_axes=1)(y), ANGLE_FLOOR)
 
 
 def entrance_angle(sections: Sections, draft: Draft) -> Float[Array, ""]:
@@ -272,12 +343,17 @@ def unfairness_measure(sections: Sections, draft: Draft | None = None) -> Float[
 SHAPE_MEASURES = {"unfairness": unfairness_measure, "sac_roughness": sac_roughness,
                   "section_roughness": section_roughness, "section_knuckle": section_knuckle,
                   "station_knuckles": station_knuckles, "waterline_angles": waterline_angles,
-                  "entrance_angle": entrance_angle, "run_angle": run_angle, "sac_regions": sac_regions}
+                  "entrance_angle": entrance_angle, "run_angle": run_angle, "sac_regions": sac_regions,
+                  "dwl_turns": dwl_turns, "section_inflections": section_inflections}
 """The shape measures a design's ``[constraints]`` may name (``name = "<= 2 * parent"``), by name: each
-``measure(sections, draft)``. ``station_knuckles``, ``waterline_angles`` and ``sac_regions`` are one value per
-station, height or region, each held against the parent's same one (constraints, not report values)."""
+``measure(sections, draft)``. ``station_knuckles``, ``dwl_turns``, ``section_inflections``, ``waterline_angles``
+and ``sac_regions`` are one value per station, height or region, each held against the parent's same one (constraints, not report values)."""
+
+ARRAY_MEASURES = ("station_knuckles", "dwl_turns", "section_inflections", "waterline_angles", "sac_regions")
+"""The :data:`SHAPE_MEASURES` with one value per station, height or region: constraints, each item against the
+parent's same one, not values a report tables."""
 
 SHAPE_UNITS = {"unfairness": "-", "sac_roughness": "m", "section_roughness": "m⁻³", "section_knuckle": "rad⁴",
          "station_knuckles": "rad⁴", "waterline_angles": "rad", "entrance_angle": "rad", "run_angle": "rad",
-               "sac_regions": "m"}
+               "sac_regions": "m", "dwl_turns": "rad⁴", "section_inflections": "rad²"}
 """The units of :data:`SHAPE_MEASURES` (``"-"``: dimensionless)."""

@@ -14,6 +14,7 @@ from ._objectives import KAw as KAw
 from ._objectives import MeanAddedResistance as MeanAddedResistance
 from ._objectives import MichellCalmResistance as MichellCalmResistance
 from ._objectives import Objective as Objective
+from ._objectives import ProfileAddedResistance as ProfileAddedResistance
 from ._objectives import ProfilePower as ProfilePower
 from ._objectives import ProfileResistance as ProfileResistance
 from ._objectives import WindAddedResistance as WindAddedResistance
@@ -24,7 +25,12 @@ from ._problems import GMTarget as GMTarget
 from ._problems import HydrostaticsTarget as HydrostaticsTarget
 from ._problems import Target as Target
 from ._problems import Design as Design
+from ._problems import BULB_END as BULB_END
+from ._problems import BULB_EXCESS as BULB_EXCESS
+from ._problems import FROZEN as FROZEN
 from ._problems import Limits as Limits
+from ._problems import bulb_stations as bulb_stations
+from ._problems import frozen_stations as frozen_stations
 from ._problems import Particular as Particular
 from ._problems import Targets as Targets
 from ._problems import achieved as achieved

@@ -46,9 +46,10 @@ def minimise_lbfgsb(objective: Callable, p0, lower, upper, args=None, *, tol: fl
 
 
 def minimise_lbfgsb_traced(objective: Callable, p0, lower, upper, args=None, *, tol: float = 1e-9,
-                           maxiter: int = 500, stall: int = 5) -> tuple:
+                           maxiter: int = 500, stall: int = 5, record: Callable | None = None) -> tuple:
     """:func:`minimise_lbfgsb` as an explicit loop (``lax.while_loop``: jit- and vmap-able) of jaxopt's L-BFGS-B
-    steps that records the objective after each; returns ``(p, value, ok, steps, history)``. The bounds are
+    steps that records the objective after each; returns ``(p, value, ok, steps, history)``, and with ``record``
+    ``recorded`` after them. The bounds are
     hard: every iterate is projected into them. Not differentiable in ``args``.
 
     It also stops, as converged, when the objective has fallen by less than 1e-4 (relative) in each of
@@ -71,6 +72,8 @@ def minimise_lbfgsb_traced(objective: Callable, p0, lower, upper, args=None, *, 
         Largest number of iterations.
     stall : int
         Steps of < 1e-4 relative progress after which the loop stops as converged.
+    record : callable or None
+        ``record(p)`` → scalar, kept at the start and after each iteration.
 
     Returns
     -------
@@ -84,6 +87,8 @@ def minimise_lbfgsb_traced(objective: Callable, p0, lower, upper, args=None, *, 
         Scalar int: the iterations taken.
     history : Array
         (maxiter + 1,) the objective at the start and after each iteration, NaN after the last.
+    recorded : Array
+        (maxiter + 1,) ``record`` likewise (only with ``record``).
     """
     import jax
     import jax.numpy as jnp
@@ -96,7 +101,8 @@ def minimise_lbfgsb_traced(objective: Callable, p0, lower, upper, args=None, *, 
     bounds = (lower, upper)
     state0 = solver.init_state(p0, bounds, args)
     v0 = objective(p0, args)
-    history0 = jnp.full(maxiter + 1, jnp.nan, jnp.result_type(v0)).at[0].set(v0)
+    rec = (lambda p: jnp.zeros((), jnp.result_type(v0))) if record is None else record
+    history0 = jnp.full((2, maxiter + 1), jnp.nan, jnp.result_type(v0)).at[:, 0].set(jnp.stack([v0, rec(p0)]))
 
     def cond(carry):
         _, state, _, still, _ = carry
@@ -106,7 +112,9 @@ def minimise_lbfgsb_traced(objective: Callable, p0, lower, upper, args=None, *, 
         p, state, history, still, best = carry
         p, state = solver.update(p, state, bounds, args)
         still = jnp.where(state.value >= best * (1.0 - 1e-4), still + 1, 0)
-        return p, state, history.at[state.iter_num].set(state.value), still, jnp.minimum(best, state.value)
+        history = history.at[:, state.iter_num].set(jnp.stack([state.value, rec(p)]))
+        return p, state, history, still, jnp.minimum(best, state.value)
 
     p, state, history, still, _ = jax.lax.while_loop(cond, body, (p0, state0, history0, jnp.asarray(0), v0))
-    return p, objective(p, args), (state.error <= tol) | (still >= stall), state.iter_num, history
+    out = p, objective(p, args), (state.error <= tol) | (still >= stall), state.iter_num, history[0]
+    return out if record is None else (*out, history[1])

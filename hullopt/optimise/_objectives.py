@@ -221,6 +221,7 @@ class ProfileResistance(Objective):
     description: ClassVar[str] = "operating profile: weighted mean of R_T + R_AW over speeds and sea states"
     options: ClassVar[tuple[str, ...]] = ("profile", "method", "motion")
     power: ClassVar[bool] = False
+    calm: ClassVar[bool] = True
 
     speed: Float[ArrayLike, " k"]
     weights: Float[ArrayLike, " k"]
@@ -233,7 +234,7 @@ class ProfileResistance(Objective):
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         u = jnp.asarray(self.speed, dtype=float)
-        r = calm_water(sections, draft, u, self.method).total
+        r = calm_water(sections, draft, u, self.method).total if self.calm else jnp.zeros_like(u)
         if self.waves:  # a point without a sea state adds nothing (its H_s replaced before, its R_AW after)
             wet = jnp.asarray(self.hs) > 0
 
@@ -255,6 +256,10 @@ class ProfileResistance(Objective):
         col = {k: np.asarray([float(p[k]) for p in points]) for k in ("speed_kn", "weight", "hs", "tp", "heading_deg")}
         if col["weight"].sum() <= 0:
             raise ValueError("profile: the weights are all 0")
+        if not cls.calm and np.any(col["hs"] <= 0):
+            k = int(np.argmin(col["hs"]))
+            raise ValueError(f"profile[{k}]: hs = {col['hs'][k]:g}; {cls.name} needs a sea state (hs > 0) at every "
+                             "point")
         return cls(col["speed_kn"] * KNOT, col["weight"], col["hs"], col["tp"], np.radians(col["heading_deg"]),
                    method=options.get("method") or "holtrop", motion=bool(options.get("motion", True)),
                    waves=bool(np.any(col["hs"] > 0)))
@@ -267,3 +272,14 @@ class ProfilePower(ProfileResistance):
     unit: ClassVar[str] = "W"
     description: ClassVar[str] = "operating profile: weighted mean effective power U (R_T + R_AW)"
     power: ClassVar[bool] = True
+
+
+class ProfileAddedResistance(ProfileResistance):
+    """An operating profile's mean added resistance in waves [N]: Σ wᵢ R_AW,i / Σ wᵢ over its points, each with
+    a sea state (NMRI, long-crested, motion part when ``motion``; see :class:`ProfileResistance`)."""
+
+    name: ClassVar[str] = "profile_added_resistance"
+    unit: ClassVar[str] = "N"
+    description: ClassVar[str] = "operating profile: weighted mean R_AW over speeds and sea states"
+    options: ClassVar[tuple[str, ...]] = ("profile", "motion")
+    calm: ClassVar[bool] = False

@@ -255,6 +255,71 @@ class Particular(eqx.Module):
         return target.measure(sections, draft)
 
 
+FROZEN = 0.01
+"""m: how far a frozen station (:class:`Limits`) or any of its offsets may move."""
+
+BULB_EXCESS = 0.02
+"""A bulb's neck: a section under the waterline narrower than somewhere below it by more than this fraction of
+the hull's largest half-breadth (:func:`bulb_stations`)."""
+
+BULB_END = 0.15
+"""A bulb lies within this fraction of the stations' span from either end (:func:`bulb_stations`)."""
+
+
+def bulb_stations(sections: Sections, draft) -> Array:
+    """Stations ``(n,)`` (1 or 0) of a bulb at either end: from the end to the station furthest from it,
+    within :data:`BULB_END` of the span, whose section has a neck under the waterline — a point narrower than
+    one below it by more than :data:`BULB_EXCESS` of the largest half-breadth — and one station more (the
+    blend into the hull). A bulbous bow, or a stern bulb or stern-tube boss; none on a hull without one (a
+    section that widens from the keel up has no neck).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m, keel to deck].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (n,)
+        1.0 at a bulb's stations, 0.0 elsewhere (no gradient).
+    """
+    s = jax.lax.stop_gradient(sections)
+    y = s.yz[..., 0]  # points from the keel up
+    neck = jnp.where(s.yz[..., 1] < draft, jax.lax.cummax(y, axis=1) - y, 0.0)
+    excess = jnp.max(neck, axis=1) > BULB_EXCESS * jnp.max(y)
+    t = (s.x - s.x[0]) / (s.x[-1] - s.x[0])
+    n, idx = s.x.shape[0], jnp.arange(s.x.shape[0])
+    fore = jnp.min(jnp.where(excess & (t >= 1.0 - BULB_END), idx, n))  # n: none
+    aft = jnp.max(jnp.where(excess & (t <= BULB_END), idx, -1))
+    return (((idx >= fore - 1) & (fore < n)) | ((idx <= aft + 1) & (aft >= 0))).astype(float)
+
+
+def frozen_stations(sections: Sections, draft, frozen: str | tuple) -> Array:
+    """The stations that ``frozen`` holds.
+
+    Parameters
+    ----------
+    sections : Sections
+        The parent: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+    frozen : "auto" or tuple of (float, float)
+        ``"auto"``: a bulb at either end (:func:`bulb_stations`); else ranges ``((x_a, x_b), …)`` [m from the
+        AP] of the parent's stations.
+
+    Returns
+    -------
+    Array, (n,)
+        1.0 at a frozen station, 0.0 elsewhere.
+    """
+    if frozen == "auto":
+        return bulb_stations(sections, draft)
+    x = sections.x
+    return jnp.any(jnp.stack([(x >= a) & (x <= b) for a, b in frozen]), axis=0).astype(float)
+
+
 class Limits(eqx.Module):
     """Inequality constraints of a design (``g ≤ 0``, each normalised to order one; ``g ≤ tol`` is met).
 
@@ -269,8 +334,13 @@ class Limits(eqx.Module):
       allowed, a new bulge is not), ``g = (y − w − a)/y_ref`` with ``y_ref`` the parent's largest half-breadth;
       one per offset (n·m, ``−1`` above the waterline).
 
-    ``at_parent`` fixes the parent's values (bounds, ``y_max``, the allowance ``a``); the design problems call
-    it with the objective's scale (:func:`with_objective_scale`).
+    * ``frozen``: stations that must not change — their position and every offset within :data:`FROZEN` of
+      the parent's, ``g = |Δ|²/FROZEN² − 1`` per offset (n·m, ``−1`` elsewhere). ``"auto"``: a bulb at
+      either end (:func:`bulb_stations`), ``"none"``, or ranges ``((x_a, x_b), …)`` [m from the AP] of the
+      parent's stations.
+
+    ``at_parent`` fixes the parent's values (bounds, ``y_max``, the allowance ``a``, the frozen stations); the
+    design problems call it with the objective's scale (:func:`with_objective_scale`).
     """
 
     names: tuple[str, ...] = eqx.field(static=True, default=())
@@ -280,24 +350,33 @@ class Limits(eqx.Module):
     relative: tuple[bool, ...] = eqx.field(static=True, default=())
     max_half_breadth: Float[ArrayLike, ""] | None = None
     bulge: bool = eqx.field(static=True, default=True)
+    offsets: Float[ArrayLike, " k"] | None = None  # added to a relative bound [SI]: "parent - 0.1"
+    frozen: str | tuple = eqx.field(static=True, default="none")
     tol: float = eqx.field(static=True, default=1e-3)
     bounds: tuple | None = None  # resolved by at_parent: one scalar (or array, as its measure) per measure
     y_ref: Float[ArrayLike, ""] | None = None
     allowance: Float[ArrayLike, "n m"] | None = None
+    held: Float[ArrayLike, " n"] | None = None  # resolved by at_parent: 1 where a station is frozen
+    reference: Sections | None = None  # the parent, for the frozen stations
 
     def at_parent(self, sections: Sections, draft) -> Limits:
         """These limits with the parent's values resolved (``sections`` the parent at ``draft``)."""
         q = [m(sections, draft) for m in self.measures]
         values = jnp.asarray(self.values, float)
+        offsets = jnp.zeros_like(values) if self.offsets is None else jnp.asarray(self.offsets, float)
         # one bound per measure; a measure may be an array (one value per station), bounded elementwise
-        bounds = tuple(jnp.where(r, v * qi, v) for r, v, qi in zip(self.relative, values, q))
+        bounds = tuple(jnp.where(r, v * qi + o, v) for r, v, o, qi in zip(self.relative, values, offsets, q))
         y = sections.yz[..., 0]
         y_ref = jnp.max(y)
         y_max = None if self.max_half_breadth is None else \
             jnp.where(jnp.isnan(self.max_half_breadth), y_ref, self.max_half_breadth)
         allowance = jnp.maximum(self._excess(sections, draft), 0.0) if self.bulge else None
-        return eqx.tree_at(lambda lim: (lim.bounds, lim.y_ref, lim.allowance, lim.max_half_breadth), self,
-                           (bounds, y_ref, allowance, y_max), is_leaf=lambda v: v is None)
+        held, reference = None, None
+        if self.frozen != "none":
+            held, reference = frozen_stations(sections, draft, self.frozen), jax.lax.stop_gradient(sections)
+        return eqx.tree_at(lambda lim: (lim.bounds, lim.y_ref, lim.allowance, lim.max_half_breadth, lim.held,
+                                        lim.reference), self,
+                           (bounds, y_ref, allowance, y_max, held, reference), is_leaf=lambda v: v is None)
 
     @staticmethod
     def _excess(sections: Sections, draft) -> Array:
@@ -316,6 +395,9 @@ class Limits(eqx.Module):
             out["max_half_breadth"] = (sections.yz[..., 0].ravel() - self.max_half_breadth) / self.y_ref
         if self.bulge:
             out["bulge"] = jnp.maximum((self._excess(sections, draft) - self.allowance) / self.y_ref, -1.0).ravel()
+        if self.held is not None:
+            moved = (sections.x - self.reference.x)[:, None] ** 2 + jnp.sum((sections.yz - self.reference.yz) ** 2, -1)
+            out["frozen"] = jnp.where(self.held[:, None] > 0, moved / FROZEN**2 - 1.0, -1.0).ravel()
         return out
 
     def __call__(self, sections: Sections, draft) -> Array:
@@ -472,8 +554,9 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, method:
     -------
     SolveResult
         ``params`` (like ``p0``), ``residuals`` (target − achieved, SI), ``max_violation`` (≤ 1: ``met``),
-        ``objective``, ``solver_ok``, ``steps``, ``history`` when traced ((max_steps + 1,), the cost Σ r² at
-        the start and after each step, NaN after the last).
+        ``objective``, ``solver_ok``, ``steps``, ``history`` and ``violation_history`` when traced ((max_steps
+        + 1,), the cost Σ r² and the largest |target error| / tolerance at the start and after each step, NaN
+        after the last).
 
     Raises
     ------
@@ -513,10 +596,12 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, method:
         r = design.residuals(p, args)
         return r @ r
 
-    p, _, ok, steps, history = minimise_lbfgsb_traced(cost, p0, lower, upper, tol=gtol, maxiter=max_steps)
+    p, _, ok, steps, history, violations = minimise_lbfgsb_traced(
+        cost, p0, lower, upper, tol=gtol, maxiter=max_steps, record=lambda p: jnp.max(jnp.abs(design.residuals(p)) / tol))
     r = design.residuals(p)
     viol = jnp.max(jnp.abs(r) / tol)
-    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, jnp.asarray(steps), history if traced else None)
+    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, jnp.asarray(steps), history if traced else None,
+                       violation_history=violations if traced else None)
 
 
 MU0, GROWTH = 1.0, 4.0

@@ -228,7 +228,8 @@ def minimise_constrained(
 def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rtol: float = 1e-6,
                atol: float = 1e-9, max_steps: int = 200, stall: int = 5) -> SolveResult:
     """:func:`fit` as an explicit Levenberg–Marquardt loop (``lax.while_loop``: jit- and vmap-able) that records
-    the cost after each step in ``history`` (``(max_steps + 1,)``, entry 0 the start, NaN after the last step).
+    the cost after each step in ``history`` and the largest ``|residual| / tol`` in ``violation_history`` (each
+    ``(max_steps + 1,)``, entry 0 the start, NaN after the last step).
 
     It also stops, as converged, when the cost has fallen by less than 1e-4 (relative) in each of ``stall``
     steps: what is left is the slow polishing of a tiny regularisation, which the solver's own step test may
@@ -256,7 +257,9 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
     Returns
     -------
     SolveResult
-        As :func:`fit`, with ``history`` (max_steps + 1,) the cost Σ r² after each step.
+        As :func:`fit`, with ``history`` (max_steps + 1,) the cost Σ r² after each step and
+        ``violation_history`` (max_steps + 1,) the largest ``|r| / tol`` (≤ 1: met; what converges when a
+        smoothness term keeps the cost above zero).
     """
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
     tags = frozenset()
@@ -265,7 +268,8 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
         return residuals(from_unbounded(u, lower, upper), args), None
 
     def cost(u):
-        return jnp.sum(fn(u, args)[0] ** 2)
+        r = fn(u, args)[0]
+        return jnp.sum(r**2), jnp.max(jnp.abs(r) / tol)
 
     u0 = to_unbounded(p0, lower, upper)
     fn = eqx.filter_closure_convert(fn, u0, args)  # so the solver state's static part is the same each step
@@ -273,8 +277,8 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
     state0 = solver.init(fn, u0, args, {}, f_struct, aux_struct, tags)
     done0, result0 = solver.terminate(fn, u0, args, {}, state0, tags)
     dynamic0, static = eqx.partition(state0, eqx.is_array)
-    c0 = cost(u0)
-    history0 = jnp.full(max_steps + 1, jnp.nan, c0.dtype).at[0].set(c0)
+    c0, v0 = cost(u0)
+    history0 = jnp.full((2, max_steps + 1), jnp.nan, c0.dtype).at[:, 0].set(jnp.stack([c0, v0]))
 
     def cond(carry):
         _, _, n, _, still, _, done, result = carry
@@ -283,11 +287,12 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
     def body(carry):
         u_old, dynamic, n, best, still, history, _, _ = carry
         u, state, _ = solver.step(fn, u_old, args, {}, eqx.combine(static, dynamic), tags)
-        c = cost(u)
+        c, v = cost(u)
         still = jnp.where(c >= best * (1.0 - 1e-4), still + 1, 0)
         done, result = solver.terminate(fn, u_old, args, {}, state, tags)  # as optimistix: old y, new state
         dynamic = eqx.partition(state, eqx.is_array)[0]
-        return u, dynamic, n + 1, jnp.minimum(best, c), still, history.at[n + 1].set(c), done, result
+        history = history.at[:, n + 1].set(jnp.stack([c, v]))
+        return u, dynamic, n + 1, jnp.minimum(best, c), still, history, done, result
 
     init = (u0, dynamic0, jnp.asarray(0), c0, jnp.asarray(0), history0, done0, result0)
     u, _, n, _, still, history, done, result = jax.lax.while_loop(cond, body, init)
@@ -295,4 +300,4 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
     r = residuals(p, args)
     viol = jnp.max(jnp.abs(r) / tol)
     ok = (done | (still >= stall)) & (result == optx.RESULTS.successful)
-    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, n, history)
+    return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, n, history[0], violation_history=history[1])

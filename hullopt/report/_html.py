@@ -707,6 +707,46 @@ def rescored_table(report: dict) -> str:
               "hold under that method).</p>")
 
 
+OVERLAY_NAME = "overlay.png"
+"""The figure of a design against its parent (body plan, waterlines, sectional-area curve) in its folder."""
+
+
+def overlays(report: dict, folder: Path) -> str:
+    """The overlay figure of the run's design, or of each of a sweep's designs (``designs/<k>/``), embedded as
+    PNG (the page opens offline); empty when the folder holds none."""
+    import base64
+
+    ks = [None] if report.get("kind") != "pareto" else list(range(len(report.get("designs") or [])))
+    out = []
+    for k in ks:
+        path = folder / OVERLAY_NAME if k is None else folder / "designs" / str(k) / OVERLAY_NAME
+        if path.is_file():
+            data = base64.b64encode(path.read_bytes()).decode("ascii")
+            name = "the design" if k is None else f"design {k}"
+            out.append(f'<p class="sub">{_e(name)}</p><img alt="{_e(name)} against the parent" '
+                       f'style="max-width:100%" src="data:image/png;base64,{data}">')
+    return "\n".join(out)
+
+
+def limits_table(report: dict) -> str:
+    """The limits of the report's ``limits``: each one's bound and its largest normalised value ``g`` (≤ its
+    tolerance: met; ``g`` the excess in units of the bound) of the parent and each design."""
+    lim = report.get("limits") or {}
+    if not lim:
+        return ""
+    n = len(next(iter(lim.values())).get("designs", [None]))
+    head = ["limit", "bound", "parent g"] + (["design g"] if n == 1 and "design" in next(iter(lim.values()))
+                                             else [f"design {k} g" for k in range(n)])
+    rows = []
+    for name, v in lim.items():
+        values, tol = [v["design"]] if "design" in v else v["designs"], v.get("tolerance", 1e-3)
+        cells = [_e(name), _e(v.get("bound", "")), _e(f"{v['parent']:+.3g}")]
+        cells += [f'<span class="bad">{_e(f"{g:+.3g}")} ✗</span>' if g > tol else _e(f"{g:+.3g}") for g in values]
+        rows.append(cells)
+    return (_table(head, rows) + '<p class="sub">g: the largest excess over the bound, in units of the bound (≤ 0 '
+            "met; a limit per station, height or region gives its worst); ✗ violated.</p>")
+
+
 def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | None = None) -> str:
     """The page of a run folder (see the module's docstring) as one HTML string, plotly's JS embedded once."""
     from plotly.offline import get_plotlyjs
@@ -726,7 +766,13 @@ def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | Non
         parts += ["<h2>Hulls</h2>", _div(fig_hulls_3d(hulls), "hull3d"),
                   '<div class="grid">', _div(fig_body_plan(hulls), "bodyplan"),
                   _div(fig_sectional_areas(hulls), "sac"), "</div>"]
+    over = overlays(report, folder)
+    if over:
+        parts += ["<h2>Designs against the parent: body plan, waterlines, sectional-area curve</h2>", over]
     parts += ["<h2>Targets and constraints</h2>", targets_table(report)]
+    lim = limits_table(report)
+    if lim:
+        parts += ["<h2>Local shape limits</h2>", lim]
     obj = objectives_table(report, sweep_picks(report) if kind == "pareto" else None)
     if obj:
         parts += ["<h2>Objectives and measures: parent → design</h2>", obj]

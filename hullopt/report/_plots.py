@@ -47,6 +47,36 @@ def _save(fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=130, bbox_inches="tight")
 
 
+def _draw_body_plan(ax, before, after, every: int | None, draft: float | None) -> None:
+    """The body plan of :func:`plot_body_plans` on ``ax`` (no legend box, no title)."""
+    lpp = float(after.lpp)
+    mid = 0.5 * lpp
+    top = max(float(np.max(np.asarray(s.yz)[..., 1])) for s in (before, after))
+    for s, style in ((before, dict(color="0.55", lw=0.8, ls="--")), (after, dict(color="C0", lw=1.0))):
+        if every:
+            x, yz = np.asarray(s.x)[::every], np.asarray(s.yz)[::every]
+        else:
+            _, x, yz = station_sections(s, per_station=2)
+        for i in range(len(x)):
+            sign = 1.0 if x[i] >= mid else -1.0
+            ax.plot(sign * yz[i, :, 0], yz[i, :, 1], **style)
+            st = x[i] / lpp * 10.0
+            if s is after and not every and abs(st - round(st)) < 1e-9:
+                # the label above the section's deck edge, fore body right, aft body left
+                ax.annotate(f"{round(st):d}", (sign * yz[i, -1, 0], yz[i, -1, 1]), xytext=(2 * sign, 3),
+                            textcoords="offset points", ha="left" if sign > 0 else "right", va="bottom",
+                            fontsize=7, color="C0")
+    ax.plot([], [], color="0.55", ls="--", label="parent")
+    ax.plot([], [], color="C0", label="design")
+    if draft is not None:
+        ax.axhline(float(draft), color="tab:green", lw=0.8, ls="-.", label=f"DWL T = {float(draft):.3g} m")
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_aspect("equal")
+    ax.set_ylim(top=top * 1.08)
+    ax.set_xlabel("half-breadth y [m]  (aft body ← | → fore body)")
+    ax.set_ylabel("height above baseline z [m]")
+
+
 def plot_body_plans(before, after, path: Path, every: int | None = None, title: str = "",
                     draft: float | None = None) -> Path:
     """Body plan of the parent (dashed grey) and the design (blue): aft body left, fore body right.
@@ -75,32 +105,7 @@ def plot_body_plans(before, after, path: Path, every: int | None = None, title: 
         ``path``.
     """
     fig, ax = _figure(figsize=(9, 6))
-    lpp = float(after.lpp)
-    mid = 0.5 * lpp
-    top = max(float(np.max(np.asarray(s.yz)[..., 1])) for s in (before, after))
-    for s, style in ((before, dict(color="0.55", lw=0.8, ls="--")), (after, dict(color="C0", lw=1.0))):
-        if every:
-            x, yz = np.asarray(s.x)[::every], np.asarray(s.yz)[::every]
-        else:
-            _, x, yz = station_sections(s, per_station=2)
-        for i in range(len(x)):
-            sign = 1.0 if x[i] >= mid else -1.0
-            ax.plot(sign * yz[i, :, 0], yz[i, :, 1], **style)
-            st = x[i] / lpp * 10.0
-            if s is after and not every and abs(st - round(st)) < 1e-9:
-                # the label above the section's deck edge, fore body right, aft body left
-                ax.annotate(f"{round(st):d}", (sign * yz[i, -1, 0], yz[i, -1, 1]), xytext=(2 * sign, 3),
-                            textcoords="offset points", ha="left" if sign > 0 else "right", va="bottom",
-                            fontsize=7, color="C0")
-    ax.plot([], [], color="0.55", ls="--", label="parent")
-    ax.plot([], [], color="C0", label="design")
-    if draft is not None:
-        ax.axhline(float(draft), color="tab:green", lw=0.8, ls="-.", label=f"DWL T = {float(draft):.3g} m")
-    ax.axvline(0, color="k", lw=0.5)
-    ax.set_aspect("equal")
-    ax.set_ylim(top=top * 1.08)
-    ax.set_xlabel("half-breadth y [m]  (aft body ← | → fore body)")
-    ax.set_ylabel("height above baseline z [m]")
+    _draw_body_plan(ax, before, after, every, draft)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
     ax.set_title(title or "Body plan: parent and design (station numbers 0 = AP … 10 = FP)", loc="left",
                  fontsize=10)
@@ -139,27 +144,31 @@ def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
     return _save(fig, path)
 
 
-def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "") -> Path:
-    """Solver convergence on log scales.
+def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "",
+                     fit: bool = False) -> Path:
+    """Solver convergence on log scales: above, what the solver minimises; below, ``violation``, the largest
+    ``|residual| / tolerance`` (≤ 1 met, the line).
 
-    A fit (``violation`` None): the cost (the sum of squared scaled residuals, penalties included) after each step.
-    A constrained minimum: ``history`` the objective alone after each round (scaled to 1 at the parent, drawn as
-    round 0; the fairness and smoothness penalties the solver adds are the report's merit series) above
-    ``violation``, the largest constraint violation ``|residual| / tolerance`` (≤ 1 met, the line).
-    Non-finite entries (rounds or steps not taken) are left out.
+    A fit (``fit``): the cost (the sum of squared scaled residuals, the smoothness penalty included: it levels
+    off above zero) at the start and after each step; the violation is what converges. A constrained minimum:
+    ``history`` the objective alone after each round (scaled to 1 at the parent, drawn as round 0; the fairness
+    and smoothness penalties the solver adds are the report's merit series). Non-finite entries (rounds or
+    steps not taken) are left out.
 
     Parameters
     ----------
     history : array_like, (k,)
-        The fit's cost after each step, or the scaled objective after each round [-].
+        The fit's cost at the start and after each step, or the scaled objective after each round [-].
     path : pathlib.Path
         The image file (PNG; :func:`hullopt.drawing.save_figure`).
     xlabel : str
         The x axis's label.
     violation : array_like, (k,) or None
-        The largest constraint violation after each round [-]; None: a fit's plot.
+        The largest constraint violation, as ``history`` [-]; None: the upper panel alone.
     title : str
         The title; empty: a default.
+    fit : bool
+        ``history`` is a fit's cost (no round 0 added).
 
     Returns
     -------
@@ -167,22 +176,18 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
         ``path``.
     """
     h = np.asarray(history, dtype=float)
-    if violation is None:
-        fig, ax = _figure(figsize=(6.5, 4))
-        ok = np.isfinite(h)
-        ax.semilogy(np.arange(len(h))[ok], np.maximum(h[ok], 1e-300), marker=".")
-        _log_labels(ax)
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel("cost: sum of squared scaled residuals [-]")
-        ax.grid(alpha=0.3, which="both")
-        ax.set_title(title or "Convergence of the fit", loc="left", fontsize=10)
-        return _save(fig, path)
-    v = np.concatenate([[np.nan], np.asarray(violation, dtype=float)])  # round 0: the parent, where the
-    h = np.concatenate([[1.0], h])  # objective is 1 by its scaling (the rounds then read as the gain they make)
-    fig, (ax1, ax2) = _figure(2, 1, figsize=(6.5, 5.5), sharex=True)
+    v = None if violation is None else np.asarray(violation, dtype=float)
+    if not fit:  # round 0: the parent, where the objective is 1 by its scaling (the rounds read as the gain)
+        h = np.concatenate([[1.0], h])
+        v = None if v is None else np.concatenate([[np.nan], v])
+    if v is None:
+        fig, ax1 = _figure(figsize=(6.5, 4))
+        ax2 = None
+    else:
+        fig, (ax1, ax2) = _figure(2, 1, figsize=(6.5, 5.5), sharex=True)
     it = np.arange(len(h))
     ok = np.isfinite(h)
-    ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), "o-", ms=4, color="C0")
+    ax1.semilogy(it[ok], np.maximum(np.abs(h[ok]), 1e-300), ".-" if fit else "o-", ms=4, color="C0")
     _log_labels(ax1)
     fin = np.abs(h[np.isfinite(h)])
     if fin.size and fin.min() > 0 and fin.max() / fin.min() < 10:  # within a decade: plain numbers on the ticks
@@ -193,20 +198,25 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
         plain = FuncFormatter(lambda v, _: f"{v:.{digits}g}")
         ax1.yaxis.set_major_formatter(plain)
         ax1.yaxis.set_minor_formatter(plain)
-    ax1.set_ylabel("objective / parent's [-]")
+    ax1.set_ylabel("cost: Σ (scaled residual)² [-]" if fit else "objective / parent's [-]")
     ax1.grid(alpha=0.3, which="both")
-    ok = np.isfinite(v)
-    ax2.semilogy(it[ok], np.maximum(v[ok], 1e-16), "s-", ms=4, color="C3", label="max |residual| / tolerance")
-    _log_labels(ax2)
-    ax2.axhline(1.0, color="k", lw=0.8, ls="--", label="tolerance (≤ 1: targets met)")
-    ax2.set_ylabel("max constraint violation [-]")
-    ax2.set_xlabel(xlabel)
+    ax1.set_title(title or ("Convergence of the fit" if fit else "Convergence: objective and constraint violation"),
+                  loc="left", fontsize=10)
+    last = ax1
+    if ax2 is not None:
+        ok = np.isfinite(v)
+        ax2.semilogy(it[ok], np.maximum(v[ok], 1e-16), "s-", ms=3 if fit else 4, color="C3",
+                     label="max |target error| / tolerance" if fit else "max |residual| / tolerance")
+        _log_labels(ax2)
+        ax2.axhline(1.0, color="k", lw=0.8, ls="--", label="tolerance (≤ 1: targets met)")
+        ax2.set_ylabel("max target error [-]" if fit else "max constraint violation [-]")
+        ax2.grid(alpha=0.3, which="both")
+        ax2.legend(fontsize=8, loc="upper right")
+        last = ax2
+    last.set_xlabel(xlabel)
     from matplotlib.ticker import MaxNLocator
 
-    ax2.xaxis.set_major_locator(MaxNLocator(integer=True))  # rounds are counted
-    ax2.grid(alpha=0.3, which="both")
-    ax2.legend(fontsize=8, loc="upper right")
-    ax1.set_title(title or "Convergence: objective and constraint violation", loc="left", fontsize=10)
+    last.xaxis.set_major_locator(MaxNLocator(integer=True))  # steps and rounds are counted
     return _save(fig, path)
 
 
@@ -355,4 +365,71 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Pa
     ax.legend(loc="upper right", fontsize=8)
     fig.colorbar(im, ax=ax, label="wave elevation ζ [m]", shrink=0.8)
     ax.set_title(title, fontsize=10)
+    return _save(fig, path)
+
+
+def plot_overlay(before, after, draft: float, path: Path, title: str = "") -> Path:
+    """A design against its parent in one figure, as a naval architect checks it: the body plan (left), the
+    waterlines' half-breadths at the heights of :data:`~hullopt.fairing.WATERLINE_FRACTIONS` of the draft
+    (top right) and the sectional-area curve with the design's change (bottom right); the parent dashed.
+
+    Parameters
+    ----------
+    before, after : Sections
+        The parent and the design: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m], ``lpp`` [m].
+    draft : float
+        The DWL [m above the baseline].
+    path : pathlib.Path
+        The image file (PNG).
+    title : str
+        The figure's title; empty: a default.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    import jax.numpy as jnp
+
+    from ..fairing import WATERLINE_FRACTIONS
+    from ..geometry import closed_half_polygon, level_widths, section_integrals
+
+    fig = _figure(figsize=(15, 6.5))[0]
+    fig.clear()
+    grid = fig.add_gridspec(2, 2, width_ratios=(1.0, 1.35), hspace=0.32, wspace=0.12)
+    ax_bp, ax_wl, ax_a = fig.add_subplot(grid[:, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, 1])
+    _draw_body_plan(ax_bp, before, after, None, draft)
+    ax_bp.legend(loc="upper left", fontsize=8)
+    ax_bp.set_title("Body plan", loc="left", fontsize=10)
+    keel = min(float(np.min(np.asarray(s.yz)[..., 1])) for s in (before, after))
+    z = keel + (float(draft) - keel) * np.asarray(WATERLINE_FRACTIONS)
+    areas = []
+    for s, style in ((before, dict(ls="--", lw=0.9)), (after, dict(lw=1.1))):
+        yz = jnp.asarray(s.yz)
+        y = np.asarray(level_widths(closed_half_polygon(yz), jnp.asarray(z)))  # (n, h)
+        for k in range(len(z)):
+            ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **style)
+        areas.append(2.0 * np.asarray(section_integrals(type(s)(jnp.asarray(s.x), yz, s.lpp), float(draft)).area))
+    for k, zk in enumerate(z):
+        ax_wl.plot([], [], color=f"C{k}", label=f"z = {zk:.2f} m")
+    ax_wl.plot([], [], color="0.4", ls="--", label="parent (dashed)")
+    ax_wl.set_ylabel("half-breadth y [m]")
+    ax_wl.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0)
+    ax_wl.grid(alpha=0.3)
+    ax_wl.set_title("Waterlines", loc="left", fontsize=10)
+    ax_a.plot(np.asarray(before.x), areas[0], color="0.55", ls="--", label="parent")
+    ax_a.plot(np.asarray(after.x), areas[1], color="C0", label="design")
+    diff = areas[1] - np.interp(np.asarray(after.x), np.asarray(before.x), areas[0])
+    twin = ax_a.twinx()
+    twin.plot(np.asarray(after.x), diff, color="C3", lw=0.8, label="design − parent")
+    twin.axhline(0.0, color="C3", lw=0.4)
+    twin.set_ylabel("change [m²]", color="C3")
+    ax_a.set_xlabel("x from AP [m]")
+    ax_a.set_ylabel(f"sectional area at T = {float(draft):g} m [m²]")
+    lines = ax_a.get_legend_handles_labels()
+    more = twin.get_legend_handles_labels()
+    ax_a.legend(lines[0] + more[0], lines[1] + more[1], fontsize=8, loc="upper left")
+    ax_a.grid(alpha=0.3)
+    ax_a.set_title("Sectional-area curve", loc="left", fontsize=10)
+    fig.suptitle(title or "Design against its parent", x=0.02, ha="left", fontsize=11)
     return _save(fig, path)

@@ -17,6 +17,8 @@ from ._config import SolverConfig as SolverConfig
 from ._config import load_config as load_config
 from ._config import load_design as load_design
 from ._config import objective_options as objective_options
+from ._config import DEFAULT_LIMITS as DEFAULT_LIMITS
+from ._config import Bound as Bound
 from ._config import parse_bound as parse_bound
 from ._config import resolve_spec as resolve_spec
 from ._hulls import cache_folder as cache_folder

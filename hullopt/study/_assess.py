@@ -10,7 +10,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from ..constants import KNOT, G
-from ..fairing import SHAPE_MEASURES, SHAPE_UNITS
+from ..fairing import ARRAY_MEASURES, SHAPE_MEASURES, SHAPE_UNITS
 from ..geometry import Sections
 from ..models import FeatureParams
 from ..optimise import OBJECTIVES, Design, Particular, with_objective_scale
@@ -35,7 +35,7 @@ section_roughness; the largest waterline half-angles of entrance and run, in rad
 def report_measures(cfg: RunConfig, d: Design) -> dict:
     """``{name: measure(sections, draft)}`` that a report compares, parent and design: every objective kind the
     ``[objective]`` table's options build (the sweep's measure with its own), the constraints' measures
-    (``station_knuckles``, one value a station, left out), Bf and :data:`COMPARED`."""
+    (those with one value a station, height or region, :data:`~hullopt.fairing.ARRAY_MEASURES`, left out), Bf and :data:`COMPARED`."""
     out = {}
     base = cfg.objective
     if base is not None:
@@ -48,7 +48,7 @@ def report_measures(cfg: RunConfig, d: Design) -> dict:
     if cfg.sweep is not None:
         out[cfg.sweep.measure.kind] = cfg.sweep.measure.build()
     for name in cfg.constraints.bounds():
-        if name != "station_knuckles":
+        if name not in ARRAY_MEASURES:
             out.setdefault(name, constraint_measure(cfg, name))
     out.setdefault("bf", Particular("bf"))
     for name in COMPARED:
@@ -58,50 +58,58 @@ def report_measures(cfg: RunConfig, d: Design) -> dict:
 
 def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
     """The measures of the parent and of each design (params stacked on a leading axis), each limit group's
-    largest normalised value per design, and the parent and its sectional-area curve [m²]."""
+    largest normalised value of the parent and per design, and the parent."""
     parent = d.model(p0)
     d = with_objective_scale(d, p0)
-    out_p = {k: m(parent, d.draft) for k, m in measures.items()}
 
-    def one(params):
-        s = d.model(params)
+    def one(s):
         g = {} if d.limits is None else {k: jax.numpy.max(v) for k, v in d.limits.groups(s, d.draft).items()}
         return {k: m(s, d.draft) for k, m in measures.items()}, g
 
-    vals, groups = jax.vmap(one)(designs)
-    return out_p, vals, groups, parent
+    out_p, g_p = one(parent)
+    vals, groups = jax.vmap(lambda params: one(d.model(params)))(designs)
+    return out_p, g_p, vals, groups, parent
 
 
-def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> tuple[dict, list[str]]:
-    """``(objectives, warnings)`` of a study's designs: every measure of :func:`report_measures` of the parent
-    and the design(s) as ``{name: {"parent", "design" (or "designs", a list for several), "unit"}}`` (SI), and
-    warnings of the constraints that are active (within their tolerance of the bound) or violated, of a
-    sectional-area curve or sections more than :data:`ROUGHNESS` times as rough as the parent's and of
-    calm-water methods that disagree. ``key``: the study's (what the kept program depends on)."""
+LIMIT_NAMES = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline",
+               "frozen": "the frozen stations"}
+"""How the warnings name the limits that are no ``[constraints]`` bound."""
+
+
+def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> tuple[dict, dict, list[str]]:
+    """``(objectives, limits, warnings)`` of a study's designs: every measure of :func:`report_measures` of
+    the parent and the design(s) as ``{name: {"parent", "design" (or "designs", a list for several),
+    "unit"}}`` (SI); each limit's largest normalised value ``g`` (≤ 0 met; :class:`~hullopt.optimise.Limits`)
+    the same way, with its ``bound``; and warnings of the constraints that are active (within their tolerance
+    of the bound where the parent is not) or violated, of a sectional-area curve or sections more than
+    :data:`ROUGHNESS` times as rough as the parent's and of calm-water methods that disagree. ``key``: the
+    study's (what the kept program depends on)."""
     d = prob.design
     measures = report_measures(cfg, d)
     stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
-    p, vals, groups, parent = jax.device_get(
+    p, g_p, vals, groups, parent = jax.device_get(
         cached_call("assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key))
     one = len(designs) == 1
-    objectives = {}
-    for k, m in measures.items():
-        unit = getattr(m, "unit", SI_UNITS.get(k, "-"))
-        v = [float(x) for x in np.asarray(vals[k])]
-        objectives[k] = {"parent": float(p[k]), "design" if one else "designs": v[0] if one else v, "unit": unit}
-    warnings = []
+    key_ = "design" if one else "designs"
+
+    def entry(parent_value, values, **more):
+        v = [float(x) for x in np.asarray(values)]
+        return {"parent": float(parent_value), key_: v[0] if one else v, **more}
+
+    objectives = {k: entry(p[k], vals[k], unit=getattr(m, "unit", SI_UNITS.get(k, "-"))) for k, m in measures.items()}
+    written = cfg.constraints.written()
     tol = cfg.constraints.tolerance
+    limits = {k: entry(g_p[k], groups[k], bound=written.get(k, LIMIT_NAMES.get(k, k)), tolerance=tol) for k in groups}
+    warnings = []
     blend = blend_hint(cfg, prob)
-    extra = cfg.constraints.model_extra or {}
     for i in range(len(designs)):
         who = "" if one else f"design {i}: "
         for k, g in groups.items():
             g = float(np.asarray(g)[i])
-            what = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline"}.get(
-                k, f"{k} {extra[k]}" if k in extra else k)
+            what = f"{k} {written[k]}" if k in written else LIMIT_NAMES.get(k, k)
             if g > tol:
                 warnings.append(f"{who}constraint violated: {what} (by {g:.3g} of its bound)")
-            elif g >= -tol and k not in ("max_half_breadth", "bulge"):  # those are on their bound at the parent
+            elif g >= -tol and float(g_p[k]) < -tol:  # pushed to its bound (the parent is not on it)
                 warnings.append(f"{who}constraint active: {what}")
         for k, what in (("sac_roughness", "sectional-area curve is"), ("section_roughness", "sections are")):
             r0, r = float(p[k]), float(np.asarray(vals[k])[i])
@@ -110,7 +118,7 @@ def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> 
                                 f"(more than {ROUGHNESS:g}×); raise [solver] fairness"
                                 + blend * (k == "section_roughness"))
     warnings += calm_disagreement(cfg, objectives, parent, d.draft)
-    return objectives, warnings
+    return objectives, limits, warnings
 
 
 def calm_disagreement(cfg: RunConfig, objectives: dict, parent: Sections, draft) -> list[str]:

@@ -10,8 +10,10 @@ targets, an objective, a solver and, for Pareto runs, a sweep.
     [targets]    cb = 0.64, lcb_pct = -2.0, volume = …      [tolerances] (optional, same names)
     [objective]  kind, speed_kn, hs, tp, heading_deg
     [sweep]      start, stop, count, chunk, measure (an objective table: the second Pareto axis)
-    [constraints]  calm_resistance = "<= parent", cwp = ">= 0.98 * parent", wetted_surface = "<= 9000",
-                 max_half_breadth = "parent" | M | "none", bulge = "forbid" | "allow", tolerance = 1e-3
+    [constraints]  calm_resistance = "<= parent", cwp = ">= 0.98 * parent", kmt = ">= parent - 0.05",
+                 wetted_surface = "<= 9000", dwl_turns = "none" (a default off), max_half_breadth = "parent" |
+                 M | "none", bulge = "forbid" | "allow", frozen = "auto" | "none" | [[x_a, x_b], …],
+                 tolerance = 1e-3
     [solver]     max_steps, smoothness, fairness, outer
 """
 
@@ -20,7 +22,7 @@ from __future__ import annotations
 import re
 import tomllib
 from pathlib import Path
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal, NamedTuple, Union
 
 from pydantic import (
     BaseModel,
@@ -225,11 +227,23 @@ class SweepConfig(_Strict):
     measure: ObjectiveConfig
 
 
-_BOUND = re.compile(r"^\s*(<=|>=)\s*(?:(parent)|([-+0-9.eE]+)\s*(\*\s*parent)?)\s*$")
+_BOUND = re.compile(r"^\s*(<=|>=)\s*(?:(?:([-+0-9.eE]+)\s*\*\s*)?(parent)\s*(?:([-+])\s*([0-9.eE]+))?"
+                    r"|([-+0-9.eE]+))\s*$")
 
 
-def parse_bound(name: str, text) -> tuple[int, float, bool]:
-    """A constraint's bound ``"<= parent"``, ``">= 0.98 * parent"``, ``"<= 1.2e5"`` (SI) → ``(sense, value, relative)``.
+class Bound(NamedTuple):
+    """A constraint's bound: ``sense`` +1 for at most, −1 for at least; ``value`` the bound in SI units, or
+    the factor of the parent's value where ``relative``; ``offset`` [SI] added to a relative bound."""
+
+    sense: int
+    value: float
+    relative: bool
+    offset: float = 0.0
+
+
+def parse_bound(name: str, text) -> Bound:
+    """A constraint's bound ``"<= parent"``, ``">= 0.98 * parent"``, ``">= parent - 0.05"``, ``"<= 1.2e5"``
+    (SI) → :class:`Bound`.
 
     Parameters
     ----------
@@ -240,9 +254,8 @@ def parse_bound(name: str, text) -> tuple[int, float, bool]:
 
     Returns
     -------
-    tuple of (int, float, bool)
-        ``sense``: +1 for at most, −1 for at least; ``value``: the bound in SI units, or the factor of the
-        parent's value (1 for a bare ``parent``); ``relative``: whether ``value`` multiplies the parent's.
+    Bound
+        ``(sense, value, relative, offset)``.
 
     Raises
     ------
@@ -251,13 +264,35 @@ def parse_bound(name: str, text) -> tuple[int, float, bool]:
     """
     m = _BOUND.match(text) if isinstance(text, str) else None
     try:
-        value = 1.0 if m and m[2] else float(m[3]) if m else None
+        if m and m[3]:
+            off = float(m[5]) * (-1 if m[4] == "-" else 1) if m[4] else 0.0
+            bound = Bound(1 if m[1] == "<=" else -1, float(m[2]) if m[2] else 1.0, True, off)
+        else:
+            bound = Bound(1 if m[1] == "<=" else -1, float(m[6]), False) if m else None
     except ValueError:
-        value = None
-    if value is None:
-        raise ValueError(f"constraints.{name} = {text!r}: expected '<= parent', '>= 0.98 * parent' or "
-                         "'<= NUMBER' (SI units)")
-    return (1 if m[1] == "<=" else -1), value, bool(m[2] or m[4])
+        bound = None
+    if bound is None:
+        raise ValueError(f"constraints.{name} = {text!r}: expected '<= parent', '>= 0.98 * parent', "
+                         "'>= parent - 0.05' or '<= NUMBER' (SI units), or 'none'")
+    return bound
+
+
+DEFAULT_LIMITS = {
+    "station_knuckles": "<= 2 * parent",
+    "section_roughness": "<= 2 * parent",
+    "dwl_turns": "<= parent",
+    "section_inflections": "<= parent",
+    "waterline_angles": "<= 1.25 * parent",
+    "sac_regions": "<= 2 * parent",
+    "kmt": ">= parent - 0.05",
+}
+"""The local shape limits every minimise and Pareto run holds unless its ``[constraints]`` sets the key
+(another bound, or ``"none"``): no station's knuckles sharper than 2^(1/4) ≈ 1.19× the parent's, no section
+rougher than twice; no turn near the DWL sharper than the parent's there; no new inflection under the DWL;
+waterline half-angles of entrance and run at six heights at most 1.25× the parent's (a 20° run → 25°); the
+sectional-area curve's curvature per region (run, aft shoulder, fore shoulder, entrance) at most twice the
+parent's (its curvature ≈ 1.4×); KM_T — GM_T at the same KG — at most 5 cm below the parent's. With
+``frozen = "auto"`` (default) a bulb at either end does not change."""
 
 
 def measure_names() -> tuple[str, ...]:
@@ -280,6 +315,9 @@ class ConstraintsConfig(_Strict):
 
     max_half_breadth: float | Literal["parent", "none"] = "parent"
     bulge: Literal["forbid", "allow"] = "forbid"
+    frozen: Literal["auto", "none"] | list[tuple[float, float]] = Field(
+        default="auto", description="stations that must not change: 'auto' (a bulb at either end), 'none', or "
+        "ranges [[x_a, x_b], …] [m from the AP] of the parent's stations")
     tolerance: float = Field(default=1e-3, gt=0, lt=0.1)
 
     @model_validator(mode="after")
@@ -288,16 +326,25 @@ class ConstraintsConfig(_Strict):
         for name, text in (self.model_extra or {}).items():
             if name not in names:
                 raise ValueError(f"constraints.{name}: unknown measure; expected one of {', '.join(names)}, "
-                                 "max_half_breadth, bulge or tolerance")
-            parse_bound(name, text)
+                                 "max_half_breadth, bulge, frozen or tolerance")
+            if text != "none":
+                parse_bound(name, text)
+        for a, b in self.frozen if isinstance(self.frozen, list) else ():
+            if not a < b:
+                raise ValueError(f"constraints.frozen: range [{a}, {b}]: expected x_a < x_b [m from the AP]")
         if isinstance(self.max_half_breadth, float) and self.max_half_breadth <= 0:
             raise ValueError(f"constraints.max_half_breadth = {self.max_half_breadth}: expected a positive "
                              "half-breadth [m], 'parent' or 'none'")
         return self
 
-    def bounds(self) -> dict[str, tuple[int, float, bool]]:
-        """``{measure: (sense, value, relative)}`` (:func:`parse_bound`)."""
-        return {k: parse_bound(k, v) for k, v in (self.model_extra or {}).items()}
+    def written(self) -> dict[str, str]:
+        """The bounds as the run holds them: :data:`DEFAULT_LIMITS` with the config's own over them, less
+        those set to ``"none"``."""
+        return {k: v for k, v in {**DEFAULT_LIMITS, **(self.model_extra or {})}.items() if v != "none"}
+
+    def bounds(self) -> dict[str, Bound]:
+        """``{measure: Bound}`` (:func:`parse_bound`) of :meth:`written`."""
+        return {k: parse_bound(k, v) for k, v in self.written().items()}
 
 
 class SolverConfig(_Strict):

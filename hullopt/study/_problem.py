@@ -129,7 +129,8 @@ def constraint_measure(cfg: RunConfig, name: str):
 def limits_from(cfg: RunConfig) -> Limits:
     """The :class:`~hullopt.optimise.Limits` of a config's ``[constraints]``.
 
-    Defaults: half-breadths within the parent's, no new bulge below the waterline.
+    Defaults: half-breadths within the parent's, no new bulge below the waterline, the local shape limits
+    :data:`~hullopt.study.DEFAULT_LIMITS` and a bulb at either end frozen.
 
     Parameters
     ----------
@@ -140,18 +141,20 @@ def limits_from(cfg: RunConfig) -> Limits:
     -------
     Limits
         The bounds' names, measures, senses (+1 at most, −1 at least), values (SI, or factors of the parent's
-        where ``relative``), the largest half-breadth [m] (NaN: the parent's; None: no limit), ``bulge`` and the
-        tolerance.
+        where ``relative``) and offsets [SI], the largest half-breadth [m] (NaN: the parent's; None: no limit),
+        ``bulge``, the frozen stations and the tolerance.
     """
     c = cfg.constraints
     bounds = c.bounds()
     mhb = {"parent": np.nan, "none": None}.get(c.max_half_breadth, c.max_half_breadth)
+    frozen = c.frozen if isinstance(c.frozen, str) else tuple(map(tuple, c.frozen))
     return Limits(names=tuple(bounds), measures=tuple(constraint_measure(cfg, k) for k in bounds),
-                  sense=np.array([b[0] for b in bounds.values()], float),
-                  values=np.array([b[1] for b in bounds.values()], float),
-                  relative=tuple(b[2] for b in bounds.values()),
+                  sense=np.array([b.sense for b in bounds.values()], float),
+                  values=np.array([b.value for b in bounds.values()], float),
+                  relative=tuple(b.relative for b in bounds.values()),
+                  offsets=np.array([b.offset for b in bounds.values()], float),
                   max_half_breadth=None if mhb is None else np.asarray(float(mhb)),
-                  bulge=c.bulge == "forbid", tol=c.tolerance)
+                  bulge=c.bulge == "forbid", frozen=frozen, tol=c.tolerance)
 
 
 PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude")

@@ -60,6 +60,9 @@ def conditions(cfg: RunConfig) -> dict:
     sea state of the objective or of the sweep's measure when either is ``mean_added_resistance`` (else none)."""
     o = cfg.objective
     profile = getattr(o, "profile", None)
+    measure = getattr(getattr(cfg.sweep, "measure", None), "profile", None)
+    if measure and not any(p.hs > 0 for p in profile or ()):  # the sweep's measure has the sea states
+        profile = measure
     if profile:
         return {"speeds_kn": [p.speed_kn for p in profile], "weights": [p.weight for p in profile],
                 "sea_states": [[p.hs, p.tp, p.heading_deg] if p.hs > 0 else None for p in profile]}

@@ -141,12 +141,12 @@ class Study(abc.ABC):
             raise ValueError("the report has no params (an unfinished run?)")
         return params_from_dict(report["params"], self.problem.p0), ""
 
-    def assess(self, solution: Solution) -> tuple[dict, list[str]]:
-        """The report's ``objectives`` and ``warnings`` of a solution's designs (:func:`~hullopt.study.assess`,
-        plus parameters stopped by their bounds)."""
-        objectives, warnings = assess(self.cfg, self.problem, solution.designs, self.key)
+    def assess(self, solution: Solution) -> tuple[dict, dict, list[str]]:
+        """The report's ``objectives``, ``limits`` and ``warnings`` of a solution's designs
+        (:func:`~hullopt.study.assess`, plus parameters stopped by their bounds)."""
+        objectives, limits, warnings = assess(self.cfg, self.problem, solution.designs, self.key)
         who = "" if solution.final else "design {k}: "
-        return objectives, bound_warnings(self.problem, solution.designs, who) + warnings
+        return objectives, limits, bound_warnings(self.problem, solution.designs, who) + warnings
 
     def rescore(self, designs: list[FeatureParams]) -> tuple[dict | None, list[str]]:
         """The designs and the parent re-scored by every method of each kind (:func:`~hullopt.study.rescore`);
@@ -229,9 +229,11 @@ class Fit(_Single):
                          method=self.cfg.solver.method)
 
     def history(self, result) -> dict:
-        """The cost Σ (residual / tolerance)² after each step of the solver."""
+        """The cost Σ (residual / tolerance)² (the smoothness penalty in it: it does not fall to zero) and the
+        largest target error / tolerance (≤ 1: met) at the start and after each step of the solver."""
         return {"iteration": f"{self.solver} step",
-                "series": {"cost Σ (residual / tolerance)²": _series(result.history)}}
+                "series": {"cost Σ (residual / tolerance)²": _series(result.history),
+                           VIOLATION: _series(result.violation_history)}}
 
 
 class Minimise(_Single):
