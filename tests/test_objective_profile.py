@@ -70,6 +70,26 @@ def test_profile_is_the_weighted_sum_of_the_methods_point_by_point(tmp_path, kin
     assert objective.unit == ("W" if kind == "profile_power" else "N")
 
 
+@pytest.mark.slow
+def test_profile_added_resistance_is_the_weighted_mean_of_r_aw(tmp_path):
+    """Σ w R_AW / Σ w over points that each have a sea state, no calm water; a point without one is refused."""
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=41, m=11)
+    text = PROFILE.format(kind="profile_added_resistance", extra="").split("[[profile]]")
+    path = tmp_path / "a.toml"
+    path.write_text("[[profile]]".join([text[0]] + text[2:]))  # the calm-water point left out
+    from hullopt.study import load_config
+
+    objective = load_config(path)[0].objective.build()
+    value = float(jax.jit(objective.__call__)(hull, 6.25))
+    r = [float(jax.jit(lambda s, u=u, sea=sea: mean_added_resistance("nmri", s, 6.25, u * KNOT, *sea).total)(hull))
+         for u, sea in ((15.0, (3.0, 9.0, 0.0)), (18.0, (2.0, 8.0, np.radians(30.0))))]
+    assert value == pytest.approx(0.5 * (r[0] + r[1]), rel=1e-9)
+    from hullopt.errors import HullError
+
+    with pytest.raises((HullError, ValueError), match=r"profile\[0\]: hs = 0; profile_added_resistance needs"):
+        _load(tmp_path, "profile_added_resistance").objective.build()
+
+
 def test_profile_tables_in_the_config(tmp_path):
     from hullopt.errors import HullError
     from hullopt.study import load_config

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hullopt.report import Hulls, write_report
+from hullopt.report import OVERLAY_NAME, Hulls, plot_overlay, write_report
 from hullopt.models import wigley
 
 CHROMIUM = next((p for p in (shutil.which(n) for n in ("chromium", "chromium-browser")) if p), None)
@@ -52,6 +52,8 @@ FIT = {
                    "unfairness": {"parent": 1.0, "design": 1.7, "unit": "-"}},
     "achieved": {"displacement": 3073200.0, "volume": 2998.2, "cb": 0.48, "lcb_pct": -1.5},
     "parent": {"displacement": 2844000.0, "volume": 2774.6, "cb": 0.4442, "lcb_pct": -7.1e-15},
+    "limits": {"dwl_turns": {"parent": 0.0, "design": 0.4, "bound": "<= parent", "tolerance": 1e-3},
+               "kmt": {"parent": -0.0098, "design": -0.002, "bound": ">= parent - 0.05", "tolerance": 1e-3}},
     "warnings": ["design.apex_move[0] component 1 = 1.49 is within 1 % of its bound ±1.5"],
     "history": {"iteration": "augmented-Lagrangian round",
                 "series": {"objective / parent's": [1.0, 0.61, 0.48, 0.45, 0.44],
@@ -86,7 +88,9 @@ def pages(tmp_path_factory) -> dict[str, Path]:
     """A minimise run's folder and a sweep's (design 2's hull file present), each with its report.html."""
     root = tmp_path_factory.mktemp("report")
     run = _folder(root / "run", FIT)
-    write_report(run, FIT, _hulls())
+    h = _hulls()
+    plot_overlay(h.parent, h.designs[0][1], 6.25, run / OVERLAY_NAME)
+    write_report(run, FIT, h)
     sweep = _folder(root / "sweep", _sweep_report())
     (sweep / "designs" / "2").mkdir(parents=True)
     (sweep / "designs" / "2" / "hull.stl").write_bytes(b"solid x\nendsolid x\n")
@@ -104,7 +108,7 @@ def test_the_page_is_self_contained_with_plotly_once(pages):
         text = page.read_text(encoding="utf-8")
         assert text.count(get_plotlyjs()[:200]) == 1  # the bundle, embedded once
         # nothing to fetch: no script/link/img/iframe source, no CSS import or url() outside the page
-        assert not re.search(r"<(script|link|img|iframe)[^>]+(src|href)\s*=", text)
+        assert not re.search(r"<(script|link|img|iframe)[^>]+(src|href)\s*=\s*[\"'](?!data:)", text)
         assert not re.search(r"@import|url\(\s*['\"]?(https?:)?//", text)
 
 
@@ -118,6 +122,11 @@ def test_a_run_page_shows_units_targets_objectives_warnings_and_convergence(page
     row = re.search(r"R_AW \[kN\]</b></td>(.*?)</tr>", text).group(1)
     assert re.findall(r"<td>([^<]*)</td>", row) == ["13.453", "5.857", "-7.596", "-56.47"]
     assert "e-15" not in text.split("<body>")[1]
+    # the design against its parent, embedded; the local limits, the violated one marked
+    assert "Designs against the parent" in text and 'src="data:image/png;base64,iVBOR' in text
+    row = re.search(r"<td>dwl_turns</td>(.*?)</tr>", text).group(1)
+    assert "&lt;= parent" in row and "+0.4 ✗" in row
+    assert "✗" not in re.search(r"<td>kmt</td>(.*?)</tr>", text).group(1)
 
 
 def test_a_sweep_page_shows_the_front_with_bf_to_4_digits_and_links_to_hulls(pages):

@@ -169,12 +169,13 @@ INFLECTION_FLOOR = np.deg2rad(2.0) ** 2
 a bound relative to a parent's convex station still allows the turns a deformation makes by a hair."""
 
 
-def dwl_turns(sections: Sections, draft: Draft) -> Float[Array, " n"]:
-    """Each station's turns near the waterline ``(n,)`` [rad⁴]: Σ θ⁴ of the turns (:func:`section_knuckle`)
-    whose vertex lies within :data:`DWL_BAND` of the DWL, floored at :data:`KNUCKLE_FLOOR`. Held at most the
-    parent's, station by station, it keeps a deformation from making a soft chine at the waterline, where
-    the bow wave and the reflection of waves form and the station knuckles' sum (ruled by a turn at the bilge
-    or the keel) does not see it.
+def dwl_turns(sections: Sections, draft: Draft) -> Float[Array, ""]:
+    """The sharpest turn of the sections near the waterline [rad⁴]: the largest over stations of Σ θ⁴ of the
+    turns (:func:`section_knuckle`) whose vertex lies within :data:`DWL_BAND` of the DWL, at least
+    :data:`KNUCKLE_FLOOR`. Held at most the parent's, no station turns sharper there than the parent's
+    sharpest: a deformation makes no soft chine at the waterline, where the bow wave and the reflection of waves
+    form and the station knuckles (ruled by a turn at the bilge or the keel) do not see it. Every other station
+    may turn as sharply as that one.
 
     Parameters
     ----------
@@ -185,15 +186,15 @@ def dwl_turns(sections: Sections, draft: Draft) -> Float[Array, " n"]:
 
     Returns
     -------
-    Array, (n,)
-        Each station's Σ θ⁴ [rad⁴] within the band, at least :data:`KNUCKLE_FLOOR`.
+    Array, scalar
+        The largest station's Σ θ⁴ [rad⁴] within the band, at least :data:`KNUCKLE_FLOOR`.
     """
 
     def one(p):
         turn, _, _, z = _turns(p, at=True)
         return jnp.sum(jnp.where(jnp.abs(z - draft) <= DWL_BAND, turn**4, 0.0))
 
-    return jnp.maximum(jax.vmap(one)(sections.yz), KNUCKLE_FLOOR)
+    return jnp.maximum(jnp.max(jax.vmap(one)(sections.yz)), KNUCKLE_FLOOR)
 
 
 def section_inflections(sections: Sections, draft: Draft) -> Float[Array, " n"]:
@@ -346,10 +347,10 @@ SHAPE_MEASURES = {"unfairness": unfairness_measure, "sac_roughness": sac_roughne
                   "entrance_angle": entrance_angle, "run_angle": run_angle, "sac_regions": sac_regions,
                   "dwl_turns": dwl_turns, "section_inflections": section_inflections}
 """The shape measures a design's ``[constraints]`` may name (``name = "<= 2 * parent"``), by name: each
-``measure(sections, draft)``. ``station_knuckles``, ``dwl_turns``, ``section_inflections``, ``waterline_angles``
-and ``sac_regions`` are one value per station, height or region, each held against the parent's same one (constraints, not report values)."""
+``measure(sections, draft)``. ``station_knuckles``, ``section_inflections``, ``waterline_angles`` and
+``sac_regions`` are one value per station, height or region, each held against the parent's same one (constraints, not report values)."""
 
-ARRAY_MEASURES = ("station_knuckles", "dwl_turns", "section_inflections", "waterline_angles", "sac_regions")
+ARRAY_MEASURES = ("station_knuckles", "section_inflections", "waterline_angles", "sac_regions")
 """The :data:`SHAPE_MEASURES` with one value per station, height or region: constraints, each item against the
 parent's same one, not values a report tables."""
 

@@ -401,7 +401,7 @@ class Limits(eqx.Module):
         return out
 
     def __call__(self, sections: Sections, draft) -> Array:
-        g = [jnp.atleast_1d(v) for v in self.groups(sections, draft).values()]
+        g = [jnp.ravel(v) for v in self.groups(sections, draft).values()]
         return jnp.concatenate(g) if g else jnp.zeros(0)
 
 

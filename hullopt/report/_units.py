@@ -48,7 +48,11 @@ OBJECTIVE_UNITS: dict[str, tuple[str, str, float]] = {
     "wind_added_resistance": ("wind added resistance R_AA", "kN", 1e-3),
     "profile_resistance": ("operating profile R_T + R_AW", "kN", 1e-3),
     "profile_power": ("operating profile power P_E", "kW", 1e-3),
+    "profile_added_resistance": ("operating profile added resistance R_AW", "kN", 1e-3),
 }
+# an objective's symbol where it is not the last word of its name (column headers, plot axes)
+SYMBOLS = {"profile_resistance": "R_T + R_AW (profile)", "profile_power": "P_E (profile)",
+           "profile_added_resistance": "R_AW (profile)"}
 # the shape measures a report compares (fairing.SHAPE_MEASURES): the same triples
 SHAPE_UNITS: dict[str, tuple[str, str, float]] = {
     "unfairness": ("unfairness U", "", 1), "sac_roughness": ("SAC roughness Σ (A'')² Δx", "m", 1),
@@ -139,7 +143,7 @@ def label(key: str, unit: bool = True, short: bool = False) -> str:
     """
     name, u, _ = units_of(key)
     if short and key in OBJECTIVE_UNITS:
-        name = name.split()[-1]
+        name = SYMBOLS.get(key, name.split()[-1])
     return f"{name} [{u}]" if unit and u else name
 
 

@@ -288,7 +288,7 @@ DEFAULT_LIMITS = {
 }
 """The local shape limits every minimise and Pareto run holds unless its ``[constraints]`` sets the key
 (another bound, or ``"none"``): no station's knuckles sharper than 2^(1/4) ≈ 1.19× the parent's, no section
-rougher than twice; no turn near the DWL sharper than the parent's there; no new inflection under the DWL;
+rougher than twice; no turn near the DWL sharper than the parent's sharpest there; no new inflection under the DWL;
 waterline half-angles of entrance and run at six heights at most 1.25× the parent's (a 20° run → 25°); the
 sectional-area curve's curvature per region (run, aft shoulder, fore shoulder, entrance) at most twice the
 parent's (its curvature ≈ 1.4×); KM_T — GM_T at the same KG — at most 5 cm below the parent's. With

@@ -1,7 +1,7 @@
 """A second opinion on a study's designs: each design and the parent re-scored by every calm-water method
 (Holtrop–Mennen, Michell, the panel method) and every added-resistance method a naval architect compares (NMRI,
-SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In the objective's
-kind a gain counts only if a method other than the objective's own finds the design lower than the parent at
+SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In each kind the run
+claims a gain in (the objective's, and a Pareto sweep's measure's) a gain counts only if a method other than the objective's own finds the design lower than the parent at
 the profile (by more than :data:`HOLDS`: a method blind to the change confirms nothing) and nowhere higher off
 it; in the other kind, if one finds it nowhere higher. Each design where that fails is warned of.
 
@@ -41,15 +41,16 @@ condition (the constraints' default tolerance)."""
 
 
 def _own_method(cfg: RunConfig) -> dict[str, str | None]:
-    """The method of each kind the run's objective itself uses (``None``: the objective is not of that kind)."""
-    o = cfg.objective
+    """The method of each kind the run claims a gain in (``None``: none of that kind): the objective's, and a
+    Pareto sweep's measure's (the front's other axis)."""
     own = {"calm": None, "waves": None}
-    if o is None:
-        return own
-    if o.kind in ("calm_resistance", "calm_resistance_michell", "profile_resistance", "profile_power"):
-        own["calm"] = o.method or o.build().method
-    if o.kind == "mean_added_resistance" or (o.kind.startswith("profile_") and o.build().waves):
-        own["waves"] = "nmri"
+    for o in (cfg.objective, getattr(cfg.sweep, "measure", None)):
+        if o is None:
+            continue
+        if o.kind in ("calm_resistance", "calm_resistance_michell", "profile_resistance", "profile_power"):
+            own["calm"] = own["calm"] or o.method or o.build().method
+        if o.kind == "mean_added_resistance" or (o.kind.startswith("profile_") and o.build().waves):
+            own["waves"] = "nmri"
     return own
 
 
@@ -165,12 +166,12 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             what = "calm-water resistance" if kind == "calm" else "added resistance in waves"
             worst = ", ".join(f"{m['method']} {m['change_pct'][k]:+.2f} % (worst {m['worst_pct'][k]:+.2f} %)"
                               for m in independent)
-            if own[kind] is not None:  # the objective's kind: a gain, seen by an independent method too
+            if own[kind] is not None:  # a kind the run claims a gain in: seen by an independent method too
                 row[kind] = any(m["holds"][k] and m["change_pct"][k] < -100.0 * HOLDS for m in independent)
                 if not row[kind]:
                     warnings.append(f"design {k}: its gain in {what} is not confirmed by any independent method "
                                     f"(lower than the parent's at the profile, and nowhere higher off it): {worst}")
-            else:  # the other kind: no loss
+            else:  # a kind it claims nothing in: no loss
                 row[kind] = any(m["holds"][k] for m in independent)
                 if not row[kind]:
                     warnings.append(f"design {k}: no independent method finds its {what} at or below the "
