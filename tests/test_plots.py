@@ -216,3 +216,21 @@ def test_features_legend_off_the_curves(tmp_path, drawn):
     ax = fig.axes[0]
     assert outside(fig, ax.get_legend(), ax)
     assert ax.get_xlabel().startswith("y [m]") and ax.get_ylabel() == "z [m]"
+
+
+def test_rescored_fronts_draw_each_pair_of_methods(tmp_path, drawn):
+    """A panel per calm-water method and wave method, in kN; under the first pair design 0 beats the parent in
+    both (the front: design 0 alone), under the second all three trade (all on it)."""
+    from hullopt.report import plot_rescored_fronts
+
+    m = {"calm_a": {"kind": "calm", "method": "a", "parent": 2000.0, "designs": [1900.0, 2100.0]},
+         "calm_b": {"kind": "calm", "method": "b", "parent": 2000.0, "designs": [2100.0, 1900.0]},
+         "waves_x": {"kind": "waves", "method": "x", "parent": 300.0, "designs": [290.0, 310.0]}}
+    plot_rescored_fronts({"methods": m}, tmp_path / "f.png", met=[True, True])
+    (fig,) = drawn
+    axes = [ax for ax in fig.axes if ax.get_xlabel() or ax.get_ylabel()]
+    assert len(fig.axes) == 2 and axes[-1].get_xlabel() == "R_AW by X [kN]"
+    first, second = fig.axes
+    np.testing.assert_allclose(first.get_lines()[0].get_xydata(), [[0.29, 1.9]])  # the front: design 0
+    np.testing.assert_allclose(second.get_lines()[0].get_xydata(), [[0.29, 2.1], [0.3, 2.0], [0.31, 1.9]])
+    assert first.get_ylabel() == "R_T by a [kN]"

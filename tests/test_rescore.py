@@ -10,7 +10,7 @@ import pytest
 
 from hullopt.constants import KNOT
 
-CONFIG = "configs/min_added_resistance.toml"
+CONFIG = "tests/data/rescore_wigley.toml"  # one condition, the bow re-shaped by apex moves
 
 
 @pytest.mark.slow
@@ -73,3 +73,24 @@ def test_rescore_refuses_a_fit(cli, tmp_path):
     (run / "report.json").write_text(json.dumps({"kind": "fit", "params": {}}))
     code, _, err = cli("rescore", run)
     assert code == 2 and "nothing to re-score" in err, err
+
+
+def test_an_objective_that_is_the_sum_is_confirmed_by_a_pair_of_methods():
+    """An operating profile with sea states (calm water + R_AW): the gain is the sum's. Its own pair (michell +
+    nmri) confirms nothing; a pair with an independent method does when the sum falls at the profile and
+    nowhere rises off it (conditions: the profile, speed × 0.9 and 1.1, T_p −2 and +2 s)."""
+    from hullopt.study._rescore import CONDITIONS, _total_holds
+
+    assert len(CONDITIONS) == 5
+    parent = np.full(5, 100.0)
+    values = {"calm_michell": np.stack([parent, np.full(5, 90.0)]),  # calm water: the first three conditions
+              "calm_holtrop": np.stack([parent, np.full(5, 100.5)]),
+              "waves_nmri": np.stack([parent, np.full(5, 105.0)]),
+              "waves_snnm": np.stack([parent, [100.0, 100.0, 100.0, 100.0, 109.0]])}
+    methods = {k: {"kind": k.split("_")[0], "method": k.split("_")[1], "own": k in ("calm_michell", "waves_nmri")}
+               for k in values}
+    held, text = _total_holds(values, methods, 0)
+    # michell + snnm: 190 against 200 at the profile, 199 at T_p + 2 s: held (holtrop + either: +2.75 %, +0.25 %)
+    assert held and "michell + snnm -5.00 % (worst -0.50 %)" in text and "michell + nmri" not in text
+    values["waves_snnm"][1, 4] = 111.0  # now 201 > 200 off the profile
+    assert not _total_holds(values, methods, 0)[0]

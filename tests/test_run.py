@@ -122,12 +122,16 @@ def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_pa
                             "--set", "objective.motion=false", "--json")
     assert code == 0, err
     r = json.loads(stdout)
-    assert r["met"] and r["objective"]["value"] < 0.9 * r["objective"]["parent"]
+    assert r["met"] and r["objective"]["value"] < r["objective"]["parent"]
     assert all(t["met"] for t in r["targets"].values())
-    # the constraints hold: calm-water resistance not above the parent's (0.1 % tolerance), no violation
+    # calm water over the profile not above the parent's (0.1 % tolerance); every local limit met and reported
     calm = r["objectives"]["calm_resistance_michell"]
     assert calm["design"] <= 1.001 * calm["parent"] and calm["unit"] == "N"
+    assert {"dwl_turns", "section_inflections", "waterline_angles", "sac_regions", "kmt", "frozen"} <= set(r["limits"])
+    assert all(v["design"] <= v["tolerance"] for v in r["limits"].values()), r["limits"]
     assert not [w for w in r["warnings"] if "violated" in w or "rougher" in w], r["warnings"]
+    for name in ("overlay.png", "rescored_fronts.png", "convergence.png"):
+        assert (tmp_path / "m" / name).stat().st_size > 0
 
 
 @pytest.mark.parametrize(

@@ -24,12 +24,14 @@ from rich.progress import (
 from ..drawing import write_offsets_wide
 from ..models import save_features
 from ..report import (
+    FRONTS_NAME,
     OVERLAY_NAME,
     Hulls,
     plot_body_plans,
     plot_convergence,
     plot_overlay,
     plot_pareto,
+    plot_rescored_fronts,
     plot_sectional_areas,
     write_json,
     write_report,
@@ -78,6 +80,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     if rescored is not None:
         report["rescored"], report["rescored_warnings"] = rescored, doubts
         report["warnings"] += doubts
+        met = [d["met"] for d in report["designs"]] if not solution.final else None
+        plot_rescored_fronts(rescored, out / FRONTS_NAME, met)
     if "history" in report:
         h = report["history"]
         series = dict(h["series"])  # the PNG: the first series (a fit's cost, a minimum's objective), violation below

@@ -3,6 +3,7 @@ matplotlib) and ``report.html`` (one self-contained page: plotly figures, tables
 folder or a study's results. Below the app: the CLI prints and writes through here, and so can a script."""
 
 from ._html import MAX_SWEEP_HULLS as MAX_SWEEP_HULLS
+from ._html import FRONTS_NAME as FRONTS_NAME
 from ._html import OVERLAY_NAME as OVERLAY_NAME
 from ._html import REPORT_NAME as REPORT_NAME
 from ._html import Hulls as Hulls
@@ -14,6 +15,7 @@ from ._plots import plot_body_plans as plot_body_plans
 from ._plots import plot_overlay as plot_overlay
 from ._plots import plot_convergence as plot_convergence
 from ._plots import plot_pareto as plot_pareto
+from ._plots import plot_rescored_fronts as plot_rescored_fronts
 from ._plots import plot_resistance as plot_resistance
 from ._plots import plot_sectional_areas as plot_sectional_areas
 from ._plots import plot_wave_pattern as plot_wave_pattern

@@ -707,6 +707,9 @@ def rescored_table(report: dict) -> str:
               "hold under that method).</p>")
 
 
+FRONTS_NAME = "rescored_fronts.png"
+"""The figure of the designs under each pair of re-scoring methods in a run folder."""
+
 OVERLAY_NAME = "overlay.png"
 """The figure of a design against its parent (body plan, waterlines, sectional-area curve) in its folder."""
 
@@ -714,18 +717,25 @@ OVERLAY_NAME = "overlay.png"
 def overlays(report: dict, folder: Path) -> str:
     """The overlay figure of the run's design, or of each of a sweep's designs (``designs/<k>/``), embedded as
     PNG (the page opens offline); empty when the folder holds none."""
-    import base64
-
     ks = [None] if report.get("kind") != "pareto" else list(range(len(report.get("designs") or [])))
     out = []
     for k in ks:
         path = folder / OVERLAY_NAME if k is None else folder / "designs" / str(k) / OVERLAY_NAME
-        if path.is_file():
-            data = base64.b64encode(path.read_bytes()).decode("ascii")
-            name = "the design" if k is None else f"design {k}"
-            out.append(f'<p class="sub">{_e(name)}</p><img alt="{_e(name)} against the parent" '
-                       f'style="max-width:100%" src="data:image/png;base64,{data}">')
+        name = "the design" if k is None else f"design {k}"
+        img = _png(path, f"{name} against the parent")
+        if img:
+            out.append(f'<p class="sub">{_e(name)}</p>{img}')
     return "\n".join(out)
+
+
+def _png(path: Path, alt: str) -> str:
+    """An ``<img>`` of a PNG file embedded as data (the page opens offline); empty when there is no file."""
+    import base64
+
+    if not path.is_file():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return f'<img alt="{_e(alt)}" style="max-width:100%" src="data:image/png;base64,{data}">'
 
 
 def limits_table(report: dict) -> str:
@@ -781,7 +791,7 @@ def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | Non
         parts += ["<h2>Particulars: parent → design</h2>", part]
     if report.get("rescored"):
         parts += ["<h2>Second opinion: every design re-scored by independent methods</h2>",
-                  rescored_table(report)]
+                  rescored_table(report), _png(folder / FRONTS_NAME, "the designs under each pair of methods")]
     conv = fig_convergence(report)
     if kind != "pareto":
         parts += ["<h2>Convergence</h2>", _div(conv, "convergence") if conv is not None

@@ -433,3 +433,65 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "") -> Pa
     ax_a.set_title("Sectional-area curve", loc="left", fontsize=10)
     fig.suptitle(title or "Design against its parent", x=0.02, ha="left", fontsize=11)
     return _save(fig, path)
+
+
+def _non_dominated(points: np.ndarray) -> np.ndarray:
+    """``(k,)`` bool: rows of ``points (k, 2)`` (both minimised) that no other row beats in one and matches in both."""
+    le = np.all(points[:, None, :] <= points[None, :, :], axis=-1)
+    lt = np.any(points[:, None, :] < points[None, :, :], axis=-1)
+    return ~np.any(le & lt, axis=0)
+
+
+def plot_rescored_fronts(rescored: dict, path: Path, met: list[bool] | None = None) -> Path:
+    """The designs and the parent under each pair of methods of a re-scoring (``report.json``'s ``rescored``):
+    a panel per calm-water method (rows) and added-resistance method (columns), each design's R_AW against its
+    R_T [kN] at the profile, labelled with its number; the designs non-dominated under that pair (parent
+    included) joined. A front that one pair of methods draws and another does not is no front to sign.
+
+    Parameters
+    ----------
+    rescored : dict
+        ``methods``: per method (``calm_holtrop`` …, ``waves_nmri`` …) its ``kind``, ``method``, ``parent`` and
+        ``designs`` [N].
+    path : pathlib.Path
+        The image file (PNG).
+    met : list of bool or None
+        Per design whether it met its targets (those that did not are crosses, off every front); None: all met.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    methods = rescored["methods"]
+    calm = [m for m in methods.values() if m["kind"] == "calm"]
+    waves = [m for m in methods.values() if m["kind"] == "waves"]
+    fig, axes = _figure(len(calm), len(waves), figsize=(3.6 * len(waves) + 0.6, 3.0 * len(calm) + 0.8),
+                        squeeze=False)
+    n = len(calm[0]["designs"])
+    ok = np.ones(n, bool) if met is None else np.asarray(met, bool)
+    for i, c in enumerate(calm):
+        for j, w in enumerate(waves):
+            ax = axes[i, j]
+            pts = 1e-3 * np.array([[w["parent"], c["parent"]]] + [[a, b] for a, b in zip(w["designs"], c["designs"])])
+            keep = np.concatenate([[True], ok])
+            front = np.zeros(n + 1, bool)
+            front[keep] = _non_dominated(pts[keep])
+            order = np.argsort(pts[front, 0])
+            ax.plot(pts[front, 0][order], pts[front, 1][order], "-", color="C0", lw=0.8, zorder=1)
+            ax.scatter(pts[1:][ok & front[1:], 0], pts[1:][ok & front[1:], 1], color="C0", s=18, zorder=3)
+            ax.scatter(pts[1:][ok & ~front[1:], 0], pts[1:][ok & ~front[1:], 1], color="0.6", s=18, zorder=2)
+            ax.scatter(pts[1:][~ok, 0], pts[1:][~ok, 1], marker="x", color="C3", s=18, zorder=2)
+            ax.plot(pts[0, 0], pts[0, 1], "*", color="k", markersize=10, zorder=4)
+            for k in range(n):
+                ax.annotate(str(k), pts[k + 1], xytext=(3, 2), textcoords="offset points", fontsize=7, color="0.25")
+            ax.grid(alpha=0.3)
+            ax.margins(0.12)
+            if i == len(calm) - 1:
+                ax.set_xlabel(f"R_AW by {w['method'].upper()} [kN]")
+            if j == 0:
+                ax.set_ylabel(f"R_T by {c['method']} [kN]")
+            ax.tick_params(labelsize=7)
+    fig.suptitle("The designs (numbered) and the parent (★) under each pair of methods; blue: non-dominated under "
+                 "that pair, grey: dominated, ×: targets not met", x=0.01, ha="left", fontsize=10)
+    return _save(fig, path)

@@ -212,10 +212,15 @@ def objective_options(table: dict) -> ObjectiveOptions:
 
 def options_as(options: ObjectiveOptions, kind: str) -> ObjectiveOptions:
     """``options`` as those of the objective ``kind``: the options that kind takes, the rest dropped
-    (``ValidationError`` when it lacks one it needs, e.g. a sea state)."""
+    (``ValidationError`` when it lacks one it needs, e.g. a sea state). An operating profile gives a kind that
+    takes ``speeds_kn`` (calm-water resistance) its points' speeds and weights: calm water over the profile."""
     take = OBJECTIVES[kind].options
-    return objective_options({k: v for k, v in options.model_dump().items() if k in take}
-                             | {"kind": kind})
+    data = options.model_dump()
+    profile = data.get("profile")
+    if profile and "speeds_kn" in take and "profile" not in take:
+        data |= {"speed_kn": profile[0]["speed_kn"], "speeds_kn": [p["speed_kn"] for p in profile],
+                 "weights": [p["weight"] for p in profile]}
+    return objective_options({k: v for k, v in data.items() if k in take} | {"kind": kind})
 
 
 class SweepConfig(_Strict):

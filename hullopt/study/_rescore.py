@@ -1,7 +1,9 @@
 """A second opinion on a study's designs: each design and the parent re-scored by every calm-water method
 (Holtrop–Mennen, Michell, the panel method) and every added-resistance method a naval architect compares (NMRI,
-SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In each kind the run
-claims a gain in (the objective's, and a Pareto sweep's measure's) a gain counts only if a method other than the objective's own finds the design lower than the parent at
+SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). Where the objective
+is the sum of both (an operating profile with sea states) its gain counts only if a pair of methods, one of
+them not the objective's own, finds the sum lower (as below). Else, in each kind the run claims a gain in (the
+objective's, and a Pareto sweep's measure's) a gain counts only if a method other than the objective's own finds the design lower than the parent at
 the profile (by more than :data:`HOLDS`: a method blind to the change confirms nothing) and nowhere higher off
 it; in the other kind, if one finds it nowhere higher. Each design where that fails is warned of.
 
@@ -52,6 +54,32 @@ def _own_method(cfg: RunConfig) -> dict[str, str | None]:
         if o.kind == "mean_added_resistance" or (o.kind.startswith("profile_") and o.build().waves):
             own["waves"] = "nmri"
     return own
+
+
+def _combined(cfg: RunConfig) -> bool:
+    """Whether the objective itself is calm-water plus added resistance (an operating profile with sea states):
+    then its gain is the sum's, and either part may rise."""
+    o = cfg.objective
+    return o is not None and o.kind in ("profile_resistance", "profile_power") and o.build().waves
+
+
+def _total_holds(values: dict, methods: dict, k: int) -> tuple[bool, str]:
+    """Whether design ``k``'s calm-water R_T plus mean R_AW (each the profile's weighted mean) is lower than the
+    parent's at the profile by more than :data:`HOLDS` and nowhere higher off it, under a pair of methods
+    other than the objective's own pair; and the pairs' changes as text."""
+    held, parts = False, []
+    for c, m_c in ((n, m) for n, m in methods.items() if m["kind"] == "calm"):
+        for w, m_w in ((n, m) for n, m in methods.items() if m["kind"] == "waves"):
+            if m_c["own"] and m_w["own"]:
+                continue
+            calm = np.asarray(values[c], float)[:, :3]
+            calm = np.concatenate([calm, calm[:, :1].repeat(len(CONDITIONS) - 3, axis=1)], axis=1)
+            t = calm + np.asarray(values[w], float)  # (1 + k, conditions)
+            change = 100.0 * (t[k + 1] / t[0] - 1.0)
+            ok = bool(change[0] < -100.0 * HOLDS and np.all(t[k + 1] <= t[0] * (1.0 + HOLDS)))
+            held |= ok
+            parts.append(f"{m_c['method']} + {m_w['method']} {change[0]:+.2f} % (worst {change.max():+.2f} %)")
+    return held, ", ".join(parts)
 
 
 def conditions(cfg: RunConfig) -> dict:
@@ -130,7 +158,8 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
         ``sea_states`` [hs m, tp s, heading deg] or None each; ``speed_factors``, ``tp_shifts_s``), and ``methods``: per method (``calm_holtrop``, … ``waves_snnm``)
         its ``kind``, ``own`` (the objective's method), ``parent`` and ``designs`` [N] at the nominal
         condition, ``change_pct`` per design at the nominal condition and ``worst_pct`` over every condition, and
-        ``holds`` per design; ``verdict``: per design and kind whether the gain holds under at least one
+        ``holds`` per design; ``verdict``: per design and kind (or ``total``, for an objective that is the sum)
+        whether the gain holds under at least one
         independent method. The warnings name each design and kind where it does not.
     """
     cond = conditions(cfg)
@@ -157,8 +186,16 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             "holds": [bool(x) for x in np.all(v[1:] <= v[:1] * (1.0 + HOLDS), axis=1)],
         }
     verdict, warnings = [], []
+    total = _combined(cfg)
     for k in range(len(designs)):
         row = {}
+        if total:  # the objective is the sum: a pair of methods, one of them independent, confirms the sum
+            row["total"], text = _total_holds(values, methods, k)
+            if not row["total"]:
+                warnings.append(f"design {k}: its gain in the profile's resistance (calm water + waves) is not "
+                                f"confirmed by any pair of methods other than the objective's own: {text}")
+            verdict.append(row)
+            continue
         for kind in ("calm", "waves"):
             independent = [m for m in methods.values() if m["kind"] == kind and not m["own"]]
             if not independent:

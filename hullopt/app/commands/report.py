@@ -35,8 +35,9 @@ def rescore_command(
     """Re-score a run's designs and its parent by every calm-water method (Holtrop–Mennen, Michell, panel) and
     every added-resistance method (NMRI, SNNM, STAWAVE-2) over the run's profile and off it (±10 % speed, ±2 s
     T_p); warn of each design whose gain does not hold under an independent method of each kind. Writes
-    ``rescored`` and the warnings into report.json and rebuilds report.html."""
-    from ...report import read_run, write_json, write_report
+    ``rescored`` and the warnings into report.json, the designs under each pair of methods into
+    rescored_fronts.png, and rebuilds report.html."""
+    from ...report import FRONTS_NAME, plot_rescored_fronts, read_run, write_json, write_report
     from ...study import folder_study, read_run_config
 
     cfg = read_run_config(run_dir)
@@ -53,6 +54,8 @@ def rescore_command(
         old = report.get("rescored_warnings", [])
         report["warnings"] = [w for w in report.get("warnings", []) if w not in old] + doubts
         report["rescored"], report["rescored_warnings"] = rescored, doubts
+        met = [d.get("met", True) for d in report["designs"]] if report.get("designs") else None
+        plot_rescored_fronts(rescored, run_dir / FRONTS_NAME, met)
         write_json(run_dir / "report.json", report)
         write_report(run_dir, report)
     if json:
