@@ -31,8 +31,11 @@ def test_bad_bounds_name_the_constraint(text):
         parse_bound("calm_resistance", text)
 
 
+ONE_CONDITION = Path(__file__).resolve().parent / "data" / "rescore_wigley.toml"  # a single-condition minimise run
+
+
 def _raw(**constraints) -> dict:
-    raw = tomllib.loads((CONFIGS / "min_added_resistance.toml").read_text())
+    raw = tomllib.loads(ONE_CONDITION.read_text())
     raw["constraints"] = constraints
     return raw
 
@@ -63,9 +66,9 @@ def test_an_option_of_another_objective_kind_is_an_error_naming_the_kind(overrid
     from hullopt.errors import HullError
     from hullopt.study import load_config
 
-    with pytest.raises(HullError, match=rf"min_added_resistance.toml: objective: {key}: kind = '{kind}' takes no "
+    with pytest.raises(HullError, match=rf"rescore_wigley.toml: objective: {key}: kind = '{kind}' takes no "
                                         rf"'{key}' \(it is an option of {owners}\)"):
-        load_config(CONFIGS / "min_added_resistance.toml", [override])
+        load_config(ONE_CONDITION, [override])
 
 
 def test_objective_constraints_take_the_objectives_options():
@@ -154,7 +157,7 @@ def test_roughness_constraints_are_parsed_and_reach_the_limits():
     k = per_station.names.index("station_knuckles")
     assert per_station.measures[k] == fairing.station_knuckles and float(per_station.values[k]) == 3.0
     shipped = RunConfig.model_validate(tomllib.loads((CONFIGS / "min_added_resistance.toml").read_text()))
-    assert {"sac_roughness", "section_roughness", "station_knuckles"} <= set(shipped.constraints.bounds())
+    assert set(DEFAULT_LIMITS) | {"calm_resistance_michell"} <= set(shipped.constraints.bounds())
 
 
 def test_sac_roughness_by_hand_and_against_the_report():
