@@ -160,9 +160,9 @@ def _default_limits(parent, draft):
 ])
 def test_the_measured_defects_fail_their_limits_and_the_parents_pass(defects, parent, design, draft, failing):
     """The Wigley design turned its sections by up to 10.1° just under the DWL (the parent's sharpest there
-    6.6°) and at one station 9× the parent's Σθ⁴ (knuckles); the KCS design 0 sharpened its aft shoulder (SAC curvature² in the region 4× the
-    parent's) and lost 22 cm of KM_T; every KCS design moved the stations of the bulb's blend region (metres).
-    The parents pass every limit."""
+    6.6°) and at one station 9× the parent's Σθ⁴ (knuckles); the KCS design 0 sharpened its aft shoulder (SAC
+    curvature² in the region 4× the parent's) and lost 22 cm of KM_T; every KCS design moved the stations of the
+    bulb's blend region (metres). The parents pass every limit."""
     lim = _default_limits(defects[parent], draft)
     tol = lim.tol
     at_parent = {k: float(jnp.max(v)) for k, v in lim.groups(defects[parent], draft).items()}

@@ -348,7 +348,8 @@ SHAPE_MEASURES = {"unfairness": unfairness_measure, "sac_roughness": sac_roughne
                   "dwl_turns": dwl_turns, "section_inflections": section_inflections}
 """The shape measures a design's ``[constraints]`` may name (``name = "<= 2 * parent"``), by name: each
 ``measure(sections, draft)``. ``station_knuckles``, ``section_inflections``, ``waterline_angles`` and
-``sac_regions`` are one value per station, height or region, each held against the parent's same one (constraints, not report values)."""
+``sac_regions`` are one value per station, height or region, each held against the parent's same one
+(constraints, not report values)."""
 
 ARRAY_MEASURES = ("station_knuckles", "section_inflections", "waterline_angles", "sac_regions")
 """The :data:`SHAPE_MEASURES` with one value per station, height or region: constraints, each item against the

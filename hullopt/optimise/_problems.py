@@ -596,8 +596,9 @@ def solve_fit(design: Design, p0, lower, upper, *, traced: bool = False, method:
         r = design.residuals(p, args)
         return r @ r
 
-    p, _, ok, steps, history, violations = minimise_lbfgsb_traced(
-        cost, p0, lower, upper, tol=gtol, maxiter=max_steps, record=lambda p: jnp.max(jnp.abs(design.residuals(p)) / tol))
+    worst = lambda p: jnp.max(jnp.abs(design.residuals(p)) / tol)  # noqa: E731
+    p, _, ok, steps, history, violations = minimise_lbfgsb_traced(cost, p0, lower, upper, tol=gtol,
+                                                                   maxiter=max_steps, record=worst)
     r = design.residuals(p)
     viol = jnp.max(jnp.abs(r) / tol)
     return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, jnp.asarray(steps), history if traced else None,

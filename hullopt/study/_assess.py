@@ -35,7 +35,8 @@ section_roughness; the largest waterline half-angles of entrance and run, in rad
 def report_measures(cfg: RunConfig, d: Design) -> dict:
     """``{name: measure(sections, draft)}`` that a report compares, parent and design: every objective kind the
     ``[objective]`` table's options build (the sweep's measure with its own), the constraints' measures
-    (those with one value a station, height or region, :data:`~hullopt.fairing.ARRAY_MEASURES`, left out), Bf and :data:`COMPARED`."""
+    (those with one value a station, height or region, :data:`~hullopt.fairing.ARRAY_MEASURES`, left out), Bf
+    and :data:`COMPARED`."""
     out = {}
     base = cfg.objective
     if base is not None:

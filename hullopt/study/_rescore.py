@@ -1,11 +1,12 @@
 """A second opinion on a study's designs: each design and the parent re-scored by every calm-water method
 (Holtrop–Mennen, Michell, the panel method) and every added-resistance method a naval architect compares (NMRI,
-SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). Where the objective
-is the sum of both (an operating profile with sea states) its gain counts only if a pair of methods, one of
-them not the objective's own, finds the sum lower (as below). Else, in each kind the run claims a gain in (the
-objective's, and a Pareto sweep's measure's) a gain counts only if a method other than the objective's own finds the design lower than the parent at
-the profile (by more than :data:`HOLDS`: a method blind to the change confirms nothing) and nowhere higher off
-it; in the other kind, if one finds it nowhere higher. Each design where that fails is warned of.
+SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In each kind the
+run claims a gain in (the objective's, and a Pareto sweep's measure's) a gain counts only if a method other
+than the objective's own finds the design lower than the parent at the profile (by more than :data:`HOLDS`: a
+method blind to the change confirms nothing) and nowhere higher off it; in the other kind, if one finds it
+nowhere higher. Where the objective is the sum of both (an operating profile with sea states) its gain counts
+only if a pair of methods, not both the objective's own, finds the sum so. Each design where that fails is
+warned of.
 
 The operating points (:func:`conditions`): an operating-profile objective's own, else the objective's speeds
 with the sea state of the objective or of the sweep's measure. Each method's value is the profile's weighted
@@ -155,11 +156,11 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
     -------
     tuple of (dict, list of str)
         ``rescored``: ``conditions`` (the operating points of :func:`conditions`: ``speeds_kn``, ``weights``,
-        ``sea_states`` [hs m, tp s, heading deg] or None each; ``speed_factors``, ``tp_shifts_s``), and ``methods``: per method (``calm_holtrop``, … ``waves_snnm``)
-        its ``kind``, ``own`` (the objective's method), ``parent`` and ``designs`` [N] at the nominal
-        condition, ``change_pct`` per design at the nominal condition and ``worst_pct`` over every condition, and
-        ``holds`` per design; ``verdict``: per design and kind (or ``total``, for an objective that is the sum)
-        whether the gain holds under at least one
+        ``sea_states`` [hs m, tp s, heading deg] or None each; ``speed_factors``, ``tp_shifts_s``), and
+        ``methods``: per method (``calm_holtrop``, … ``waves_snnm``) its ``kind``, ``own`` (the run's method),
+        ``parent`` and ``designs`` [N] at the nominal condition, ``change_pct`` per design at the nominal
+        condition and ``worst_pct`` over every condition, and ``holds`` per design; ``verdict``: per design and
+        kind (or ``total``, for an objective that is the sum) whether the gain holds under at least one
         independent method. The warnings name each design and kind where it does not.
     """
     cond = conditions(cfg)
