@@ -130,7 +130,14 @@ def test_a_mesh_parent_without_a_draft_is_refused(cli, tmp_path, own_config, mon
 
 
 def test_an_unknown_parent_names_what_is_accepted(cli, tmp_path, own_config):
+    """A missing file is said to be missing, with the path it was looked for at (not an "unknown parent");
+    a name that is no file, library parent or spec lists what is accepted."""
     cfg = own_config()
     cfg.write_text(cfg.read_text().replace(f"hulls/{KCS}&n=31&m=48", "nosuch.stl?scale=2"))
     code, _, err = cli("run", cfg, "--out", tmp_path / "o")
-    assert code == 2 and "unknown parent 'nosuch.stl?scale=2'" in err and "hull spec" in err, err
+    said = " ".join(err.split())
+    assert code == 2 and "parent 'nosuch.stl?scale=2': no such file (a relative path is read from the config's " \
+        "folder, then from the working directory" in said, err
+    cfg.write_text(cfg.read_text().replace("nosuch.stl?scale=2", "nosuch"))
+    code, _, err = cli("run", cfg, "--out", tmp_path / "o")
+    assert code == 2 and "unknown parent 'nosuch'" in err and "hull spec" in err, err

@@ -231,6 +231,10 @@ def parent_key(spec: str, draft: float | None = None) -> dict:
     base, _, query = spec.partition("?")
     digest = _content_digest(base)
     if digest is None and not base.startswith("builtin:"):
+        if Path(base).suffix:  # a file's name: say it is missing, not that the name is unknown
+            where = "" if Path(base).is_absolute() else (" (a relative path is read from the config's folder, "
+                                                         f"then from the working directory {Path.cwd()})")
+            raise HullError(f"parent {spec!r}: no such file{where}")
         raise HullError(f"unknown parent {spec!r}; expected a library parent ({', '.join(parent_names())}), "
                         "a parent .json, or a hull spec: a mesh or offsets file (relative to the config's "
                         "folder), builtin:…, a run folder")
