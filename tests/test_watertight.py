@@ -118,6 +118,7 @@ def _deformed(cli, tmp_path, parent: str, design: str, draft: float):
     code, stdout, err = cli("deform", parent, toml, "--out", out, "--draft", draft)
     assert code == 0, err
     assert "watertight: True" in stdout and "degenerate faces: 0" in stdout and "bodies: 1" in stdout
+    assert "enclosed volume (the closed hull, to the deck; not ∇)" in " ".join(stdout.split())  # beside ∇
     after = lambda label: float(re.search(re.escape(label) + r"\s+\S+\s+→\s+(\S+)", stdout).group(1))  # noqa: E731
     return out, after("∇ [m³]"), after("LCB [% Lpp fwd of midship]")
 

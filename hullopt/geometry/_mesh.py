@@ -361,7 +361,7 @@ class MeshReport:
     def summary(self) -> str:
         return (f"{self.faces:,} faces, watertight: {self.watertight}, winding consistent: "
                 f"{self.winding_consistent}, bodies: {self.bodies}, degenerate faces: {self.tiny_faces}, "
-                f"volume {self.volume:,.6g} m³")
+                f"enclosed volume (the closed hull, to the deck; not ∇) {self.volume:,.6g} m³")
 
 
 def mesh_checks(mesh: trimesh.Trimesh) -> dict:
