@@ -151,3 +151,23 @@ def test_cli_config_and_drawings(tmp_path, views, capsys):
                    '[[parts]]\nname = "crane"\nkind = "cargo"\nx = [240, 260]\nz = [24, 40]\nbreadth = 4\n')
     assert main(["wind", str(cfg)]) == 2
     assert "outside the ship" in capsys.readouterr().err
+
+
+def test_cli_every_model_side_by_side_with_the_reference_areas(tmp_path, capsys):
+    """``--model all`` as ``waves --method all``: each model's coefficients over the same angles (each model's
+    own run gives the same numbers), the reference areas said, one plot with every model."""
+    from hullopt.wind import MODELS
+
+    cfg = tmp_path / "ship.toml"
+    cfg.write_text('hull = "builtin:box?L=250&B=40&D=24"\ndraft = 12.0\n'
+                   '[[parts]]\nname = "bridge"\nkind = "superstructure"\nx = [30, 42]\nz = [24, 60]\nbreadth = 36\n')
+    assert main(["wind", str(cfg), "--json", "--model", "all", "--step", "30", "--plot", str(tmp_path / "a.png")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "all" and set(out["models"]) == set(MODELS) and len(out["psi_deg"]) == 7
+    assert "C_X = X/(q A_T)" in out["references"] and "C_N = N/(q A_L L)" in out["references"]
+    assert main(["wind", str(cfg), "--json", "--model", "isherwood", "--step", "30"]) == 0
+    one = json.loads(capsys.readouterr().out)
+    assert one["coefficients"]["cx"] == out["models"]["isherwood"]["cx"]
+    assert (tmp_path / "a.png").stat().st_size > 1000
+    assert main(["wind", str(cfg), "--step", "30"]) == 0
+    assert "C_Y = Y/(q A_L)" in " ".join(capsys.readouterr().out.split())

@@ -39,39 +39,48 @@ def _read_image(path: str):
         raise HullError(f"{path}: cannot read the image: {e}") from None
 
 
-def _plot(path: Path, psi_deg, coeffs: dict[str, np.ndarray], title: str) -> None:
+def _plot(path: Path, psi_deg, by_model: dict[str, dict[str, np.ndarray]], title: str) -> None:
     """C(ψ) curves on Cartesian axes: the force coefficients C_X, C_Y above the moment coefficients C_N, C_K,
-    against the wind angle ψ [deg] from ahead (0°) to astern (180°); missing (non-finite) ones left out."""
+    against the wind angle ψ [deg] from ahead (0°) to astern (180°), a line style per model; missing
+    (non-finite) ones left out."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
-    for ax, group in ((ax1, (("cx", "C_X longitudinal force"), ("cy", "C_Y lateral force"))),
-                      (ax2, (("cn", "C_N yaw moment"), ("ck", "C_K roll moment")))):
-        for key, label in group:
-            if np.all(np.isfinite(coeffs[key])):
-                ax.plot(psi_deg, coeffs[key], "o-", ms=3, lw=1.3, label=label)
+    styles = ("o-", "s--", "^:", "d-.", "v-")
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.5), sharex=True)
+    for ax, group in ((ax1, (("cx", "C_X longitudinal force", "C0"), ("cy", "C_Y lateral force", "C1"))),
+                      (ax2, (("cn", "C_N yaw moment", "C2"), ("ck", "C_K roll moment", "C3")))):
+        for (model, coeffs), style in zip(by_model.items(), styles):
+            for key, label, colour in group:
+                if np.all(np.isfinite(coeffs[key])):
+                    name = label if len(by_model) == 1 else f"{label.split()[0]} {model}"
+                    ax.plot(psi_deg, coeffs[key], style, ms=3, lw=1.2, color=colour, label=name)
         ax.axhline(0.0, color="black", lw=0.8)
         ax.grid(alpha=0.3)
         if ax.get_lines()[:-1]:
-            ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax1.set_ylabel("force coefficient [-]")
     ax2.set_ylabel("moment coefficient [-]")
     ax2.set_xlabel("wind angle ψ [deg] (0 = head wind, 180 = following)")
     ax2.set_xlim(0, 180)
     ax2.set_xticks(np.arange(0, 181, 30))
-    ax1.set_title(f"Wind load coefficients — {title}", loc="left", fontsize=10)
+    ax1.set_title(f"Wind load coefficients — {title}\n{REFERENCES}", loc="left", fontsize=9)
     from ...drawing import save_figure
 
     save_figure(fig, path, dpi=120, bbox_inches="tight")
 
 
+REFERENCES = "C_X = X/(q A_T), C_Y = Y/(q A_L), C_N = N/(q A_L L), C_K = K/(q A_L H_L); q = ½ρU², H_L = A_L/L"
+"""The coefficients' reference areas and lengths (hullopt.wind), printed with every table and plot."""
+
+
 @app.command()
 def wind(
     config: Annotated[Path, typer.Argument(help="A wind config .toml (hull + parts, or [drawings]) or a drawings .json.")],
-    model: Annotated[str | None, typer.Option(help=f"Coefficient model: {', '.join(MODELS)} (default: the config's).")] = None,
+    model: Annotated[str | None, typer.Option(
+        help=f"Coefficient model: {', '.join(MODELS)} or all (side by side; default: the config's).")] = None,
     ship: Annotated[str | None, typer.Option("--ship-type", help="Blendermann ship type (name, prefix or number).")] = None,
     draft: Annotated[float | None, typer.Option(help="Draft [m] (overrides the config).")] = None,
     step: Annotated[float, typer.Option(help="Angle step of the table [deg].")] = 10.0,
@@ -81,8 +90,9 @@ def wind(
     """Wind-load variables (L, B, A_T, A_L, …) and coefficients C_X, C_Y, C_N, C_K over ψ = 0…180°."""
     cfg = read_wind_config(config)
     model = model or cfg.model
-    if model not in MODELS:
-        raise HullError(f"--model {model!r}: expected one of {', '.join(MODELS)}")
+    if model not in (*MODELS, "all"):
+        raise HullError(f"--model {model!r}: expected one of {', '.join(MODELS)} or all")
+    models = MODELS if model == "all" else (model,)
     ship = ship_type(ship or cfg.ship_type)
     if not (np.isfinite(step) and 0 < step <= 180):
         raise HullError(f"--step {step:g}: expected an angle in (0, 180] degrees")
@@ -106,21 +116,30 @@ def wind(
         check_parts(hull.sections, t, parts)
         v, name = eqx.filter_jit(wind_variables)(hull.sections, jnp.asarray(t), parts), f"{hull.name}, T = {t:g} m"
     psi_deg = np.arange(0.0, 180.0 + 1e-9, step)
-    c = wind_coefficients(v, jnp.deg2rad(psi_deg), model, ship=ship, y56=cfg.y56)
-    coeffs = {k: np.asarray(getattr(c, k)) for k in ("cx", "cy", "cn", "ck")}
+    by_model = {}
+    for m in models:
+        c = wind_coefficients(v, jnp.deg2rad(psi_deg), m, ship=ship, y56=cfg.y56)
+        by_model[m] = {k: np.asarray(getattr(c, k)) for k in ("cx", "cy", "cn", "ck")}
     if plot is not None:
         if not plot.parent.is_dir():
             raise HullError(f"--plot {plot}: the folder {str(plot.parent)!r} does not exist")
-        _plot(plot, psi_deg, coeffs, f"{model} — {name}")
+        _plot(plot, psi_deg, by_model, f"{'every model' if model == 'all' else model} — {name}")
     variables = v.to_dict() | extra
     if json:
-        print_json({"model": model, "variables": variables, "coefficients": {"psi_deg": psi_deg, **coeffs}})
+        out = {"variables": variables, "references": REFERENCES}
+        if model == "all":
+            out |= {"model": "all", "psi_deg": psi_deg, "models": by_model}
+        else:
+            out |= {"model": model, "coefficients": {"psi_deg": psi_deg, **by_model[model]}}
+        print_json(out)
         return
     table(f"Wind variables — {name}", ["variable", "value"],
           [[f"{k} [{u}]" if u else k, int(round(variables[k])) if k == "M" else variables[k]] for k, u in ROWS] +
           [[k, variables[k]] for k in extra], by="row")
-    table(f"Wind coefficients — {model}" + (f" ({ship})" if model == "blendermann" else ""),
-          ["ψ [deg]", "C_X", "C_Y", "C_N", "C_K"],
-          [[f"{p:g}", *(float(coeffs[k][i]) for k in ("cx", "cy", "cn", "ck"))] for i, p in enumerate(psi_deg)])
+    for m, coeffs in by_model.items():
+        table(f"Wind coefficients — {m}" + (f" ({ship})" if m == "blendermann" else ""),
+              ["ψ [deg]", "C_X", "C_Y", "C_N", "C_K"],
+              [[f"{p:g}", *(float(coeffs[k][i]) for k in ("cx", "cy", "cn", "ck"))] for i, p in enumerate(psi_deg)])
+    say(REFERENCES)
     if plot is not None:
         say(f"wrote {plot}")
