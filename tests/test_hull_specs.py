@@ -79,7 +79,9 @@ def test_hydrostatics_at_the_deck_are_exact():
 
 def test_drafts_above_the_deck_are_refused_and_curves_stop_below_it(cli, tmp_path, monkeypatch):
     code, _, err = cli("hydro", "builtin:box?L=100&B=20&D=10", "--draft", "10.5")
-    assert code == 2 and "above the deck" in err
+    assert code == 2 and "above the deck" in err and "scale" not in err
+    code, _, err = cli("hydro", "builtin:box?L=1&B=0.2&D=0.1", "--draft", "6")  # a model read as a ship
+    assert code == 2 and "a model-scale file? give the spec its scale, FILE?scale=S" in " ".join(err.split())
     code, out, err = cli("hydro", "builtin:box?L=100&B=20&D=10", "--draft", "10", "--json")
     assert code == 0 and json.loads(out)["cb"] == pytest.approx(1.0)
     import hullopt.drawing

@@ -70,8 +70,12 @@ class LoadedHull:
         lo = max(0.0, keel)
         if not (np.isfinite(draft) and lo < draft <= hi):
             where = "above the deck" if np.isfinite(draft) and draft > hi else "outside the hull"
+            hint = ""
+            if np.isfinite(draft) and draft > 5.0 * hi:  # a model-scale file read as a ship
+                hint = (f"; the hull is only {hi:g} m deep: a model-scale file? give the spec its scale, "
+                        "FILE?scale=S (S = ship length / model length)")
             raise HullError(f"{what} {draft:g} m is {where}: expected a draft in ({lo:g}, {hi:g}] m "
-                            f"(keel or baseline to deck)")
+                            f"(keel or baseline to deck){hint}")
         return float(draft)
 
 
