@@ -42,9 +42,12 @@ def report_measures(cfg: RunConfig, d: Design) -> dict:
     if base is not None:
         for kind in OBJECTIVES:
             try:
-                out[kind] = options_as(base, kind).build()
+                options = options_as(base, kind)
             except ValidationError:
-                pass  # e.g. a sea state for mean_added_resistance when the objective is calm-water resistance
+                continue  # e.g. a sea state for mean_added_resistance when the objective is calm-water resistance
+            if kind == "calm_resistance" and kind != base.kind:  # Holtrop's, beside Michell's, whatever the
+                options = options.model_copy(update={"method": None})  # objective's method
+            out[kind] = options.build()
         out[base.kind] = d.objective
     if cfg.sweep is not None:
         out[cfg.sweep.measure.kind] = cfg.sweep.measure.build()
@@ -133,12 +136,16 @@ def calm_disagreement(cfg: RunConfig, objectives: dict, parent: Sections, draft)
     if ratio <= DISAGREE:
         return []
     hull = holtrop_hull(parent, draft)
-    u = cfg.objective.speed_kn * KNOT
+    o = cfg.objective
+    profile = getattr(o, "profile", None)
+    speeds = [p.speed_kn for p in profile] if profile else list(getattr(o, "speeds_kn", None) or [o.speed_kn])
+    u = max(speeds) * KNOT  # the fastest point: the furthest from a slender, slow hull's validity
     invalid = outside_validity(hull, u / np.sqrt(G * float(hull.L)))
     high = "michell" if mi["parent"] > ho["parent"] else "holtrop"
     why = "; ".join(f"{m} is outside its validity ({invalid[m]})" for m in ("michell", "holtrop") if m in invalid)
+    at = f"{min(speeds):g}–{max(speeds):g} kn" if min(speeds) < max(speeds) else f"{speeds[0]:g} kn"
     return [f"calm-water R_T of the parent by {high} is {ratio:.1f}× the other's (holtrop vs michell) at "
-            f"{cfg.objective.speed_kn:g} kn" + (f": {why}" if why else "")
+            f"{at}" + (f": {why}" if why else "")
             + "; compare the methods with hullopt resistance --method all"]
 
 
