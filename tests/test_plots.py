@@ -197,7 +197,7 @@ def test_wind_coefficients_on_cartesian_axes(tmp_path, drawn):
     psi = np.arange(0.0, 181.0, 30.0)
     c = {"cx": -np.cos(np.deg2rad(psi)), "cy": np.sin(np.deg2rad(psi)), "cn": 0.1 * np.sin(np.deg2rad(2 * psi)),
          "ck": np.full(psi.shape, np.nan)}
-    _plot(tmp_path / "w.png", psi, c, "model — hull")
+    _plot(tmp_path / "w.png", psi, {"model": c}, "model — hull")  # one model: labels without its name
     (fig,) = drawn
     forces, moments = fig.axes[:2]
     assert forces.name == moments.name == "rectilinear"
