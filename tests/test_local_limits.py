@@ -113,7 +113,7 @@ def test_km_with_a_margin_binds_at_the_parents_minus_it():
     km = lambda s, t: s.yz[0, 0, 0]  # a stand-in measure [m]
     parent = _box_with_bulb()
     lim = Limits(names=("kmt",), measures=(km,), sense=np.array([-1.0]), values=np.array([1.0]), relative=(True,),
-                 offsets=np.array([-0.05]), max_half_breadth=None, bulge=False).at_parent(parent, 6.0)
+                 margins=np.array([-0.05]), max_half_breadth=None, bulge=False).at_parent(parent, 6.0)
     for drop, met in ((0.04, True), (0.06, False)):
         lower = Sections(parent.x, parent.yz.at[0, 0, 0].add(-drop), 100.0)
         assert (float(lim.groups(lower, 6.0)["kmt"]) <= 0) == met
@@ -129,7 +129,7 @@ def test_the_default_limits_are_on_and_one_can_be_switched_off():
     assert set(DEFAULT_LIMITS) <= set(cfg.constraints.bounds()) and cfg.constraints.frozen == "auto"
     off = RunConfig.model_validate({**base, "constraints": {"dwl_turns": "none", "kmt": ">= parent - 0.1"}})
     b = off.constraints.bounds()
-    assert "dwl_turns" not in b and b["kmt"].offset == -0.1
+    assert "dwl_turns" not in b and b["kmt"].margin == -0.1
     with pytest.raises(ValueError, match=r"constraints.frozen: range \[5.0, 1.0\]"):
         RunConfig.model_validate({**base, "constraints": {"frozen": [[5.0, 1.0]]}})
 

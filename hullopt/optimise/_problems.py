@@ -350,7 +350,7 @@ class Limits(eqx.Module):
     relative: tuple[bool, ...] = eqx.field(static=True, default=())
     max_half_breadth: Float[ArrayLike, ""] | None = None
     bulge: bool = eqx.field(static=True, default=True)
-    offsets: Float[ArrayLike, " k"] | None = None  # added to a relative bound [SI]: "parent - 0.1"
+    margins: Float[ArrayLike, " k"] | None = None  # added to a relative bound [SI]: "parent - 0.1"
     frozen: str | tuple = eqx.field(static=True, default="none")
     tol: float = eqx.field(static=True, default=1e-3)
     bounds: tuple | None = None  # resolved by at_parent: one scalar (or array, as its measure) per measure
@@ -363,9 +363,9 @@ class Limits(eqx.Module):
         """These limits with the parent's values resolved (``sections`` the parent at ``draft``)."""
         q = [m(sections, draft) for m in self.measures]
         values = jnp.asarray(self.values, float)
-        offsets = jnp.zeros_like(values) if self.offsets is None else jnp.asarray(self.offsets, float)
+        margins = jnp.zeros_like(values) if self.margins is None else jnp.asarray(self.margins, float)
         # one bound per measure; a measure may be an array (one value per station), bounded elementwise
-        bounds = tuple(jnp.where(r, v * qi + o, v) for r, v, o, qi in zip(self.relative, values, offsets, q))
+        bounds = tuple(jnp.where(r, v * qi + o, v) for r, v, o, qi in zip(self.relative, values, margins, q))
         y = sections.yz[..., 0]
         y_ref = jnp.max(y)
         y_max = None if self.max_half_breadth is None else \

@@ -238,12 +238,13 @@ _BOUND = re.compile(r"^\s*(<=|>=)\s*(?:(?:([-+0-9.eE]+)\s*\*\s*)?(parent)\s*(?:(
 
 class Bound(NamedTuple):
     """A constraint's bound: ``sense`` +1 for at most, −1 for at least; ``value`` the bound in SI units, or
-    the factor of the parent's value where ``relative``; ``offset`` [SI] added to a relative bound."""
+    the factor of the parent's value where ``relative``; ``margin`` [SI] added to a relative bound
+    (``"parent - 0.05"``)."""
 
     sense: int
     value: float
     relative: bool
-    offset: float = 0.0
+    margin: float = 0.0
 
 
 def parse_bound(name: str, text) -> Bound:
@@ -260,7 +261,7 @@ def parse_bound(name: str, text) -> Bound:
     Returns
     -------
     Bound
-        ``(sense, value, relative, offset)``.
+        ``(sense, value, relative, margin)``.
 
     Raises
     ------
@@ -270,8 +271,8 @@ def parse_bound(name: str, text) -> Bound:
     m = _BOUND.match(text) if isinstance(text, str) else None
     try:
         if m and m[3]:
-            off = float(m[5]) * (-1 if m[4] == "-" else 1) if m[4] else 0.0
-            bound = Bound(1 if m[1] == "<=" else -1, float(m[2]) if m[2] else 1.0, True, off)
+            margin = float(m[5]) * (-1 if m[4] == "-" else 1) if m[4] else 0.0
+            bound = Bound(1 if m[1] == "<=" else -1, float(m[2]) if m[2] else 1.0, True, margin)
         else:
             bound = Bound(1 if m[1] == "<=" else -1, float(m[6]), False) if m else None
     except ValueError:

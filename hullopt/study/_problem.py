@@ -141,7 +141,7 @@ def limits_from(cfg: RunConfig) -> Limits:
     -------
     Limits
         The bounds' names, measures, senses (+1 at most, −1 at least), values (SI, or factors of the parent's
-        where ``relative``) and offsets [SI], the largest half-breadth [m] (NaN: the parent's; None: no limit),
+        where ``relative``) and margins [SI], the largest half-breadth [m] (NaN: the parent's; None: no limit),
         ``bulge``, the frozen stations and the tolerance.
     """
     c = cfg.constraints
@@ -152,7 +152,7 @@ def limits_from(cfg: RunConfig) -> Limits:
                   sense=np.array([b.sense for b in bounds.values()], float),
                   values=np.array([b.value for b in bounds.values()], float),
                   relative=tuple(b.relative for b in bounds.values()),
-                  offsets=np.array([b.offset for b in bounds.values()], float),
+                  margins=np.array([b.margin for b in bounds.values()], float),
                   max_half_breadth=None if mhb is None else np.asarray(float(mhb)),
                   bulge=c.bulge == "forbid", frozen=frozen, tol=c.tolerance)
 
