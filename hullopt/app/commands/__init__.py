@@ -5,7 +5,7 @@ import importlib
 # command name -> the module that defines it (importing only that one keeps a command's start fast)
 COMMANDS = {
     "hydro": "hydro", "export": "hydro", "run": "run", "merge": "merge", "features": "features",
-    "deform": "features", "waves": "waves", "wind": "wind", "stability": "stability", "lines": "stability",
+    "deform": "features", "waves": "waves", "wind": "wind", "stability": "stability", "lines": "lines",
     "print": "stability", "fair": "fair", "resistance": "resistance", "motions": "motions",
     "report": "report", "rescore": "report",
 }
