@@ -9,6 +9,7 @@ import pytest
 
 from conftest import REPO
 from hullopt.app.cli import main
+from hullopt.fairing import count_inflections
 from hullopt.geometry import coons_surface
 from hullopt.hydro import hydrostatics
 from hullopt.models import OffsetTable, coons_sections, offsets_to_sections, read_offsets
@@ -139,3 +140,40 @@ def test_cli_fair_needs_a_draft_and_refuses_knuckles(capsys, tmp_path):
     csv.write_text("# knuckles = 5@1\nx,0,1,2\n0,1,1,1\n5,1,2,2\n10,1,1,1\n")
     code, _, err = run(capsys, "fair", str(csv), "--draft", "1")
     assert code == 2 and "knuckles" in err
+
+
+def test_cli_fair_keeps_the_seed003_table_a_ship(capsys, tmp_path):
+    """The README's table faired with the defaults (issue: a 7.36 m bulge past the 7.2 m half-beam, S-shaped
+    fore-body sections, negative offsets under --region, the cap reached silently with exit 0)."""
+    table = REPO / "hullopt/data/offsets/seed003_table1.csv"
+    t = read_offsets(table)
+    for extra in ([], ["--region", "0:33"]):
+        out = tmp_path / ("fair" + "_".join(extra).replace(":", "-"))
+        code, text, err = run(capsys, "fair", str(table), "--draft", "5.6", "--out", str(out), "--json", *extra)
+        rep = json.loads(text)
+        f = read_offsets(out / "faired_offsets.csv")
+        assert f.y.min() >= 0.0 and f.y.max() <= t.y.max()  # no negative offset, nothing wider than the ship
+        assert abs(rep["volume_change_pct"]) < 0.5 and abs(rep["bwl_change_pct"]) < 0.5
+        before, after = count_inflections(t.x, t.z, t.y), count_inflections(t.x, t.z, f.y, t.y)
+        assert (after[0] <= before[0]).all() and rep["inflections"]["after"] == after[0].tolist()
+        assert sum(after[0]) < sum(before[0])  # the table's own wiggles are faired out
+        # the measure wants more than the 0.36 m cap allows: exit 5, the stations named, the file still written
+        cap = np.abs(f.y - t.y).max(axis=1) >= 0.99 * rep["move_cap"]
+        assert cap.any() and code == 5 and "moved by the cap" in err
+        named = next(p for p in rep["problems"] if "moved by the cap" in p)
+        assert all(f"{v:.4g}" in named for v in t.x[cap])
+        code, text, _ = run(capsys, "hydro", str(out / "faired_offsets.csv"), "--draft", "5.6", "--json")
+        assert code == 0 and json.loads(text)["volume"] == pytest.approx(rep["volume_after"], rel=1e-6)
+
+
+def test_cli_fair_noisy_wigley_is_a_clean_wigley_again(capsys, tmp_path):
+    """The README's demo: every inflection the noise put in a section is faired out and none is added;
+    exit 0 with nothing to report."""
+    out = tmp_path / "demo"
+    code, text, err = run(capsys, "fair", "builtin:wigley?L=100&B=10&T=6.25&D=6.25", "--stations", "21",
+                          "--waterlines", "9", "--noise", "0.05", "--out", str(out), "--json")
+    rep = json.loads(text)
+    assert code == 0 and rep["problems"] == [], err
+    assert sum(rep["inflections"]["before"]) >= 10 and sum(rep["inflections"]["after"]) == 0
+    assert rep["max_move"] < 0.99 * rep["move_cap"]
+    assert abs(rep["volume_change_pct"]) < 0.1 and abs(rep["bwl_change_pct"]) < 0.5

@@ -9,6 +9,15 @@ from ._curvature import polyline_curvature as polyline_curvature
 from ._curvature import section_curvature as section_curvature
 from ._curvature import surface_curvatures as surface_curvatures
 from ._unfairness import RESIDUALS as RESIDUALS
+from ._inflections import FLOOR_FRACTION as FLOOR_FRACTION
+from ._inflections import count_inflections as count_inflections
+from ._inflections import floors as floors
+from ._inflections import hull_knots as hull_knots
+from ._inflections import inflection_counts as inflection_counts
+from ._inflections import knot_weights as knot_weights
+from ._inflections import line_curvatures as line_curvatures
+from ._inflections import mixed_curvature as mixed_curvature
+from ._inflections import sign_variation as sign_variation
 from ._unfairness import jump_residuals as jump_residuals
 from ._unfairness import knot_residuals as knot_residuals
 from ._unfairness import line_residuals as line_residuals

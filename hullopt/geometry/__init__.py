@@ -4,6 +4,7 @@ from ._coons import CoonsSurface as CoonsSurface
 from ._coons import coons_surface as coons_surface
 from ._coons import hermite_basis as hermite_basis
 from ._coons import spline_slopes as spline_slopes
+from ._coons import spline_curvatures as spline_curvatures
 from ._integrate import LongitudinalIntegrals as LongitudinalIntegrals
 from ._integrate import longitudinal_integrals as longitudinal_integrals
 from ._integrate import simpson_weights as simpson_weights

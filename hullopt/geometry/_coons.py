@@ -151,13 +151,30 @@ def spline_slopes(knots: Float[Array, " k"], values: Float[Array, "k ..."], end:
     return jnp.linalg.solve(mat, rhs.reshape(k, -1)).reshape(y.shape)
 
 
+def spline_curvatures(knots: Float[Array, " k"], values: Float[Array, "k ..."], end: str = "not-a-knot") -> Array:
+    """Curvature ``κ = y''/(1 + y'²)^{3/2}`` of the cubic spline through ``(knots, values)`` at its knots
+    [1/m] (positive where the curve turns towards +y; same shapes and end conditions as
+    :func:`spline_slopes`). A cubic spline's ``y''`` is linear between knots, so the signs at the knots
+    are its inflections."""
+    knots, y = jnp.asarray(knots), jnp.asarray(values)
+    s = spline_slopes(knots, y, end)
+    h = jnp.diff(knots).reshape((-1,) + (1,) * (y.ndim - 1))
+    d = jnp.diff(y, axis=0) / h
+    left = (6.0 * d - 4.0 * s[:-1] - 2.0 * s[1:]) / h  # y'' at each segment's start (Hermite cubic)
+    last = (-6.0 * d[-1:] + 2.0 * s[-2:-1] + 4.0 * s[-1:]) / h[-1:]
+    return jnp.concatenate([left, last], axis=0) / (1.0 + s**2) ** 1.5
+
+
 def coons_surface(x: Float[Array, " s"], z: Float[Array, " w"], y: Float[Array, "s w"],
-                  end: str = "not-a-knot") -> CoonsSurface:
+                  end: str = "not-a-knot", twist: str = "zero") -> CoonsSurface:
     """The Coons-patch surface through an offset grid.
 
     Pure and differentiable in ``y`` (and in the grid); corner tangents from the cubic splines of the
     waterlines (``∂y/∂x``) and of the frame lines (``∂y/∂z``) with end condition ``end`` (see
-    :func:`spline_slopes`); zero twist.
+    :func:`spline_slopes`). ``twist="zero"``: the seed's zero twist vectors (C¹ across patch edges, the
+    surface the unfairness functionals are made for); ``twist="spline"``: the twists of the splines of the
+    slopes, which makes the patches the tensor-product cubic spline through the same frame lines and
+    waterlines — C², so its curvature shows no jumps at patch edges (what a curvature map draws).
 
     Parameters
     ----------
@@ -169,6 +186,8 @@ def coons_surface(x: Float[Array, " s"], z: Float[Array, " w"], y: Float[Array, 
         Half-breadths [m] (y to port ≥ 0).
     end : str, optional
         Spline end condition, ``"not-a-knot"`` or ``"natural"`` (static).
+    twist : str, optional
+        ``"zero"`` or ``"spline"`` (static).
 
     Returns
     -------
@@ -186,5 +205,12 @@ def coons_surface(x: Float[Array, " s"], z: Float[Array, " w"], y: Float[Array, 
     qu = corners(fx) * jnp.diff(x)[:, None, None, None]  # tangents in the local parameters
     qv = corners(fz) * jnp.diff(z)[None, :, None, None]
     top = jnp.concatenate([q, qv], axis=-1)  # (…, 2, 4)
-    bottom = jnp.concatenate([qu, jnp.zeros_like(qu)], axis=-1)
+    if twist == "zero":
+        quv = jnp.zeros_like(qu)
+    elif twist == "spline":
+        fxz = spline_slopes(z, fx.T, end).T  # ∂²y/∂x∂z of the tensor-product spline at the offsets
+        quv = corners(fxz) * jnp.diff(x)[:, None, None, None] * jnp.diff(z)[None, :, None, None]
+    else:
+        raise ValueError(f"unknown twist {twist!r}; expected 'zero' or 'spline'")
+    bottom = jnp.concatenate([qu, quv], axis=-1)
     return CoonsSurface(x=x, z=z, coef=jnp.concatenate([top, bottom], axis=-2))

@@ -26,7 +26,16 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..fairing import RESIDUALS
+from ..fairing import (
+    RESIDUALS,
+    count_inflections,
+    floors,
+    hull_knots,
+    knot_weights,
+    line_curvatures,
+    mixed_curvature,
+    sign_variation,
+)
 from ..geometry import Sections, coons_surface, longitudinal_integrals
 from ..models import coons_sections
 from ._solvers import SolveResult, minimise_constrained
@@ -34,6 +43,8 @@ from ._solvers import SolveResult, minimise_constrained
 VOLUME_TOL = 1e-3  # relative displacement tolerance
 LCB_TOL = 5e-4  # LCB tolerance as a fraction of Lpp
 MU = 10.0  # the augmented Lagrangian's penalty, constant over the rounds
+V_TOL = 0.25  # a frame line's sign variation may exceed the given by a quarter of an inflection
+AT_CAP = 0.99  # a move this close to the cap means the cap, not the measure, stopped it
 
 
 def fixed_offsets(y, flat_rtol: float = 1e-6) -> np.ndarray:
@@ -100,7 +111,9 @@ def aft_body_noise(x, y, sigma: float, seed: int = 0, aft: float = 0.35, lpp: fl
 class FairResult:
     """Outcome of :func:`fair_offsets`. Offsets ``(s, w)`` [m]; volumes [m³]; LCB [m from the AP]; ``before``
     and ``after`` the measure (dimensionless); ``steps`` the BFGS steps of all rounds; ``converged``: the
-    solver succeeded and displacement and LCB are within their tolerances."""
+    solver succeeded and displacement, LCB and the no-new-inflection constraint are met. ``bound`` the move
+    cap [m]; ``inflections0``/``inflections``: inflections per frame line ``(s,)`` and per waterline ``(w,)``
+    of the given and the faired table (:func:`hullopt.fairing.count_inflections`)."""
 
     y: np.ndarray
     y0: np.ndarray
@@ -115,6 +128,19 @@ class FairResult:
     lpp: float
     steps: int
     converged: bool
+    bound: float
+    inflections0: tuple[np.ndarray, np.ndarray]
+    inflections: tuple[np.ndarray, np.ndarray]
+
+    @property
+    def at_cap(self) -> np.ndarray:
+        """``(s, w)`` bool: offsets whose move reached the cap (the cap, not fairness, decided them)."""
+        return self.free & (np.abs(self.y - self.y0) >= AT_CAP * self.bound)
+
+    @property
+    def new_inflections(self) -> tuple[np.ndarray, np.ndarray]:
+        """Frame lines ``(s,)`` and waterlines ``(w,)`` bool that have more inflections than given."""
+        return tuple(a > b for a, b in zip(self.inflections, self.inflections0))
 
     @property
     def reduction(self) -> float:
@@ -146,8 +172,45 @@ class _Solved(eqx.Module):
     particulars: Float[Array, " 2"]
 
 
+class _Frames(eqx.Module):
+    """The given table's frame lines as the no-new-inflection constraints see them: interior hull knots,
+    knot weights [m], the dead band [1/m], and per station the given sign variation ``V₀`` and mixed
+    curvature ``M₀`` (:func:`hullopt.fairing.sign_variation`, :func:`hullopt.fairing.mixed_curvature`)."""
+
+    knots: Array
+    weights: Array
+    floor: Array
+    v0: Array
+    m0: Array
+
+    def measures(self, x, z, y, end):
+        """``(V, M)`` per station, each ``(s,)``."""
+        kappa = line_curvatures(x, z, y, end)[0]
+        return (sign_variation(kappa, self.knots, self.floor, 1),
+                mixed_curvature(kappa, self.knots, self.weights, self.floor, 1))
+
+    def excess(self, x, z, y, end):
+        """``((V − V₀)/V_TOL, (M − M₀)/M_TOL)`` stacked, ``(2s,)``: ≤ 1 where a frame line turns both ways no
+        more than given: no new crossing, no S-shape grown (``M_TOL`` a dead band's worth of curvature over
+        the depth)."""
+        v, m = self.measures(x, z, y, end)
+        depth = z[-1] - z[0]
+        return jnp.concatenate([(v - self.v0) / V_TOL, (m - self.m0) / (self.floor**2 * depth)])
+
+
+def _frames(x, z, y0, end) -> _Frames:
+    knots = hull_knots(y0)[0]
+    kappa = line_curvatures(x, z, y0, end)
+    floor = floors(*kappa, *hull_knots(y0))[0]
+    weights = np.broadcast_to(knot_weights(z), y0.shape)
+    frames = _Frames(knots=jnp.asarray(knots), weights=jnp.asarray(weights), floor=jnp.asarray(floor),
+                     v0=jnp.zeros(len(x)), m0=jnp.zeros(len(x)))
+    v0, m0 = frames.measures(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), end)
+    return eqx.tree_at(lambda f: (f.v0, f.m0), frames, (v0, m0))
+
+
 @eqx.filter_jit
-def _solve(x, z, y0, idx, bound, lpp, draft, proximity, measure: str, end: str,
+def _solve(x, z, y0, idx, lower, upper, bound, lpp, draft, proximity, frames: _Frames, measure: str, end: str,
            to_sections: Callable | None, outer: int, max_steps: int, rtol: float) -> _Solved:
     """The fairing problem as one pure computation of the offsets ``y0`` (jit; vmap-able over ``y0``)."""
     residuals = RESIDUALS[measure]
@@ -179,8 +242,12 @@ def _solve(x, z, y0, idx, bound, lpp, draft, proximity, measure: str, end: str,
         v, lcb = particulars(offsets(q))
         return jnp.stack([(v - p0[0]) / (VOLUME_TOL * p0[0]), (lcb - p0[1]) / (LCB_TOL * lpp)])
 
-    r = minimise_constrained(objective, constraints, q0, q0 - bound, q0 + bound, outer=outer, mu0=MU,
-                             growth=1.0, rtol=rtol, atol=rtol, max_steps=max_steps)
+    def no_new_inflections(q, args):
+        return frames.excess(x, z, offsets(q), end)
+
+    r = minimise_constrained(objective, constraints, q0, lower, upper, inequalities=no_new_inflections,
+                              outer=outer, mu0=MU, growth=1.0, rtol=rtol, atol=rtol,
+                             max_steps=max_steps)
     yy = offsets(r.params)
     return _Solved(y=yy, result=r, before=f0, after=jnp.sum(unfair(yy) ** 2), particulars0=p0,
                    particulars=particulars(yy))
@@ -243,13 +310,20 @@ def fair_offsets(
     if not free.any():
         raise ValueError("no free offsets to fair (all are fixed)")
     bound = float(0.05 * y0.max() if max_move is None else max_move)
-    s = _solve(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), jnp.asarray(np.flatnonzero(free)),
-               jnp.asarray(bound), jnp.asarray(float(lpp)), jnp.asarray(float(draft)), jnp.asarray(float(proximity)),
-               measure, end, to_sections, outer, max_steps, rtol)
+    idx = np.flatnonzero(free)
+    q0 = y0.ravel()[idx]
+    # no offset below zero or beyond the table's widest: fairing must not widen the ship
+    lower, upper = np.maximum(q0 - bound, 0.0), np.minimum(q0 + bound, y0.max())
+    s = _solve(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), jnp.asarray(idx), jnp.asarray(lower),
+               jnp.asarray(upper), jnp.asarray(bound), jnp.asarray(float(lpp)), jnp.asarray(float(draft)),
+               jnp.asarray(float(proximity)), _frames(x, z, y0, end), measure, end, to_sections, outer, max_steps, rtol)
     s = jax.device_get(s)
     (v0, lcb0), (v, lcb) = (float(a) for a in s.particulars0), (float(a) for a in s.particulars)
+    yy = np.asarray(s.y)
     return FairResult(
-        y=np.asarray(s.y), y0=y0, free=free, measure=measure, before=float(s.before), after=float(s.after),
+        y=yy, y0=y0, free=free, measure=measure, before=float(s.before), after=float(s.after),
         volume0=v0, volume=v, lcb0=lcb0, lcb=lcb, lpp=float(lpp), steps=int(s.result.steps),
-        converged=bool(s.result.solver_ok & s.result.met),
+        converged=bool(s.result.solver_ok & s.result.met), bound=bound,
+        inflections0=count_inflections(x, z, y0, y0, end), inflections=count_inflections(x, z, yy, y0, end),
     )
+

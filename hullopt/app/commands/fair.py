@@ -24,6 +24,8 @@ from ...study import load_hull
 from .._app import app
 from ..output import EXIT_NOT_CONVERGED, busy, print_json, say, table, warn
 
+HOLD_PCT = 0.5  # displacement and Bwl of a faired table within this [%] of the given
+
 FAIR_HULL_HELP = ("offsets .csv (faired as given), or any other hull spec (builtin:…, mesh): its sections are "
                   "resampled on --stations × --waterlines offsets")
 
@@ -55,7 +57,7 @@ def hull_offsets(spec: str, stations: int, waterlines: int):
 
 @partial(jax.jit, static_argnums=(3, 4))
 def _fields(x, z, y, n, m):
-    s = coons_surface(x, z, y)
+    s = coons_surface(x, z, y, twist="spline")  # C²: curvature continuous across patch edges
     xf, zf = jnp.linspace(x[0], x[-1], n), jnp.linspace(z[0], z[-1], m)
     xx, zz, xs = xf[:, None], zf[None, :], x[:, None]
     k, h = graph_curvatures(*(s(xx, zz, a, b) for a, b in ((1, 0), (0, 1), (2, 0), (1, 1), (0, 2))))
@@ -147,8 +149,11 @@ def fair(
 ) -> None:
     """Fair a hull's offsets by minimising an unfairness measure, holding displacement, LCB and the contour.
 
-    Exit code 5 when the solver does not converge (the report says "converged": false; the offsets and plots
-    of the last iterate are still written)."""
+    No offset goes below zero or beyond the table's widest half-breadth, and no section gains an inflection
+    (both are constraints). Exit code 5, with the stations named, when the result is not fit to hand on: the
+    solver did not converge, an offset moved by the whole --max-move, a section has more inflections than
+    given, or displacement or Bwl changed by more than 0.5 % (the report's "problems"; the offsets and plots
+    are still written)."""
     if measure_name not in RESIDUALS:
         raise HullError(f"--measure {measure_name!r}: expected one of {', '.join(RESIDUALS)}")
     for name, v, ok in (("--proximity", proximity, proximity >= 0), ("--noise", noise, noise >= 0),
@@ -164,9 +169,10 @@ def fair(
         print_json(report)
     else:
         _print_fair(report)
-    if not report["converged"]:
-        warn(f"the fairing did not converge in {report['steps']} steps: the result is the last iterate "
-             f"(exit code {EXIT_NOT_CONVERGED})")
+    if report["problems"]:
+        for p in report["problems"]:
+            warn(p)
+        warn(f"the faired table is not fit to hand on as it is (exit code {EXIT_NOT_CONVERGED})")
         raise typer.Exit(EXIT_NOT_CONVERGED)
 
 
@@ -198,9 +204,9 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
 
     def particulars(yy):
         h = hydro(jnp.asarray(yy))
-        return float(h.volume), float(h.lcb)
+        return float(h.volume), float(h.lcb), float(h.bwl)
 
-    (v0, lcb0), (v1, lcb1) = particulars(given), particulars(res.y)
+    (v0, lcb0, b0), (v1, lcb1, b1) = particulars(given), particulars(res.y)
     before, after = (_all_measures(jnp.asarray(x), jnp.asarray(z), jnp.asarray(yy)) for yy in (given, res.y))
     all_measures = {m: {"before": float(before[m]), "after": float(after[m])} for m in RESIDUALS}
     move = res.y - given
@@ -212,8 +218,14 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
         "rms_move": float(np.sqrt(np.mean(move[free] ** 2))),
         "volume_before": v0, "volume_after": v1, "volume_change_pct": 100 * (v1 / v0 - 1),
         "lcb_before": lcb0, "lcb_after": lcb1, "lcb_shift_pct_lpp": 100 * (lcb1 - lcb0) / lpp,
+        "bwl_before": b0, "bwl_after": b1, "bwl_change_pct": 100 * (b1 / b0 - 1),
+        "half_breadth_max": float(given.max()), "half_breadth_min_after": float(res.y.min()),
+        "move_cap": res.bound,
+        "inflections": {"x": [float(v) for v in x], "before": res.inflections0[0].tolist(),
+                        "after": res.inflections[0].tolist()},
         "steps": res.steps, "converged": res.converged,
     }
+    report["problems"] = _problems(report, x, res)
     if noise > 0:
         e0 = float(np.sqrt(np.mean((given - y)[free] ** 2)))
         e1 = float(np.sqrt(np.mean((res.y - y)[free] ** 2)))
@@ -228,6 +240,30 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
     return report
 
 
+def _stations(x, rows) -> str:
+    """The stations ``x[rows]`` as a reader finds them: ``x = 9.5, 14.25 m``."""
+    return "x = " + ", ".join(f"{float(v):.4g}" for v in np.asarray(x)[rows]) + " m"
+
+
+def _problems(report: dict, x, res) -> list[str]:
+    """What makes a faired table unfit to hand on (each a sentence naming the stations); empty when fit."""
+    out = []
+    if not res.converged:
+        out.append(f"the solver did not converge in {res.steps} steps (the result is its last iterate)")
+    for what, key in (("displacement", "volume_change_pct"), ("Bwl", "bwl_change_pct")):
+        if abs(report[key]) > HOLD_PCT:
+            out.append(f"{what} changed by {report[key]:+.2f} % (more than {HOLD_PCT:g} %)")
+    new = np.flatnonzero(res.new_inflections[0])
+    if new.size:
+        out.append(f"new inflections in the sections at {_stations(x, new)}")
+    cap = np.flatnonzero(res.at_cap.any(axis=1))
+    if cap.size:
+        out.append(f"offsets moved by the cap {quantity(res.bound, 'm', ref=1)} at {_stations(x, cap)}: the cap, "
+                   "not fairness, stopped them; look at those stations, and give a larger --max-move only if "
+                   "the table's errors are that large")
+    return out
+
+
 def _print_fair(report: dict) -> None:
     """The before/after table and the summary lines of ``hullopt fair``."""
     def pct(v):  # a change in %, to 3 significant figures, signed
@@ -237,11 +273,14 @@ def _print_fair(report: dict) -> None:
              pct(100 * (d["after"] / d["before"] - 1) if d["before"] else None)]
             for m, d in report["measures"].items()]
     v0, v1, lcb0, lcb1 = (report[k] for k in ("volume_before", "volume_after", "lcb_before", "lcb_after"))
+    inf0, inf1 = (sum(report["inflections"][k]) for k in ("before", "after"))
     rows += [["volume ∇ [m³]", v0, v1, pct(report["volume_change_pct"])],
-             ["LCB [m from AP]", lcb0, lcb1, pct(report["lcb_shift_pct_lpp"])]]
+             ["Bwl [m]", report["bwl_before"], report["bwl_after"], pct(report["bwl_change_pct"])],
+             ["LCB [m from AP]", lcb0, lcb1, pct(report["lcb_shift_pct_lpp"]) + " Lpp"],
+             ["inflections in the sections", inf0, inf1, "–"]]
     table(f"Fairing — {report['hull']} (measure {report['measure']}, T = {fmt(report['draft'])} m)",
           ["", "before", "after", "change [%]"], rows, by="row",
-          caption="unfairness: the measure's sum of squares (dimensionless); LCB change in % Lpp")
+          caption="unfairness: the measure's sum of squares (dimensionless); the LCB's change is in % of Lpp")
     say(f"{report['measure']} fell by {100 * report['reduction']:.1f} % in {report['steps']} steps; largest move "
         f"{quantity(report['max_move'], 'm', ref=1)}; displacement {report['volume_change_pct']:+.4f} %, LCB "
         f"{report['lcb_shift_pct_lpp']:+.4f} % Lpp")
