@@ -215,3 +215,12 @@ def test_open_top_with_a_step_in_it(tmp_path):
         assert float(h.volume) == pytest.approx(100 * 10 * 6, rel=1e-4) and float(h.lcb) == pytest.approx(50.0)
         yz, x = np.asarray(s.yz), np.asarray(s.x)
         assert np.allclose(yz[x < 75][:, -1], [5.0, 10.0]) and np.allclose(yz[x > 85][:, -1], [5.0, 14.0])
+
+
+def test_a_hull_read_in_the_wrong_axes_is_told_so(hulls):
+    """The DTC with its y and z swapped: the message names the extents and the ``?axes=`` to fix, not only
+    twin skegs."""
+    with pytest.raises(HullError) as e:
+        load_hull(f"{hulls}/DTC-scaled.stl.gz?axes=x,z,y&scale=59.407&lpp=355")
+    msg = str(e.value)
+    assert "symmetric about z = 0" in msg and "'?axes='" in msg and "z -25.5…25.5 m" in msg

@@ -129,3 +129,16 @@ def test_head_sea_motion_part_gradient_matches_differences():
     f = jax.jit(lambda a: mean_added_resistance("nmri", Sections(hull.x, hull.yz * jnp.array([1.0 + a[0], 1.0]),
                                                                   hull.lpp), 6.25, 15 * KNOT, 3.0, 9.0, 0.0).total)
     check_grad(f, np.array([0.05]), rtol=1e-4)
+
+
+def test_conditions_captions_say_where_an_objective_is_measured():
+    """The Pareto plot's caption: the shipped configs' profiles, a speed list, one speed in one sea."""
+    from conftest import REPO
+    from hullopt.study import conditions_text
+    from hullopt.study._config import load_config
+
+    cfg, _ = load_config(REPO / "configs/pareto_bow.toml")
+    assert conditions_text(cfg.objective) == "22, 24, 26 kn, weighted"
+    assert conditions_text(cfg.sweep.measure) == "22, 24, 26 kn × (Hs 2.5 m/Tp 8 s, Hs 4 m/Tp 10 s), weighted"
+    cfg, _ = load_config(REPO / "tests/data/pareto_wigley.toml")
+    assert conditions_text(cfg.objective) == "15 kn" and conditions_text(cfg.sweep.measure) == "15 kn, Hs 3 m/Tp 9 s"

@@ -115,12 +115,13 @@ def test_the_page_is_self_contained_with_plotly_once(pages):
 def test_a_run_page_shows_units_targets_objectives_warnings_and_convergence(pages):
     text = pages["run"].read_text(encoding="utf-8")
     for part in ("Hulls in 3D", "Body plan", "Sectional-area curve", "Targets and constraints", "Convergence",
-                 "Warnings", "within 1 % of its bound", "Displacement Δ [t]", "mean added resistance R_AW [kN]",
+                 "Warnings", "within 1 % of its bound", "Displacement Δ [t]", "mean added resistance R_AW",
                  "Wetted surface S [m²]", "LCB from midship [% Lpp]", "max constraint violation"):
         assert part in text, part
-    # R_AW parent → design in kN, the change and relative change; round-off noise as 0
-    row = re.search(r"R_AW \[kN\]</b></td>(.*?)</tr>", text).group(1)
-    assert re.findall(r"<td>([^<]*)</td>", row) == ["13.453", "5.857", "-7.596", "-56.47"]
+    # R_AW parent → design in kN (its unit in a column), the change and relative change; round-off noise as 0
+    row = re.search(r"mean added resistance R_AW</b></td>(.*?)</tr>", text).group(1)
+    assert re.findall(r"<td>([^<]*)</td>", row) == ["kN", "13.453", "5.857", "-7.596", "-56.47"]
+    assert "<th>unit</th>" in text
     assert "e-15" not in text.split("<body>")[1]
     # the design against its parent, embedded; the local limits, the violated one marked
     assert "Designs against the parent" in text and 'src="data:image/png;base64,iVBOR' in text

@@ -42,6 +42,7 @@ from ..study import (
     RunConfig,
     Study,
     collect_chunks,
+    conditions_text,
     design_outcomes,
     load_study,
 )
@@ -95,7 +96,9 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         for k, mk in enumerate(design_outcomes(study, solution.designs)):
             _write_hull(mk, d.draft, out / "designs" / str(k))
         o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
-        plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds))
+        where = f"{kinds[1]}: {conditions_text(cfg.objective)}; {kinds[0]}: {conditions_text(cfg.sweep.measure)}"
+        plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds),
+                    conditions=where)
         hulls = None
     write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
     write_json(out / "report.json", report)

@@ -379,11 +379,29 @@ def slice_mesh(
     z_lo, z_hi = mesh.bounds[:, 2]
     ext = float(np.ptp(mesh.bounds, axis=0).max())
     cuts = _cut(mesh, x)
-    sections = np.stack([
-        _station(pieces, xi, z_lo, z_hi, n_points, bool(half), _PLANE_TOL * ext, _GAP_TOL * ext)
-        for xi, pieces in zip(x, cuts)
-    ])
+    try:
+        sections = np.stack([
+            _station(pieces, xi, z_lo, z_hi, n_points, bool(half), _PLANE_TOL * ext, _GAP_TOL * ext)
+            for xi, pieces in zip(x, cuts)
+        ])
+    except HullError as e:
+        raise HullError(f"{e}; {_axes_hint(mesh, bool(half))}") from None
     return Sections(x=jnp.asarray(x), yz=jnp.asarray(sections), lpp=jnp.asarray(float(lpp)))
+
+
+def _axes_hint(mesh: trimesh.Trimesh, half: bool) -> str:
+    """What a section that misses the centreline may mean: the mesh's extent in our axes, and which of our
+    axes looks like the one across the ship (a whole hull is symmetric about its centre plane)."""
+    lo, hi = mesh.bounds
+    span = ", ".join(f"{a} {lo[i]:.4g}…{hi[i]:.4g}" for i, a in enumerate("xyz"))
+    text = f"the mesh spans {span} m in hullopt's axes (x forward from the AP, y to port, z up)"
+    if abs(lo[2] + hi[2]) <= 0.02 * (hi[2] - lo[2]):  # up and down alike: the beam is on z, not y
+        return (f"{text}: it is symmetric about z = 0, as a hull is about its centre plane, so it is probably read in the "
+                "wrong axes; give the file's axes in the hull spec's '?axes=' (our x, y, z from the file's, with "
+                "signs, e.g. '?axes=x,-z,y')")
+    if not half and abs(lo[1] + hi[1]) > 0.02 * (hi[1] - lo[1]):
+        return f"{text}: a whole hull should be symmetric about y = 0; check the hull spec's '?axes='"
+    return f"{text}; if the hull has no twin skegs, check the hull spec's '?axes='"
 
 
 def _edge_crossings(mesh: trimesh.Trimesh, xs: np.ndarray):

@@ -569,8 +569,9 @@ def _num(v: Any) -> bool:
 
 
 def objectives_table(report: dict, picks: list[int] | None = None) -> str:
-    """Objectives and measures parent → design with units (a run: the change and the relative change; a
-    sweep: the designs ``picks``); the run's own objective first and in bold."""
+    """Objectives and measures parent → design, each with its unit in a column ("–": dimensionless; a run: the
+    change and the relative change; a sweep: the designs ``picks``); the run's own objective first and in
+    bold."""
     rows = []
     main = (report.get("objective") or {}).get("name")
     entries = sorted(objective_rows(report), key=lambda r: r[0] != main)
@@ -582,8 +583,9 @@ def objectives_table(report: dict, picks: list[int] | None = None) -> str:
         if sweep:
             ds = [ds[j] if j < len(ds) else None for j in picks]
         ref = max([abs(v) for v in (da, *ds) if v is not None] + [unit_scale(u)])
+        lab = lab.removesuffix(f" [{u}]") if u else lab  # the unit has its own column
         name = f"<b>{_e(lab)}</b>" if k == main else _e(lab)
-        cells = [name, _e(fmt(da, 5, ref))] + [_e(fmt(v, 5, ref)) for v in ds]
+        cells = [name, _e(u or "–"), _e(fmt(da, 5, ref))] + [_e(fmt(v, 5, ref)) for v in ds]
         if not sweep:
             db = ds[0] if ds else None
             ch = _signed(db - da, ref) if da is not None and db is not None else ""
@@ -592,7 +594,7 @@ def objectives_table(report: dict, picks: list[int] | None = None) -> str:
         rows.append(cells)
     if not rows:
         return ""
-    head = ["objective or measure", "parent"] + ([f"design {j}" for j in picks] if sweep
+    head = ["objective or measure", "unit", "parent"] + ([f"design {j}" for j in picks] if sweep
                                                  else ["design", "change", "change [%]"])
     return _table(head, rows)
 

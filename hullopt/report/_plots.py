@@ -227,7 +227,7 @@ def _axis(name: str) -> tuple[str, float]:
 
 
 def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
-                parent: tuple[float, float, float] | None = None) -> Path:
+                parent: tuple[float, float, float] | None = None, conditions: str = "") -> Path:
     """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in kN.
 
     Each design is labelled with its Bf target to 4 significant digits (a label once per position); designs that
@@ -246,6 +246,8 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
         The image file (PNG; :func:`hullopt.drawing.save_figure`).
     parent : tuple of (float, float, float) or None
         ``(measure, objective, Bf)`` of the parent (SI); None: no parent drawn.
+    conditions : str
+        Where the two are measured (speeds, sea states: :func:`hullopt.study.conditions_text`), under the title.
 
     Returns
     -------
@@ -283,7 +285,8 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
     bf = [d["bf_target"] for d in designs]
     span = f", Bf {min(bf):.4g} … {max(bf):.4g}" if bf else ""
     ax.set_title(f"Pareto front: {label(yname, unit=False)} against {label(xname, unit=False)}{span}\n"
-                 f"(each design labelled with its bluntness target Bf)", loc="left", fontsize=10)
+                 + (f"{conditions}\n" if conditions else "")
+                 + "(each design labelled with its bluntness target Bf)", loc="left", fontsize=9)
     return _save(fig, path)
 
 

@@ -7,6 +7,7 @@ they extract, and so are run folders (a finished run's design hull, :func:`folde
 
 from ._config import FAIRNESS as FAIRNESS
 from ._config import OPTIONS as OPTIONS
+from ._config import conditions_text as conditions_text
 from ._config import ConstraintsConfig as ConstraintsConfig
 from ._config import DeformConfig as DeformConfig
 from ._config import DesignConfig as DesignConfig

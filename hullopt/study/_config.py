@@ -556,3 +556,29 @@ def resolve_spec(spec: str, folder: Path) -> str:
     if not (folder / base).exists():
         return spec
     return prefix + str(folder / base) + sep + query
+
+
+def conditions_text(objective) -> str:
+    """Where an objective (or a sweep's measure) config is evaluated, as a caption: its profile (``"22, 24,
+    26 kn × (Hs 2.5 m/Tp 8 s, Hs 4 m/Tp 10 s), weighted"`` when the points are every speed in every sea),
+    its speed list, or its speed and sea state; ``""`` for an objective without a speed."""
+    def sea(hs, tp, heading):
+        return "calm" if not hs else f"Hs {hs:g} m/Tp {tp:g} s" + (f" at {heading:g}°" if heading else "")
+
+    profile = getattr(objective, "profile", None)
+    if profile:
+        speeds = list(dict.fromkeys(p.speed_kn for p in profile))
+        seas = list(dict.fromkeys(sea(p.hs, p.tp, p.heading_deg) for p in profile))
+        weighted = ", weighted" if len({p.weight for p in profile}) > 1 else ""
+        if len(profile) == len(speeds) * len(seas):
+            kn = ", ".join(f"{v:g}" for v in speeds) + " kn"
+            return kn + ("" if seas == ["calm"] else f" × ({', '.join(seas)})") + weighted
+        return "; ".join(f"{p.speed_kn:g} kn {sea(p.hs, p.tp, p.heading_deg)}" for p in profile) + weighted
+    speeds = getattr(objective, "speeds_kn", None)
+    if speeds:
+        return ", ".join(f"{v:g}" for v in speeds) + " kn"
+    speed = getattr(objective, "speed_kn", None)
+    if speed is None:
+        return ""
+    hs = getattr(objective, "hs", 0.0)
+    return f"{speed:g} kn" + (f", {sea(hs, objective.tp, getattr(objective, 'heading_deg', 0.0))}" if hs else "")

@@ -121,12 +121,15 @@ def _plot(path: Path, out: dict) -> None:
     ax1.set_ylabel("RAO")
     ax1.grid(alpha=0.3)
     ax1.legend()
-    ax1.set_title(f"{out['hull']}: Fn {out['fn']:.3f}, heading {out['heading_deg']:g}°, kyy {out['kyy']:g} Lpp")
+    ax1.set_title(f"{out['hull']}: {out['speed_kn']:g} kn (Fn {out['fn']:.3f}), T {out['draft']:g} m, "
+                  f"heading {out['heading_deg']:g}°, kyy {out['kyy']:g} Lpp", fontsize=10)
     ax2.plot(x, out["sigma_aw"], "k-o", ms=3, label="total")
     ax2.plot(x, out["sigma_aw_motion"], "--", label="motion part (strip theory, GB)")
     ax2.plot(x, out["sigma_aw_reflection"], ":", label="reflection part (NMRI Bf)")
     ax2.set_xlabel("λ / L")
-    ax2.set_ylabel("σ_aw = R_AW / (ρgζ²B²/L)")
+    ax2.set_ylabel("σ_aw = R_AW / (ρgζ²B²/L) [-]")
+    ax2.set_title(f"σ_aw = {out['lpp'] / (2.0 * out['beam']):.3g}·K_AW, with K_AW = R_AW/(½ρgζ²B) as "
+                  "`hullopt waves` plots it", fontsize=8, loc="left")
     ax2.grid(alpha=0.3)
     ax2.legend()
     fig.tight_layout()

@@ -248,8 +248,11 @@ def _plot(path: Path, out: dict) -> None:
                label=f"NMRI short-wave reflection K_AW(Bf) = {out['k_aw']:.3f}")
     ax.set_xlabel("λ / L [-]")
     ax.set_ylabel("K_AW = R_AW / (½ρgζ²B) [-]")
-    ax.set_title(f"Added resistance in regular waves — {out['hull']}: Fn {out['fn']:.3f}, Bf {out['bf']:.3f}, "
-                 f"heading {out['heading_deg']:g}°", loc="left", fontsize=9)
+    sigma = out["lpp"] / (2.0 * out["beam"])  # σ_aw = R_AW/(ρgζ²B²/L) of `hullopt motions` = K_AW·L/(2B)
+    ax.set_title(f"Added resistance in regular waves — {out['hull']}: {out['speed_kn']:g} kn (Fn {out['fn']:.3f}), "
+                 f"T {out['draft']:g} m, Bf {out['bf']:.3f}, heading {out['heading_deg']:g}°\n"
+                 f"K_AW = R_AW/(½ρgζ²B); σ_aw = R_AW/(ρgζ²B²/L) (as `hullopt motions` plots it) = "
+                 f"{sigma:.3g}·K_AW", loc="left", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     from ...drawing import save_figure
