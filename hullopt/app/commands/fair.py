@@ -125,7 +125,7 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
             ax.set_ylabel("z [m]")
     for ax in axes[-1]:
         ax.set_xlabel("x [m from AP]")
-    fig.suptitle(f"{title}: curvature-shaded hull side (x, z)")
+    fig.suptitle(f"{title}: curvature-shaded hull side (x, z) of the C² spline surface through the offsets")
     fig.tight_layout()
     files.append(out / "curvature.png")
     save_figure(fig, files[1], dpi=110)
