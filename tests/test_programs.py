@@ -81,3 +81,43 @@ def test_programs_unused_for_30_days_are_pruned_when_one_is_written(folder):
     programs.cached_call("t", model, args(), (3,), key="used")  # read: marks it in use
     programs.cached_call("t", model, args(), (3,), key="new")  # written: prunes
     assert used.exists() and not stale.exists() and len(list(folder.glob("t-*.bin"))) == 2
+
+
+class Scaled(eqx.Module):
+    factor: jax.Array
+    how: str = eqx.field(static=True)
+
+
+def scaled(m, x):
+    return m.factor * x if m.how == "times" else m.factor + x
+
+
+def test_numbers_are_arguments_and_what_is_baked_in_is_in_the_signature(folder, monkeypatch):
+    """Another number in an array reuses the program (and is used: no stale constant); another static field
+    or Python number in the arguments is another program, whatever the caller's key says."""
+    x = jnp.arange(3.0)
+    assert float(programs.cached_call("s", scaled, (Scaled(jnp.asarray(2.0), "times"), x), (), key="k")[2]) == 4.0
+    exports = []
+    real = programs._export
+    monkeypatch.setattr(programs, "_export", lambda *a: exports.append(1) or real(*a))
+    again = programs.cached_call("s", scaled, (Scaled(jnp.asarray(5.0), "times"), x), (), key="k")
+    assert float(again[2]) == 10.0 and not exports
+    assert float(programs.cached_call("s", scaled, (Scaled(jnp.asarray(5.0), "plus"), x), (), key="k")[2]) == 7.0
+    assert float(programs.cached_call("s", lambda a, b: a * b, (3.0, x), (), key="k2")[2]) == 6.0
+    assert float(programs.cached_call("s", lambda a, b: a * b, (4.0, x), (), key="k2")[2]) == 8.0
+    assert len(exports) == 3
+
+
+def test_a_configs_structure_blanks_its_numbers_but_not_its_design_solver_or_counts():
+    from conftest import REPO
+    from hullopt.study import structure
+    from hullopt.study._config import load_config
+
+    a, _ = load_config(REPO / "configs/pareto_bow.toml", ['constraints.sac_regions="<= 2 * parent"'])
+    b, _ = load_config(REPO / "configs/pareto_bow.toml", ["targets.cb=0.66", "sweep.start=0.058", "hull.draft=10.5",
+                                                         'constraints.sac_regions="<= 3 * parent"'])
+    assert structure(a) == structure(b) and structure(a)["targets"]["cb"] == "#"
+    assert structure(b)["constraints"]["sac_regions"] == "<= # * parent"
+    for other in ("sweep.count=7", "solver.max_steps=81", "solver.fairness=0.2"):  # counts, what programs close over
+        c, _ = load_config(REPO / "configs/pareto_bow.toml", ['constraints.sac_regions="<= 2 * parent"', other])
+        assert structure(c) != structure(a), other

@@ -164,7 +164,7 @@ def test_report_command_rebuilds_the_hulls_from_the_run_folder(cli, tmp_path):
     code, out, err = cli("report", str(folder))
     assert code == 0, err
     assert "report.html" in out and (folder / "report.html").stat().st_size > 1e6
-    h = run_hulls(folder, *read_run(folder))
+    h = run_hulls(folder, read_run(folder)[1])
     (name, design, areas), = h.designs
     volume = np.trapezoid(h.parent_areas, h.parent.x)
     assert volume == pytest.approx(4 / 9 * 100 * 10 * 6.25, rel=3e-3)

@@ -81,6 +81,23 @@ def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, t
 
 
 @pytest.mark.slow
+def test_new_numbers_run_the_kept_program_without_tracing(cli, fit_run, tmp_path, monkeypatch):
+    """Targets and the draft are arguments of the kept programs, not constants: a what-if run with other
+    numbers and the same structure neither traces nor compiles, and meets its own targets (a program with the
+    first run's numbers baked in would meet those)."""
+    from hullopt.study import _programs as programs
+
+    monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("traced again for new numbers"))
+    code, out, err = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.47",
+                         "--set", "targets.lcb_pct=-1.2", "--set", "hull.draft=6.0", "--json",
+                         "--out", str(tmp_path / "what-if"))
+    assert code == 0, err
+    report = json.loads(out)
+    assert abs(report["achieved"]["cb"] - 0.47) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.2) <= 0.01
+    assert report["achieved"]["volume"] < 0.97 * fit_run[1]["achieved"]["volume"]  # at the new draft
+
+
+@pytest.mark.slow
 def test_infeasible_target_is_reported_with_the_closest_design(cli, tmp_path):
     out = tmp_path / "far"
     code, stdout, _ = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--set", "targets.cb=0.75",

@@ -40,6 +40,7 @@ from ..study import (
     folder_study,
     params_from_dict,
     read_run_config,
+    structure,
 )
 from ._units import displayed, fmt, label, quantity, to_builtin, unit_scale
 
@@ -71,7 +72,7 @@ def _numpy(s: Sections) -> Sections:
     return Sections(np.asarray(s.x, float), np.asarray(s.yz, float), np.asarray(s.lpp, float))
 
 
-def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
+def run_hulls(folder: Path, report: dict) -> Hulls:
     """Rebuild the parent and the design hulls of a run folder, in one jitted program.
 
     From its config, its kept ``parent.json`` and the parameters in its report (a sweep: the designs on the front,
@@ -81,8 +82,6 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
     ----------
     folder : pathlib.Path
         The run folder (its ``config.json`` and, when kept, ``parent.json`` are read).
-    raw : dict
-        The run's raw config (``config.json``), part of the compiled program's key.
     report : dict
         The run's report (``report.json``): ``params``, or a sweep's ``designs`` with theirs.
 
@@ -113,17 +112,18 @@ def run_hulls(folder: Path, raw: dict, report: dict) -> Hulls:
     stacked = jax.tree.map(lambda *a: np.stack([np.asarray(x, float) for x in a]), *params)
     draft = float(prob.design.draft)
 
-    # the program's key: the config and the parent's content
+    # the program's key: the config's structure and the parent's content (the draft is an argument)
     digest = hashlib.sha256(json.dumps(prob.design.model.hull.to_dict(), sort_keys=True).encode()).hexdigest()
-    sections, areas = jax.device_get(cached_call("report", _evaluate, (prob.design.model, stacked), (draft,),
-                                                 key=[raw, digest]))
+    sections, areas = jax.device_get(cached_call("report", _evaluate, (prob.design.model, stacked,
+                                                                       np.asarray(draft)), (),
+                                                 key=[structure(cfg), digest]))
     one = [_numpy(jax.tree.map(lambda a, i=i: a[i], sections)) for i in range(len(params))]
     areas = np.asarray(areas)
     return Hulls(draft, one[0], areas[0], [(n, s, a) for n, s, a in zip(names, one[1:], areas[1:])])
 
 
-def _evaluate(model, params, draft: float):
-    """The sections and sectional-area curves [m²] at ``draft`` of a model at stacked parameters."""
+def _evaluate(model, params, draft):
+    """The sections and sectional-area curves [m²] at ``draft`` [m] of a model at stacked parameters."""
     import jax
 
     s = jax.vmap(model)(params)
@@ -858,11 +858,11 @@ def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None =
         each other.
     """
     folder = Path(folder)
-    raw, kept = read_run(folder) if report is None or hulls is None else (None, None)
+    _, kept = read_run(folder) if report is None or hulls is None else (None, None)
     report = report if report is not None else kept
     report = to_builtin(report)
     if hulls is None and not report.get("partial"):
-        hulls = run_hulls(folder, raw, report)
+        hulls = run_hulls(folder, report)
     text = build_html(folder, report, hulls)
     path = folder / REPORT_NAME
     atomic_write_bytes(path, text.encode("utf-8"))

@@ -57,6 +57,13 @@ def _code_digest() -> str:
     return h.hexdigest()
 
 
+def _baked(in_tree, fixed) -> list[str]:
+    """What of ``args`` a program has baked in, as text: the static fields of its modules (in the tree's
+    structure, object addresses dropped) and its non-array leaves other than functions."""
+    scalars = [repr(v) for v in jax.tree.leaves(fixed) if not callable(v)]
+    return [re.sub(r" at 0x[0-9a-fA-F]+", "", str(in_tree)), *scalars]
+
+
 def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
@@ -75,8 +82,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     static : tuple
         Hashable Python values passed after ``args``.
     key : object
-        Any JSON-serialisable value that, with the array shapes, determines the program (e.g. the resolved config
-        and the parent's digest).
+        Any JSON-serialisable value that, with the array shapes and what :func:`_baked` reads off ``args``,
+        determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
+        solver settings and the parent's digest), not the numbers that enter as arrays.
 
     Returns
     -------
@@ -91,7 +99,7 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     # the executable is built for these devices and XLA's flags
     devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
     signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
-                 devices]
+                 devices, _baked(in_tree, fixed)]
     digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]
     path = folder / f"{name}-{digest}.bin"
     try:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import abc
 import hashlib
 import json
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -101,6 +102,30 @@ def _digest(parent: FeatureHull) -> str:
     return hashlib.sha256(json.dumps(parent.to_dict(), sort_keys=True).encode()).hexdigest()
 
 
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def structure(cfg: RunConfig) -> dict:
+    """The config as a kept program depends on it: the numbers of targets, tolerances, kg, the draft, the
+    objective, the sweep's ends and the constraint bounds, which enter the programs as arrays, each replaced by
+    ``"#"`` (so a run with other numbers reuses the program); the design's and the solver's sections, which
+    the program closes over, and every count (an array's shape) as they are. What else a program bakes in is
+    read off its arguments (:func:`hullopt.study.cached_call`)."""
+    def blank(v, in_text: bool):
+        if isinstance(v, dict):
+            return {k: blank(x, in_text) for k, x in v.items()}
+        if isinstance(v, list):
+            return [blank(x, in_text) for x in v]
+        if isinstance(v, float):
+            return "#"
+        if isinstance(v, str) and in_text:
+            return _NUMBER.sub("#", v)
+        return v
+
+    d = cfg.model_dump(mode="json")
+    return {k: v if k in ("design", "solver", "kind") else blank(v, k == "constraints") for k, v in d.items()}
+
+
 class Study(abc.ABC):
     """A design study of a config on a parent: :attr:`problem` (the :class:`~hullopt.study.Problem`),
     :meth:`solve`, and the second look at its designs (:meth:`assess`, :meth:`rescore`). Subclasses set ``kind`` (the config's), ``title`` (what the progress display shows),
@@ -120,7 +145,7 @@ class Study(abc.ABC):
         self.cfg = cfg
         fairness = self.fairness if cfg.solver.fairness is None else cfg.solver.fairness
         self.problem: Problem = build_problem(cfg, parent, fairness, self.limits)
-        self.key = [cfg.model_dump(mode="json"), _digest(parent)]  # what a kept program depends on
+        self.key = [structure(cfg), _digest(parent)]  # what a kept program depends on besides its arrays
 
     @abc.abstractmethod
     def solve(self, out: Path, progress: Callable[[int], None] | None = None, **options) -> Solution:
