@@ -6,7 +6,6 @@ import json
 import re
 import sys
 from importlib.metadata import version
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -164,9 +163,14 @@ def test_fair_not_converged_exit_code(cli, capsys, monkeypatch, wide):
     """A fairing that stops short of convergence exits 5 and says so on stderr; its report says "converged":
     false; the table of the report has its units and no scientific notation."""
     from hullopt.app.commands import fair as fair_cmd
+    from hullopt.optimise import FairResult
 
     def stopped(x, z, y, *args, **kwargs):  # the solver's result when it runs out of steps: the offsets unfaired
-        return SimpleNamespace(y=np.asarray(y), before=1.0, after=1.0, reduction=0.0, steps=2, converged=False)
+        y = np.asarray(y)
+        counts = (np.zeros(y.shape[0], int), np.zeros(y.shape[1], int))
+        return FairResult(y=y, y0=y, free=np.ones(y.shape, bool), measure="knots", before=1.0, after=1.0,
+                          volume0=1.0, volume=1.0, lcb0=0.0, lcb=0.0, lpp=100.0, steps=2, converged=False,
+                          bound=0.25, inflections0=counts, inflections=counts)
 
     monkeypatch.setattr(fair_cmd, "fair_offsets", stopped)
     code, out, err = cli("fair", "builtin:wigley?L=100&B=10&T=6.25&D=6.25&n=9&m=9", "--stations", "7",

@@ -23,7 +23,7 @@ def hull():
 def drawn(monkeypatch):
     """The figures saved through drawing.save_figure (drawn, then saved as usual): a list."""
     import hullopt.drawing
-    from hullopt.drawing import _curves, _lines, _save
+    from hullopt.drawing import _curves, _save, _sheet
     from hullopt.report import _plots
 
     figures, save = [], _save.save_figure
@@ -34,7 +34,7 @@ def drawn(monkeypatch):
         figures.append(fig)
         return save(fig, path, **kw)
 
-    for mod in (hullopt.drawing, _curves, _lines, _plots):
+    for mod in (hullopt.drawing, _curves, _sheet, _plots):
         monkeypatch.setattr(mod, "save_figure", keep)
     return figures
 
@@ -97,39 +97,6 @@ def test_cross_curves_distinct_colours_legend_outside(tmp_path, drawn):
     assert outside(fig, ax.get_legend(), ax)
     assert ax.get_xlabel() == "displacement Δ [t]" and ax.get_ylabel() == "KN [m]"
     assert {f"{h:g}°" for h in np.rad2deg(heels)} <= set(texts(fig))
-
-
-def test_lines_plan_labels_dwl_and_a_true_scale(hull, tmp_path, drawn):
-    """Axes in m, stations 0–10 and waterline heights written, the DWL drawn and named, and a title block whose
-    scales are the ones on the sheet: 1:N = metres of hull per metre of paper, measured on the saved figure."""
-    from hullopt.drawing import lines_plan, save_lines
-
-    plan = lines_plan(hull, "wigley", n_waterlines=4, draft=T)
-    assert [c[0] for c in plan.sheer].count("dwl") == 1 and plan.draft == T
-    save_lines(plan, tmp_path / "lines.png")
-    (fig,) = drawn
-    sheer, half, body = fig.axes[:3]
-    assert sheer.get_xlabel() == half.get_xlabel() == "x from AP [m]"
-    assert "[m]" in sheer.get_ylabel() and "[m]" in body.get_ylabel() and body.get_xlabel() == "y [m]"
-    all_text = texts(fig)
-    sheer_text = [t.get_text() for t in sheer.texts]
-    assert [str(k) for k in range(11)] == sheer_text[:11]  # the station numbers, written first
-    assert {"2.5", "5", "7.5", "10"} <= set(sheer_text)  # the waterlines' heights [m]
-    assert any(t.startswith("DWL 6.25 m") for t in sheer_text)
-    assert any(ln.get_linestyle() == "-." for ln in sheer.get_lines())  # the DWL
-    (block,) = [t for t in all_text if t.startswith("Ship")]
-    scales = {line[:17].strip(): line[17:] for line in block.splitlines()}
-    assert (scales["Ship"], scales["Lpp"], scales["B (moulded)"], scales["T (DWL)"]) == (
-        "wigley", "100.000 m", "10.000 m", "6.250 m")
-    for ax, key in ((sheer, "Scale, plans"), (half, "Scale, plans"), (body, "Scale, body plan")):
-        n = float(scales[key].removeprefix("1:"))
-        box = ax.get_window_extent(fig.test_renderer)
-        paper = box.width / fig.dpi * 0.0254
-        lo, hi = ax.get_xlim()
-        assert (hi - lo) / paper == pytest.approx(n, rel=1e-3), key
-        y0, y1 = ax.get_ylim()
-        assert (y1 - y0) / (box.height / fig.dpi * 0.0254) == pytest.approx(n, rel=1e-3)
-    assert fig.get_suptitle() == "Lines plan — wigley"
 
 
 def test_body_plans_title_stations_and_dwl(hull, tmp_path, drawn):

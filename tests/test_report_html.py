@@ -116,7 +116,7 @@ def test_a_run_page_shows_units_targets_objectives_warnings_and_convergence(page
     text = pages["run"].read_text(encoding="utf-8")
     for part in ("Hulls in 3D", "Body plan", "Sectional-area curve", "Targets and constraints", "Convergence",
                  "Warnings", "within 1 % of its bound", "Displacement Δ [t]", "mean added resistance R_AW",
-                 "Wetted surface S [m²]", "LCB from midship [% Lpp]", "max constraint violation"):
+                 "Wetted surface S", "LCB from midship [% Lpp]", "max constraint violation"):
         assert part in text, part
     # R_AW parent → design in kN (its unit in a column), the change and relative change; round-off noise as 0
     row = re.search(r"mean added resistance R_AW</b></td>(.*?)</tr>", text).group(1)

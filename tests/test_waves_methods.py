@@ -98,11 +98,14 @@ def test_nmri_without_motions_is_named_reflection_only(tmp_path, monkeypatch):
                                                                                  save(fig, path, **kw))[1])
     x = np.array([0.5, 1.0, 1.5])
     r = 1e4 * np.exp(-x)
-    _plot(tmp_path / "r.png", dict(hull="h", method="nmri", beam=10.0, amplitude=1.0, lambda_over_l=x, k_aw=0.3,
+    _plot(tmp_path / "r.png", dict(hull="h", method="nmri", beam=10.0, lpp=100.0, draft=6.25, speed_kn=12.0,
+                                   amplitude=1.0, lambda_over_l=x, k_aw=0.3,
                                    fn=0.2, bf=0.1, heading_deg=0.0, includes=includes("nmri", False),
                                    r_awm=0 * r, r_awr=r, r_aw=r))
     labels = [t.get_text() for t in figures[0].axes[0].get_legend().get_texts()]
     assert labels[0] == "nmri R_AW: reflection only (Bf)" and not any("motion part" in s for s in labels)
+    title = figures[0].axes[0].get_title(loc="left")  # the speed, and how K_AW and σ_aw relate
+    assert "12 kn (Fn 0.200)" in title and "σ_aw = R_AW/(ρgζ²B²/L)" in title and "= 5·K_AW" in title
 
 
 # --------------------------------------------------------------------------------- the methods as classes

@@ -192,3 +192,13 @@ def write_hull_file(sections, path: Path, draft: float | None = None):
         return export_mesh(hull_mesh(sections), path, stl_header(float(sections.lpp), draft))
     except ValueError as e:
         raise HullError(str(e)) from None
+
+
+def check_out(path: Path, formats: tuple[str, ...], what: str) -> Path:
+    """``path`` for the option ``what``, if its suffix is one of ``formats`` and its folder exists; else a
+    :class:`~hullopt.errors.HullError` naming the option and what it expected."""
+    if path.suffix.lower() not in formats:
+        raise HullError(f"{what} {path}: unknown format {path.suffix!r}; expected one of {', '.join(formats)}")
+    if not path.parent.is_dir():
+        raise HullError(f"{what} {path}: the folder {str(path.parent)!r} does not exist")
+    return path

@@ -2,7 +2,8 @@
 
     config.json   the resolved config           report.json   results (see :func:`run`)
     parent.json   the parent it deformed        hull.stl      the final hull (closed mesh; Lpp, draft in its header)
-    offsets.csv   its offset table (wide layout)
+    offsets.csv   its offset table (wide layout: machine data, read back to the run's ∇)
+    offsets_table.csv  its table of offsets for a yard (stations 0–20 × round waterlines and the DWL)
     body_plan.png, sectional_area.png, convergence.png, pareto.png (sweeps), chunks/ (sweeps)
     report.html   the run as one self-contained page (3D hulls, plots, tables: :mod:`hullopt.report`)
 """
@@ -21,7 +22,8 @@ from rich.progress import (
     TimeElapsedColumn,
 )
 
-from ..drawing import write_offsets_wide
+from ..drawing import write_offsets_stations, write_offsets_wide
+from ..geometry import Sections
 from ..models import save_features
 from ..report import (
     FRONTS_NAME,
@@ -108,17 +110,26 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
 
 def _write_hull(m: Outcome, draft, out: Path) -> None:
     """Write the final hull's files to ``out``: ``hull.stl`` [m] (refined along the length and welded for
-    float32, checked as read back: closed, one body, no degenerate face), ``offsets.csv`` (dense enough that
-    ``hullopt hydro offsets.csv`` gives the run's ∇ back; knuckles and deck carried), and the body-plan,
-    sectional-area and overlay (body plan, waterlines, SAC against the parent) plots at ``draft`` [m]."""
+    float32, checked as read back: closed, one body, no degenerate face), its offsets (:func:`write_offsets`), and
+    the body-plan, sectional-area and overlay (body plan, waterlines, SAC against the parent) plots at ``draft``
+    [m]."""
     write_hull_file(m.after, out / "hull.stl", float(draft))
-    write_offsets_wide(m.after, out / "offsets.csv", name="the designed hull", dense=True)
+    write_offsets(m.after, float(draft), out, "the designed hull")
     plot_body_plans(m.before, m.after, out / "body_plan.png", draft=float(draft),
                     title=f"Body plan: parent (dashed) and design {out.name} (stations 0 AP … 10 FP)")
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
     who = f"Design {out.name}" if out.parent.name == "designs" else "The design"
     plot_overlay(m.before, m.after, float(draft), out / OVERLAY_NAME,
                  title=f"{who} against its parent at T = {float(draft):g} m (parent dashed)")
+
+
+def write_offsets(sections: Sections, draft: float, out: Path, name: str) -> None:
+    """A hull's offsets in a run folder ``out``: ``offsets.csv``, machine data (the wide layout, dense enough that
+    ``hullopt hydro offsets.csv`` gives the run's ∇ back; knuckles and deck carried), and ``offsets_table.csv``,
+    the table a yard reads (the stations layout: stations 0 (AP) … 20 (FP) × waterlines at a round spacing and
+    the DWL at ``draft`` [m], as ``hullopt lines --offsets`` writes it; read back by ``hullopt hydro`` too)."""
+    write_offsets_wide(sections, out / "offsets.csv", name=name, dense=True)
+    write_offsets_stations(sections, out / "offsets_table.csv", draft, name=name)
 
 
 @contextlib.contextmanager

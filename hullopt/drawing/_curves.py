@@ -44,6 +44,24 @@ class GZCriteria(Protocol):
     vanishing_angle: ArrayLike
 
 
+@runtime_checkable
+class GZWeather(Protocol):
+    """The weather criterion of a GZ curve (:class:`hullopt.hydro.Weather`): the levers ``lw1``, ``lw2`` [m], the
+    steady heel ``phi0``, the roll-back angle ``phi_roll`` = φ0 − φ1, the first intercept ``phi_c`` with lw2 and
+    the end ``phi2`` of area b [rad], the areas ``area_a``, ``area_b`` [m·rad], and whether GZ reaches lw2
+    (``reaches_lw2``)."""
+
+    lw1: ArrayLike
+    lw2: ArrayLike
+    phi0: ArrayLike
+    phi_roll: ArrayLike
+    phi_c: ArrayLike
+    phi2: ArrayLike
+    area_a: ArrayLike
+    area_b: ArrayLike
+    reaches_lw2: ArrayLike
+
+
 def _figure(*args, **kw):
     import matplotlib
 
@@ -132,14 +150,19 @@ def plot_hydrostatic_curves(table: HydrostaticTable, path: str | os.PathLike, na
     return _save(plt, fig, path)
 
 
-def plot_gz(curve: GZCurve, path: str | os.PathLike, criteria: GZCriteria | None = None, name: str = "") -> Path:
+def plot_gz(curve: GZCurve, path: str | os.PathLike, criteria: GZCriteria | None = None, name: str = "",
+            rho: float = RHO_SEA, flooding_angle: float | None = None, weather: GZWeather | None = None) -> Path:
     """The GZ curve of a :class:`~hullopt.hydro.StabilityCurve`, the GM₀ tangent (GZ = GM₀·φ, drawn to
-    1 rad) and, with ``criteria``, the maximum, the angle of vanishing stability and the 30°/40° marks.
+    1 rad) and, with ``criteria``, the maximum, the angle of vanishing stability and the 30°/40° marks; the
+    flooding angle θf when given. With ``weather`` (IS Code §2.3) the levers lw1 and lw2, the steady heel φ0,
+    the roll-back angle φ0 − φ1 (the curve continued to windward, GZ(−φ) = −GZ(φ)) and the areas a and b
+    shaded; without it the §2.2 areas under GZ to 30° and from 30° to 40° (or θf) lightly shaded. The shading
+    follows the drawn curve (straight between its heels); the legend gives the areas computed.
 
     Parameters
     ----------
     curve : StabilityCurve
-        The GZ curve (:class:`~hullopt.hydro.StabilityCurve`: heel [rad], GZ [m], GM₀ [m]).
+        The GZ curve (:class:`~hullopt.hydro.StabilityCurve`: heel [rad], GZ [m], GM₀ [m], ∇ [m³], KG [m]).
     path : str or os.PathLike
         The figure file; its suffix picks the format (PNG, SVG, PDF).
     criteria : Criteria or None
@@ -147,35 +170,82 @@ def plot_gz(curve: GZCurve, path: str | os.PathLike, criteria: GZCriteria | None
         None: no marks.
     name : str
         The hull's name for the title.
+    rho : float
+        Water density [kg/m³] for the displacement in the title (sea water by default).
+    flooding_angle : float or None
+        Downflooding angle θf [rad], marked; None: none.
+    weather : Weather or None
+        :class:`~hullopt.hydro.Weather` of the curve; None: no weather criterion.
 
     Returns
     -------
     pathlib.Path
         ``path``.
     """
-    plt, fig, ax = _figure(figsize=(8, 5))
-    deg = np.rad2deg(np.asarray(curve.heel))
-    gz = np.asarray(curve.gz)
-    ax.plot(deg, gz, "o-", ms=3, lw=1.5, label="GZ")
+    plt, fig, ax = _figure(figsize=(9, 5))
+    deg = np.rad2deg(np.asarray(curve.heel, dtype=float))
+    gz = np.asarray(curve.gz, dtype=float)
+    ax.plot(deg, gz, "o-", ms=3, lw=1.5, color="tab:blue", label="GZ")
     gm0 = float(curve.gm0)
     ax.plot([0, 57.3], [0, gm0], "--", color="0.5", lw=1, label=f"GM₀ = {gm0:.3g} m")
     ax.axhline(0.0, color="black", lw=0.8)
     for a in (30, 40):
         ax.axvline(a, color="0.8", lw=0.8)
+    if flooding_angle is not None:
+        tf = float(np.rad2deg(flooding_angle))
+        ax.axvline(tf, color="tab:purple", ls="--", lw=1, label=f"flooding angle θf = {tf:.1f}°")
+    lo, hi = min(gz.min(), 0.0), max(gz.max(), gm0 * 0.1)
+    if weather is None:
+        end = 40.0 if flooding_angle is None else min(40.0, float(np.rad2deg(flooding_angle)))
+        for a, b, alpha in ((0.0, 30.0, 0.10), (30.0, end, 0.18)):
+            x = np.linspace(a, b, 61)
+            ax.fill_between(x, np.interp(x, deg, gz), 0.0, color="tab:blue", alpha=alpha, lw=0)
+    else:
+        lo, hi = min(lo, _plot_weather(ax, deg, gz, weather)), max(hi, float(weather.lw2))
     if criteria is not None:
         ax.plot(np.rad2deg(float(criteria.angle_gz_max)), float(criteria.gz_max), "v", color="tab:red",
                 label=f"GZmax {float(criteria.gz_max):.3g} m at {np.rad2deg(float(criteria.angle_gz_max)):.1f}°")
         v = float(criteria.vanishing_angle)
         if np.isfinite(v):
             ax.plot(np.rad2deg(v), 0.0, "x", color="tab:red", label=f"vanishing {np.rad2deg(v):.1f}°")
-    ax.set_ylim(min(gz.min(), 0.0) * 1.1 - 0.05 * abs(gz).max(), max(gz.max(), gm0 * 0.1) * 1.25)
+    span = max(abs(gz).max(), 1e-3)
+    ax.set_ylim(lo * 1.1 - 0.05 * span, hi * 1.25)
     ax.set_xlabel("heel φ [deg]")
     ax.set_ylabel("GZ [m]")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    title = f"GZ curve — ∇ {float(curve.volume):,.0f} m³, KG {float(curve.kg):.3g} m"
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    disp = rho * float(curve.volume) / 1e3
+    title = f"GZ curve — Δ {disp:,.0f} t, KG {float(curve.kg):.3g} m"
     ax.set_title(f"{title} — {name}" if name else title, loc="left", fontsize=10)
     return _save(plt, fig, path)
+
+
+def _plot_weather(ax, deg: np.ndarray, gz: np.ndarray, w: GZWeather) -> float:
+    """The weather criterion on the GZ axes: the curve continued to the roll-back angle, lw1, lw2, φ0 and
+    the areas a (red) and b (green); returns the lowest GZ drawn [m]."""
+    lw1, lw2 = float(w.lw1), float(w.lw2)
+    roll, phi0, phic, phi2 = (float(np.rad2deg(getattr(w, k))) for k in ("phi_roll", "phi0", "phi_c", "phi2"))
+    xs, ys = np.concatenate([-deg[:0:-1], deg]), np.concatenate([-gz[:0:-1], gz])  # GZ(−φ) = −GZ(φ)
+    left = min(roll, 0.0) - 5.0
+    back = (xs >= left) & (xs <= 0.0)
+    ax.plot(xs[back], ys[back], "-", lw=1.2, color="tab:blue", alpha=0.6)
+    ax.set_xlim(left, max(deg.max(), 50.0) + 2.0)
+    ax.axhline(lw1, color="tab:orange", lw=1, ls="-.", label=f"lw1 = {lw1:.3f} m (steady wind)")
+    gust = "gust" if bool(w.reaches_lw2) else "gust, above GZ: no area b"
+    ax.axhline(lw2, color="tab:red", lw=1, ls="-.", label=f"lw2 = 1.5·lw1 = {lw2:.3f} m ({gust})")
+    ax.axvline(0.0, color="black", lw=0.6)
+    ax.plot([phi0], [lw1], "o", color="tab:orange", ms=4, label=f"φ0 = {phi0:.1f}° (steady heel)")
+    ax.axvline(roll, color="tab:red", lw=0.8, ls=":",
+               label=f"φ0 − φ1 = {roll:.1f}° (rolled to windward)".replace("= -", "= −"))
+    ax.axvline(phi2, color="tab:green", lw=0.8, ls=":", label=f"φ2 = {phi2:.1f}° (end of area b)")
+    xa = np.linspace(roll, phic, 200)
+    ax.fill_between(xa, np.interp(xa, xs, ys), lw2, color="tab:red", alpha=0.3, lw=0,
+                    label=f"area a = {float(w.area_a):.4f} m·rad")
+    if phi2 > phic:
+        xb = np.linspace(phic, phi2, 200)
+        ax.fill_between(xb, np.interp(xb, xs, ys), lw2, color="tab:green", alpha=0.3, lw=0,
+                        label=f"area b = {float(w.area_b):.4f} m·rad")
+    return float(np.interp(roll, xs, ys))
 
 
 def plot_cross_curves(displacements: Float[ArrayLike, ' k'], heels: Float[ArrayLike, ' h'], kn: Float[ArrayLike, 'k h'],

@@ -1,38 +1,52 @@
-"""The lines plan: body plan, half-breadth plan and sheer (profile) plan with stations, waterlines and
-buttocks (seed 003 §3.1), to PNG/SVG (matplotlib, Agg) and DXF (ezdxf).
+"""The lines plan as a yard reads it: the sheer plan (profile and buttocks), the half-breadth plan (waterlines
+above the centreline, the developed diagonals below it) and the body plan (stations: aft body left, fore body
+right; the diagonals straight), cut from the sections (static preprocessing, numpy).
 
-The curves are cut from the sections (static preprocessing, numpy): stations are the sections nearest to
-the ten equal divisions of Lpp; a waterline is the outermost crossing of each section with ``z = const``; a
-buttock is the lowest crossing of each section with ``y = const``. Each view is a list of polylines in its
-own 2-D coordinates (m), which both back ends draw:
+The ordinates are :mod:`._grid`'s: stations 0 (AP) … N (FP) equally spaced over Lpp, waterlines at a round
+spacing with the DWL among them, buttocks at a round spacing, diagonals across the bilge, the deck at side
+smoothed. A waterline is the outermost crossing of each section with ``z = const``, a buttock the lowest crossing
+with ``y = const``, a developed diagonal the distance along the diagonal from the centreline to its outermost
+crossing; the profile is the keel (the sections' lowest points), the stem and stern (the waterlines' ends on a
+fine grid of heights) and the deck at side. Each view is a list of polylines in its own 2-D coordinates [m],
+which the sheet (:mod:`._sheet`) and the DXF (:mod:`._dxf`) draw:
 
-* sheer plan ``(x, z)``: buttocks, the profile (keel and deck line), station and waterline grid;
-* half-breadth plan ``(x, y)``: waterlines, the deck line, station and buttock grid;
-* body plan ``(y, z)``: forebody stations on the right (y > 0), afterbody on the left (y < 0).
+* sheer plan ``(x, z)``, half-breadth plan ``(x, y)``, body plan ``(y, z)``.
 """
 
 from __future__ import annotations
 
-import os
+import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from .._types import Lengths, Waterlines
-from ..errors import HullError
-from ..geometry import Sections, atomic_write_bytes, sections_at
-from ._save import save_figure
+from ..geometry import Sections, sections_at
+from ._grid import (
+    Diagonal,
+    buttock_offsets,
+    deck_at_side,
+    diagonals,
+    lowest_deck,
+    station_x,
+    waterline_heights,
+    waterline_spacing,
+)
+from ._offsets import half_breadths
 
-LINES_FORMATS = ("png", "svg", "pdf", "dxf")
+#: The kinds of line, one DXF layer each, in drawing order.
+KINDS = ("grid", "station", "waterline", "buttock", "diagonal", "dwl", "outline")
 
 
 @dataclass
 class LinesPlan:
-    """Polylines of the three views, each ``(kind, label, points (k, 2))``; ``kind`` is one of
-    ``station``, ``waterline``, ``buttock``, ``outline``, ``dwl`` (the design waterline) or ``grid``.
-    ``extent`` the hull's ``(x_min, x_max, half_breadth, z_min, z_max)`` [m]; ``lpp``, ``beam`` (moulded,
-    2 × the largest half-breadth) and ``draft`` (the DWL, None when not given) [m] for the title block."""
+    """Polylines of the three views, each ``(kind, label, points (k, 2))`` [m]; ``kind`` one of :data:`KINDS`
+    (``dwl``: the design waterline; ``grid``: the stations, waterlines, buttocks, baseline and centreline where
+    they are straight). The particulars for the title block: ``lpp``, ``beam`` (moulded: 2 × the largest
+    half-breadth), ``draft`` (the DWL; None: none drawn) [m], ``displacement`` [t] and ``cb`` at that draft
+    (None: not given), ``stations`` (intervals over Lpp), ``spacing`` (between waterlines) [m], ``buttocks`` (their
+    offsets [m]) and ``diagonals`` (:class:`~._grid.Diagonal`). ``extent``
+    ``(x_min, x_max, half_breadth, z_min, z_max)`` [m] of the hull."""
 
     name: str
     sheer: list = field(default_factory=list)
@@ -42,6 +56,44 @@ class LinesPlan:
     lpp: float = float("nan")
     beam: float = float("nan")
     draft: float | None = None
+    displacement: float | None = None
+    cb: float | None = None
+    stations: int = 20
+    spacing: float = float("nan")
+    buttocks: tuple = ()
+    diagonals: tuple = ()
+
+
+def view_bounds(curves: list) -> tuple[float, float, float, float]:
+    """``(u_min, u_max, v_min, v_max)`` [m] of a view's polylines."""
+    pts = np.concatenate([c[2] for c in curves])
+    return float(pts[:, 0].min()), float(pts[:, 0].max()), float(pts[:, 1].min()), float(pts[:, 1].max())
+
+
+def station_sections(sections: Sections, per_station: int = 1, stations: int = 10
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The hull at the stations 0, 1/per_station, …, ``stations`` (0 at the AP, ``stations`` at the FP), each
+    half-section interpolated at its station (:func:`~hullopt.geometry.sections_at`), not the given section
+    nearest it.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    per_station : int
+        Sections per station interval (2: the half stations).
+    stations : int
+        Station intervals over Lpp (10: the stations 0…10; 20 a yard's lines plan).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``stations (k,)`` (0 … ``stations``), ``x (k,)`` [m from the AP] and ``yz (k, p, 2)`` [m],
+        ``k = stations·per_station + 1``.
+    """
+    numbers = np.arange(stations * per_station + 1) / per_station
+    x = numbers * float(sections.lpp) / stations
+    return numbers, x, sections_at(sections, x)
 
 
 def _crossings(p0: np.ndarray, p1: np.ndarray, axis: int, level: float) -> tuple[np.ndarray, np.ndarray]:
@@ -54,49 +106,114 @@ def _crossings(p0: np.ndarray, p1: np.ndarray, axis: int, level: float) -> tuple
     return hit, other
 
 
+def _outermost(yz: np.ndarray, axis: int, level: float, lowest: bool = False) -> np.ndarray:
+    """Per section ``(n, m, 2)``: the largest (``lowest``: the smallest) other coordinate where the polyline
+    crosses ``coord[axis] = level``, NaN where it does not."""
+    hit, other = _crossings(yz[:, :-1], yz[:, 1:], axis, level)
+    pick = np.min(np.where(hit, other, np.inf), axis=1) if lowest else np.max(np.where(hit, other, -np.inf), axis=1)
+    return np.where(hit.any(axis=1), pick, np.nan)
+
+
 def _nan_runs(x: np.ndarray, v: np.ndarray) -> list[np.ndarray]:
-    """Split a curve at NaNs into runs of at least 2 points."""
-    ok = np.isfinite(v)
-    runs, start = [], None
-    for i, good in enumerate(np.append(ok, False)):
-        if good and start is None:
-            start = i
-        elif not good and start is not None:
-            if i - start >= 2:
-                runs.append(np.column_stack([x[start:i], v[start:i]]))
-            start = None
-    return runs
+    """Split a curve at NaNs into runs of at least 2 points, ``(k, 2)`` arrays of ``(x, v)``."""
+    ok = np.append(np.isfinite(v), False)
+    edges = np.flatnonzero(np.diff(np.concatenate([[False], ok])))
+    return [np.column_stack([x[a:b], v[a:b]]) for a, b in zip(edges[::2], edges[1::2]) if b - a >= 2]
 
 
-def station_sections(sections: Sections, per_station: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The hull at the stations 0, 1/per_station, …, 10 (ten stations from the AP at 0 to the FP at 10), each
-    half-section interpolated at its station (:func:`~hullopt.geometry.sections_at`), not the given section
-    nearest it.
-
-    Parameters
-    ----------
-    sections : Sections
-        The hull (x [m from the AP], y to port, z up from the baseline).
-    per_station : int
-        Sections per station interval (2: the half stations).
-
-    Returns
-    -------
-    tuple of numpy.ndarray
-        ``stations (k,)`` (0 … 10), ``x (k,)`` [m from the AP] and ``yz (k, p, 2)`` [m], ``k = 10·per_station + 1``.
-    """
-    stations = np.arange(10 * per_station + 1) / per_station
-    x = stations * float(sections.lpp) / 10.0
-    return stations, x, sections_at(sections, x)
+def developed_diagonal(yz: np.ndarray, diagonal: Diagonal) -> np.ndarray:
+    """Per section ``(n, m, 2)`` [m]: the distance [m] along ``diagonal`` from the centreline to its outermost
+    crossing with the section (the developed diagonal), NaN where it misses the section."""
+    u = np.array(diagonal.direction)
+    normal = np.array([-u[1], u[0]])
+    rel = yz - np.array([0.0, diagonal.z0])
+    along_normal = np.stack([rel @ u, rel @ normal], axis=-1)  # (s along the diagonal, t across it)
+    s = _outermost(along_normal, 1, 0.0)
+    return np.where(s >= 0.0, s, np.nan)
 
 
-def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_buttocks: int = 4,
+def _end_contour(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The hull's end (stem or stern) in profile, ``(k, 2)`` points ``(x, z)`` [m], from the half-breadths
+    ``y (n, l)`` [m] of sections ``x (n,)`` ordered from that end inward, at heights ``z (l,)``.
+
+    At each height the end lies beyond the outermost section with breadth (more than 1 % of the largest, so that a
+    spline surface's ripples are none): the waterline is carried on to the centreline by its last two offsets, at
+    most to the next section with none at all (or the last section). Along the height the
+    outermost section steps from one to the next; a section where the end advances starts there (its first height
+    is a point of the contour), one where it recedes ends there (its last height), one between two further out
+    (a notch, the neck of a bulb) gives its middle: the contour runs through these, not along the steps."""
+    has = y > 1e-2 * max(float(y.max()), 1e-12)
+    rows = np.flatnonzero(has.any(axis=0))
+    if len(rows) < 2:
+        return np.empty((0, 2))
+    i = np.argmax(has[:, rows], axis=0)  # the outermost section with breadth at each height
+    inner = np.minimum(i + 1, len(x) - 1)
+    yi, yn = y[i, rows], y[inner, rows]
+    reach = np.where(yn > yi, np.abs(x[inner] - x[i]) * yi / np.where(yn > yi, yn - yi, 1.0), 0.0)
+    index = np.arange(len(x))[:, None]
+    empty = np.maximum.accumulate(np.where(y[:, rows] <= 1e-9 * float(y.max()), index, 0), axis=0)
+    room = np.abs(x[empty[np.maximum(i - 1, 0), np.arange(len(rows))]] - x[i])
+    xe = x[i] + np.sign(x[0] - x[-1]) * np.minimum(reach, room)
+    cut = np.flatnonzero(np.diff(i)) + 1
+    keep = []
+    for a, b in zip(np.r_[0, cut], np.r_[cut, len(rows)]):  # each run of heights with one outermost section
+        before = i[a - 1] if a else len(x)
+        after = i[b] if b < len(rows) else len(x)
+        if before > i[a]:
+            keep.append(a)
+        if after > i[a] and b - 1 != a:
+            keep.append(b - 1)
+        if before < i[a] and after < i[a]:
+            keep.append((a + b - 1) // 2)
+    keep = np.unique(keep)
+    return np.column_stack([xe[keep], z[rows][keep]]) if len(keep) else np.empty((0, 2))
+
+
+def _keel(x: np.ndarray, yz: np.ndarray) -> list[np.ndarray]:
+    """The keel in profile: where each section ``(n, m, 2)`` leaves the centreline (the end of its first run of
+    points on it, so a stern that lifts shows), split where it jumps from one piece of the hull to another (an
+    aperture: steeper than 2:1); ``(k, 2)`` polylines ``(x, z)`` [m]."""
+    off = yz[..., 0] > 1e-2 * yz[..., 0].max(axis=1, keepdims=True)  # of the section's own breadth
+    first = np.maximum(np.argmax(off, axis=1) - 1, 0)
+    keel = np.where(off.any(axis=1), yz[np.arange(len(x)), first, 1], np.nan)
+    out = []
+    for run in _nan_runs(x, keel):
+        steep = np.abs(np.diff(run[:, 1])) > 2.0 * np.diff(run[:, 0])
+        out += [piece for piece in np.split(run, np.flatnonzero(steep) + 1) if len(piece) >= 2]
+    return out
+
+
+def _outline(sections: Sections, stations: int) -> tuple[list, list]:
+    """The outline: in profile the keel, the stern and the stem (:func:`_end_contour` on 240 heights) and the deck
+    at side (smoothed, :func:`~._grid.deck_at_side`); in plan the deck at side. Curves ``(kind, label, points)``
+    of the sheer and half-breadth plans [m]."""
+    x, yz = np.asarray(sections.x, float), np.asarray(sections.yz, float)
+    deck_x, deck_y, deck_z = deck_at_side(sections, stations)
+    keel = _keel(x, yz)
+    levels = np.linspace(float(yz[..., 1].min()), float(deck_z.max()), 241)[1:]
+    at_levels = half_breadths(sections, x, levels)
+    sheer = []
+    for label, order in (("stern", slice(None)), ("stem", slice(None, None, -1))):
+        contour = _end_contour(x[order], at_levels[order], levels)
+        if len(contour) >= 2:
+            sheer.append(("outline", label, contour))
+            foot = contour[0]  # its lowest point: the keel runs on to it where it lies beyond (a Wigley's corners)
+            if keel and label == "stern" and foot[0] < keel[0][0, 0]:
+                keel[0] = np.vstack([foot, keel[0]])
+            elif keel and label == "stem" and foot[0] > keel[-1][-1, 0]:
+                keel[-1] = np.vstack([keel[-1], foot])
+    sheer += [("outline", "keel", run) for run in keel]
+    sheer.append(("outline", "deck", np.column_stack([deck_x, deck_z])))
+    return sheer, [("outline", "deck", np.column_stack([deck_x, deck_y]))]
+
+
+def lines_plan(sections: Sections, name: str = "", draft: float | None = None, stations: int = 20,
+               spacing: float | None = None, n_buttocks: int = 4, n_diagonals: int = 3,
                waterlines: Waterlines | None = None, buttocks: Lengths | None = None,
-               draft: float | None = None) -> LinesPlan:
-    """Cut the lines plan from ``sections``: stations 0…10, waterlines (default ``n_waterlines`` equally
-    spaced from the keel to the lowest deck edge) and buttocks (default ``n_buttocks`` equally spaced
-    inside the largest half-breadth); with ``draft`` [m above the baseline] the design waterline (DWL) in
-    all three views.
+               displacement: float | None = None, cb: float | None = None) -> LinesPlan:
+    """Cut the lines plan from ``sections``: stations 0 (AP) … ``stations`` (FP), waterlines every ``spacing``
+    [m] (default: a round spacing from the draft, :func:`~._grid.waterline_spacing`) below the deck, the DWL at
+    ``draft``, ``n_buttocks`` buttocks and ``n_diagonals`` diagonals (:mod:`._grid`).
 
     Parameters
     ----------
@@ -104,297 +221,287 @@ def lines_plan(sections: Sections, name: str = "", n_waterlines: int = 8, n_butt
         The hull (x [m from the AP], y to port, z up from the baseline).
     name : str
         The hull's name for the title block.
-    n_waterlines : int
-        Number of default waterlines (when ``waterlines`` is None).
-    n_buttocks : int
-        Number of default buttocks (when ``buttocks`` is None).
-    waterlines : (w,) array_like or None
-        Waterline heights [m above the baseline]; None: the default.
-    buttocks : (b,) array_like or None
-        Buttock offsets [m from the centreline]; None: the default.
     draft : float or None
-        Design draft [m above the baseline] for the DWL; None: no DWL.
+        Design draft [m above the baseline] for the DWL; None: no DWL (the waterlines and diagonals then take
+        half the depth for it).
+    stations : int
+        Station intervals over Lpp (20: stations 0…20).
+    spacing : float or None
+        Waterline spacing [m]; None: the round default.
+    n_buttocks, n_diagonals : int
+        At most this many buttocks (at a round spacing); this many diagonals.
+    waterlines : (w,) array_like or None
+        Waterline heights [m above the baseline] instead of the round ones.
+    buttocks : (b,) array_like or None
+        Buttock offsets [m from the centreline] instead of the round ones.
+    displacement, cb : float or None
+        Δ [t] and Cb at ``draft`` for the title block (the drawing does no hydrostatics).
 
     Returns
     -------
     LinesPlan
         The polylines of the sheer, half-breadth and body plans [m], with the extent and the particulars.
     """
-    x = np.asarray(sections.x, dtype=float)
-    yz = np.asarray(sections.yz, dtype=float)
+    x = np.asarray(sections.x, float)
+    yz = np.asarray(sections.yz, float)
     lpp = float(sections.lpp)
     half, zmin, zmax = float(yz[..., 0].max()), float(yz[..., 1].min()), float(yz[..., 1].max())
-    deck_z = yz[:, -1, 1]
+    t_ref = float(draft) if draft is not None else 0.5 * (zmax - max(zmin, 0.0))
+    spacing = float(spacing) if spacing is not None else waterline_spacing(t_ref, zmax - max(zmin, 0.0))
     if waterlines is None:
-        top = float(np.min(deck_z[yz[:, -1, 0] > 0.05 * half])) if np.any(yz[:, -1, 0] > 0.05 * half) else zmax
-        waterlines = np.linspace(zmin, top, n_waterlines + 1)[1:]
-    if buttocks is None:
-        buttocks = np.linspace(0.0, half, n_buttocks + 2)[1:-1]
+        waterlines = waterline_heights(spacing, lowest_deck(sections, stations))
+        waterlines = waterlines[waterlines > zmin + 0.05 * spacing]
+    buttocks = buttock_offsets(half, n_buttocks) if buttocks is None else buttocks
     waterlines, buttocks = np.asarray(waterlines, float), np.asarray(buttocks, float)
-    plan = LinesPlan(name=name, extent=(float(x.min()), float(x.max()), half, zmin, zmax), lpp=lpp,
-                     beam=2.0 * half, draft=None if draft is None else float(draft))
-    p0, p1 = yz[:, :-1], yz[:, 1:]
+    plan = LinesPlan(name=name, extent=(float(x.min()), float(x.max()), half, zmin, zmax), lpp=lpp, beam=2.0 * half,
+                     draft=None if draft is None else float(draft), displacement=displacement, cb=cb,
+                     stations=stations, spacing=spacing)
+    diags = diagonals(t_ref, half, n_diagonals) if n_diagonals else []
+    plan.buttocks, plan.diagonals = tuple(float(b) for b in buttocks), tuple(diags)
+    developed = {d.name: developed_diagonal(yz, d) for d in diags}
+    reach = max([float(np.nanmax(v)) for v in developed.values() if np.isfinite(v).any()] + [0.0])
+    x0, x1, zlo = float(x.min()), float(x.max()), min(zmin, 0.0)
 
-    # stations: the hull at the ten divisions of Lpp
-    for k, xk, section in zip(*station_sections(sections)):
-        label = f"{k:g}"
-        sign = 1.0 if xk >= 0.5 * lpp else -1.0
-        plan.body.append(("station", label, section * np.array([sign, 1.0])))
-        for view, pts in (("sheer", [[xk, zmin], [xk, zmax]]), ("half_breadth", [[xk, 0.0], [xk, half]])):
-            getattr(plan, view).append(("grid", label, np.array(pts)))
-
+    # the grid: baseline, centreline, stations, waterlines and buttocks where they are straight
+    plan.sheer.append(("grid", "BL", np.array([[x0, 0.0], [x1, 0.0]])))
+    plan.half_breadth.append(("grid", "CL", np.array([[x0, 0.0], [x1, 0.0]])))
+    plan.body.append(("grid", "BL", np.array([[-half, 0.0], [half, 0.0]])))
+    plan.body.append(("grid", "CL", np.array([[0.0, zlo], [0.0, zmax]])))
+    numbers, xs, cuts = station_sections(sections, stations=stations)
+    for k, xk in zip(numbers, xs):
+        plan.sheer.append(("grid", f"{k:g}", np.array([[xk, zlo], [xk, zmax]])))
+        plan.half_breadth.append(("grid", f"{k:g}", np.array([[xk, -reach], [xk, half]])))
     for z in waterlines:
-        hit, y = _crossings(p0, p1, 1, z)
-        yw = np.where(hit.any(axis=1), np.max(np.where(hit, y, -np.inf), axis=1), np.nan)
-        for run in _nan_runs(x, yw):
-            plan.half_breadth.append(("waterline", f"{z:.3g}", run))
-        plan.sheer.append(("grid", f"WL {z:.3g}", np.array([[x.min(), z], [x.max(), z]])))
-        plan.body.append(("grid", f"WL {z:.3g}", np.array([[-half, z], [half, z]])))
-    if draft is not None:
-        hit, y = _crossings(p0, p1, 1, float(draft))
-        yw = np.where(hit.any(axis=1), np.max(np.where(hit, y, -np.inf), axis=1), np.nan)
-        for run in _nan_runs(x, yw):
-            plan.half_breadth.append(("dwl", "DWL", run))
-        plan.sheer.append(("dwl", "DWL", np.array([[x.min(), draft], [x.max(), draft]])))
-        plan.body.append(("dwl", "DWL", np.array([[-half, draft], [half, draft]])))
+        plan.sheer.append(("grid", f"WL {z:g}", np.array([[x0, z], [x1, z]])))
+        plan.body.append(("grid", f"WL {z:g}", np.array([[-half, z], [half, z]])))
     for yb in buttocks:
-        hit, z = _crossings(p0, p1, 0, yb)
-        zb = np.where(hit.any(axis=1), np.min(np.where(hit, z, np.inf), axis=1), np.nan)
-        for run in _nan_runs(x, zb):
-            plan.sheer.append(("buttock", f"{yb:.3g}", run))
-        plan.half_breadth.append(("grid", f"BL {yb:.3g}", np.array([[x.min(), yb], [x.max(), yb]])))
+        plan.half_breadth.append(("grid", f"Butt {yb:g}", np.array([[x0, yb], [x1, yb]])))
         for s in (-1.0, 1.0):
-            plan.body.append(("grid", f"BL {yb:.3g}", np.array([[s * yb, zmin], [s * yb, zmax]])))
+            plan.body.append(("grid", f"Butt {yb:g}", np.array([[s * yb, zlo], [s * yb, zmax]])))
 
-    # outlines: profile (lowest point and deck edge of each section) and the deck line in plan
-    off = yz[..., 0] > 1e-2 * half  # the profile: lowest point off the centreline (so the stern shows)
-    keel = np.where(off.any(axis=1), np.min(np.where(off, yz[..., 1], np.inf), axis=1), np.nan)
-    for run in _nan_runs(x, keel):
-        plan.sheer.append(("outline", "keel", run))
-    plan.sheer.append(("outline", "deck", np.column_stack([x, deck_z])))
-    plan.half_breadth.append(("outline", "deck", np.column_stack([x, yz[:, -1, 0]])))
-    plan.body.append(("outline", "centreline", np.array([[0.0, zmin], [0.0, zmax]])))
+    # the lines: stations in the body plan (midship on both sides), waterlines, buttocks, diagonals, the DWL
+    for k, section in zip(numbers, cuts):
+        for sign in ((-1.0,) if k < stations / 2 else (1.0,) if k > stations / 2 else (-1.0, 1.0)):
+            plan.body.append(("station", f"{k:g}", section * np.array([sign, 1.0])))
+    for z in waterlines:
+        for run in _nan_runs(x, _outermost(yz, 1, z)):
+            plan.half_breadth.append(("waterline", f"WL {z:g}", run))
+    for yb in buttocks:
+        for run in _nan_runs(x, _outermost(yz, 0, yb, lowest=True)):
+            plan.sheer.append(("buttock", f"Butt {yb:g}", run))
+    for d in diags:
+        end = d.end(half)
+        for sign in (-1.0, 1.0):
+            plan.body.append(("diagonal", f"Diag {d.name}", np.array([[0.0, d.z0], [sign * end[0], end[1]]])))
+        for run in _nan_runs(x, developed[d.name]):
+            plan.half_breadth.append(("diagonal", f"Diag {d.name}", run * np.array([1.0, -1.0])))
+    if draft is not None:
+        for run in _nan_runs(x, _outermost(yz, 1, float(draft))):
+            plan.half_breadth.append(("dwl", "DWL", run))
+        plan.sheer.append(("dwl", "DWL", np.array([[x0, draft], [x1, draft]])))
+        plan.body.append(("dwl", "DWL", np.array([[-half, draft], [half, draft]])))
+
+    sheer, plan_view = _outline(sections, stations)
+    plan.sheer += sheer
+    plan.half_breadth += plan_view
     return plan
 
 
-_STYLE = {
-    "station": dict(color="tab:blue", lw=0.9),
-    "waterline": dict(color="tab:green", lw=0.9),
-    "buttock": dict(color="tab:red", lw=0.9),
-    "outline": dict(color="black", lw=1.3),
-    "dwl": dict(color="tab:purple", lw=1.4, ls="-."),
-    "grid": dict(color="0.75", lw=0.5),
-}
+@dataclass(frozen=True)
+class Label:
+    """A text of the lines plan: ``text`` at ``at`` ``(u, v)`` [m, in ``view``'s coordinates], aligned by
+    ``ha``/``va`` (matplotlib's words) and moved by ``offset`` [text heights]; ``kind`` what it names
+    (``station``, ``section`` — the body plan's station numbers —, ``perpendicular``, ``waterline``, ``dwl``,
+    ``buttock``, ``diagonal``, ``base``), so that a sheet can thin the labels of lines close together on paper."""
 
-# standard drawing scales 1:N (N of one significant figure 1, 2, 2.5 or 5 times a power of ten)
-_SCALES = np.array([m * 10.0**k for k in range(0, 6) for m in (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.5)])
-
-
-def _draw(ax, curves, title, xlabel, ylabel):
-    for kind, _, pts in curves:
-        ax.plot(pts[:, 0], pts[:, 1], **_STYLE[kind])
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_title(title, fontsize=9, loc="left")
-    ax.set_xlabel(xlabel, fontsize=8)
-    ax.set_ylabel(ylabel, fontsize=8)
-    ax.tick_params(labelsize=7)
+    view: str
+    kind: str
+    text: str
+    at: tuple[float, float]
+    ha: str = "center"
+    va: str = "center"
+    offset: tuple[float, float] = (0.0, 0.0)
 
 
-def _label_grid(ax, curves, prefix, where, **kw):
-    """Write the labels of the grid lines whose label starts with ``prefix`` (``"WL "``: waterlines, ``""``:
-    stations) at their ``where`` end (``"end"``: the last point, ``"start"``: the first)."""
-    for kind, label, pts in curves:
-        if kind == "grid" and label.startswith(prefix) and (prefix or " " not in label):
-            q = pts[-1] if where == "end" else pts[0]
-            ax.annotate(label.removeprefix("WL ") if prefix else label, q, fontsize=6, color="0.35",
-                        annotation_clip=False, **kw)
-
-
-def _paper_scale(fig, ax) -> float:
-    """N of the scale 1:N at which ``ax`` is drawn on the sheet (metres of hull per metre of paper along x)."""
-    fig.canvas.draw()
-    paper = ax.get_window_extent().width / fig.dpi * 0.0254
-    lo, hi = ax.get_xlim()
-    return (hi - lo) / paper
-
-
-def _set_scale(fig, axes, spans) -> float:
-    """Set the limits of ``axes`` (drawn at one scale, equal aspect) to the smallest standard scale 1:N at
-    which each axes holds its ``spans`` ``(x_lo, x_hi, y_lo, y_hi)`` [m], centred on them; returns N."""
-    fig.canvas.draw()
-    boxes = [ax.get_window_extent() for ax in axes]
-    inch = 0.0254 / fig.dpi  # metres of paper per pixel
-    n = max(max((b[1] - b[0]) / (box.width * inch), (b[3] - b[2]) / (box.height * inch))
-            for b, box in zip(spans, boxes))
-    std = float(_SCALES[np.searchsorted(_SCALES, n * (1 - 1e-9))])
-    for ax, box, b in zip(axes, boxes, spans):
-        xc, yc = 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3])
-        w = box.width / fig.dpi * 0.0254 * std  # metres of hull across the axes at 1:std
-        h = box.height / fig.dpi * 0.0254 * std
-        ax.set_xlim(xc - 0.5 * w, xc + 0.5 * w)
-        ax.set_ylim(yc - 0.5 * h, yc + 0.5 * h)
-    return std
-
-
-def _label_stations(ax, curves):
-    """Station numbers above the body plan's sections, those ending at one point named once (``3–7``, ``0, 10``)."""
+def _station_groups(curves: list) -> list[tuple[str, np.ndarray]]:
+    """The body plan's station numbers, those whose sections end at one point (the parallel middle body, a
+    transom) named once, ``3–7`` or ``0, 10``: ``(text, top point)``."""
     tops = [(label, pts[np.argmax(pts[:, 1])]) for kind, label, pts in curves if kind == "station"]
-    tol = 0.03 * max(abs(float(p[0])) for _, p in tops) + 1e-12 if tops else 0.0
-    groups = []
+    if not tops:
+        return []
+    tol = 0.03 * max(abs(float(p[0])) for _, p in tops) + 1e-12
+    groups: list[tuple[list[str], np.ndarray]] = []
     for label, p in tops:
         near = [g for g in groups if np.hypot(*(p - g[1])) <= tol]
         if near:
             near[0][0].append(label)
         else:
             groups.append(([label], p))
+    out = []
     for labels, p in groups:
-        nums = [int(v) for v in labels]
+        nums = [int(float(v)) for v in labels]
         run = nums == list(range(nums[0], nums[0] + len(nums)))
-        text = labels[0] if len(labels) == 1 else f"{labels[0]}–{labels[-1]}" if run else ", ".join(labels)
-        ax.annotate(text, p, xytext=(0, 3), textcoords="offset points", ha="center", fontsize=6,
-                    color="tab:blue")
+        out.append((labels[0] if len(labels) == 1 else f"{labels[0]}–{labels[-1]}" if run else ", ".join(labels), p))
+    return out
 
 
-def plot_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
-    """Draw the three views on one sheet (sheer plan above the half-breadth plan, body plan to the right)
-    and save it as PNG, SVG or PDF (by the extension).
+def _longest(curves: list, kind: str) -> dict[str, np.ndarray]:
+    """The longest polyline of each label of ``kind``: ``{label: points}``."""
+    out: dict[str, np.ndarray] = {}
+    for k, label, pts in curves:
+        if k == kind and len(pts) > len(out.get(label, ())):
+            out[label] = pts
+    return out
 
-    Axes in metres (x from the AP, y to port, z above the baseline); station numbers 0 (AP) … 10 (FP) under
-    the sheer and half-breadth plans and above the body plan's sections; waterline heights [m] at the right of
-    the sheer and body plans; the DWL (when the plan has a draft) dash-dotted; a title block with the name,
-    Lpp, B, T and the scales 1:N at which the plans and the body plan are drawn on this sheet (the sheet's
-    size as saved: no cropping).
+
+def _diagonal_labels(developed: dict[str, np.ndarray], candidates: np.ndarray, floor: float) -> list[Label]:
+    """Each developed diagonal named on its line (the text breaks it) at the station of ``candidates`` [m] where it
+    lies furthest from its neighbours on both sides (the other diagonals, the centreline at 0, the view's
+    ``floor`` [m])."""
+    at = {name: np.interp(candidates, p[:, 0], p[:, 1], left=np.nan, right=np.nan) for name, p in developed.items()}
+    out = []
+    for name, v in at.items():
+        others = np.array([np.zeros_like(v), np.full_like(v, floor)] + [w for n, w in at.items() if n != name])
+        gap = others - v
+        above = np.min(np.where(gap > 0, gap, np.inf), axis=0)
+        below = np.min(np.where(gap <= 0, -gap, np.inf), axis=0)
+        j = int(np.argmax(np.where(np.isfinite(v), np.minimum(above, below), -np.inf)))
+        out.append(Label("half_breadth", "diagonal", name, (float(candidates[j]), float(v[j]))))
+    return out
+
+
+def _section_labels(stations: list, levels: list[float], room: float) -> list[Label]:
+    """Body-plan stations that share their deck edge (the parallel middle body), named where they cross one
+    waterline, on each side the one of ``levels`` [m] where most of them lie ``room`` [m] clear of their
+    neighbours."""
+    out = []
+    for side in (-1.0, 1.0):
+        mine = [(label, pts * [side, 1.0]) for label, pts in stations if side * pts[-1, 0] >= 0]
+        if not mine:
+            continue
+        sections = [pts for _, pts in mine]
+        y = np.array([[_outermost(p[None], 1, z)[0] for p in sections] for z in levels])  # (levels, stations)
+
+        def clear(row):
+            order = np.sort(row[np.isfinite(row)])
+            gaps = np.diff(np.r_[-np.inf, order, np.inf])
+            return int(np.sum((gaps[:-1] >= room) & (gaps[1:] >= room)))
+
+        j = int(np.argmax([clear(row) for row in y]))
+        for (label, _), yk in zip(mine, y[j]):
+            if np.isfinite(yk) and yk > 1e-9:
+                out.append(Label("body", "section", label, (float(side * yk), levels[j]),
+                                 "right" if side > 0 else "left", "bottom", (-0.2 * side, 0.15)))
+    return out
+
+
+def plan_labels(plan: LinesPlan) -> list[Label]:
+    """The texts of the three views: station numbers (under the sheer and half-breadth plans, above the body
+    plan's sections), AP and FP, the waterlines' heights (right of the sheer plan, left of the body plan), the DWL
+    (``DWL T = … m``), the buttocks and diagonals by name, the baseline and centreline.
 
     Parameters
     ----------
     plan : LinesPlan
         The lines plan (:func:`lines_plan`).
-    path : str or os.PathLike
-        The figure file; its suffix picks the format (PNG, SVG, PDF).
 
     Returns
     -------
-    pathlib.Path
-        ``path``.
+    list of Label
+        Anchored in each view's coordinates [m].
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-
-    path = Path(path)
-    x0, x1, half, z0, z1 = plan.extent
-    length, height = x1 - x0, z1 - z0
-    # the plans share one scale; the body plan is drawn larger (its own scale), as on a lines sheet
-    fig_w, body_frac = 16.0, 0.25
-    left_w = fig_w * (1.0 - body_frac)
-    left_h = left_w * (height + half) / length
-    body_h = fig_w * body_frac * height / (2 * half)
-    fig_h = max(left_h * 1.25, body_h) + 2.6
-    fig = plt.figure(figsize=(fig_w, fig_h))
-    gs = fig.add_gridspec(2, 2, width_ratios=[1.0 - body_frac, body_frac], height_ratios=[height, half],
-                          wspace=0.12, hspace=0.45, left=0.05, right=0.97, top=0.9, bottom=1.9 / fig_h)
-    sheer, plan_ax, body = fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[:, 1])
-    _draw(sheer, plan.sheer, "Sheer plan (buttocks)", "x from AP [m]", "z above base [m]")
-    _draw(plan_ax, plan.half_breadth, "Half-breadth plan (waterlines)", "x from AP [m]", "y [m]")
-    _draw(body, plan.body, "Body plan (aft body ← | → fore body)", "y [m]", "z above base [m]")
-    # station numbers under the sheer and half-breadth plans, above the body plan's sections
-    _label_grid(sheer, plan.sheer, "", "start", xytext=(0, -9), textcoords="offset points", ha="center")
-    _label_grid(plan_ax, plan.half_breadth, "", "start", xytext=(0, -9), textcoords="offset points",
-                ha="center")
-    _label_stations(body, plan.body)
-    # waterline heights at the right of the sheer and body plans
-    _label_grid(sheer, plan.sheer, "WL ", "end", xytext=(3, 0), textcoords="offset points", va="center")
-    _label_grid(body, plan.body, "WL ", "end", xytext=(3, 0), textcoords="offset points", va="center")
+    out: list[Label] = []
+    bounds = {v: view_bounds(getattr(plan, v)) for v in ("sheer", "half_breadth", "body")}
+    x1 = bounds["sheer"][1]
+    for view in ("sheer", "half_breadth"):
+        bottom = bounds[view][2]
+        for kind, label, pts in getattr(plan, view):
+            if kind == "grid" and label[0].isdigit():
+                out.append(Label(view, "station", label, (float(pts[0, 0]), bottom), "center", "top", (0.0, -0.3)))
+    top = bounds["sheer"][3]
+    out += [Label("sheer", "perpendicular", name, (x, top), "center", "bottom", (0.0, 0.3))
+            for name, x in (("AP", 0.0), ("FP", plan.lpp))]
+    for kind, label, pts in plan.sheer:
+        if kind == "grid" and label.startswith("WL "):
+            out.append(Label("sheer", "waterline", label, (x1, float(pts[0, 1])), "left", "center", (0.4, 0.0)))
+        elif kind == "grid" and label == "BL":
+            out.append(Label("sheer", "base", "BL", (x1, 0.0), "left", "center", (0.4, 0.0)))
     if plan.draft is not None:
-        for ax, xl in ((sheer, x0), (body, -half)):
-            ax.annotate(f"DWL {plan.draft:.3g} m", (xl, plan.draft), xytext=(2, 2), textcoords="offset points",
-                        fontsize=7, color="tab:purple", ha="left", va="bottom")
-    mx, mz = 0.03 * length, 0.12 * height  # room for the station and waterline labels
-    n_plans = _set_scale(fig, (sheer, plan_ax), ((x0 - mx, x1 + mx, z0 - mz, z1 + 0.05 * height),
-                                                      (x0 - mx, x1 + mx, -0.12 * half, 1.05 * half)))
-    n_body = _set_scale(fig, (body,), ((-1.15 * half, 1.35 * half, z0 - 0.05 * height, z1 + mz),))
-    fig.suptitle(f"Lines plan — {plan.name}" if plan.name else "Lines plan", fontsize=12, x=0.05, ha="left")
-    kinds = ["station", "waterline", "buttock"] + (["dwl"] if plan.draft is not None else [])
-    names = {"station": "stations", "waterline": "waterlines", "buttock": "buttocks", "dwl": "DWL"}
-    fig.legend([Line2D([], [], **_STYLE[k]) for k in kinds], [names[k] for k in kinds], loc="lower left",
-               bbox_to_anchor=(0.05, 0.02), fontsize=8, ncol=len(kinds), frameon=False)
-    # the title block, bottom right
-    t = "—" if plan.draft is None else f"{plan.draft:.3f} m"
-    rows = [("Ship", plan.name or "—"), ("Lpp", f"{plan.lpp:.3f} m"), ("B (moulded)", f"{plan.beam:.3f} m"),
-            ("T (DWL)", t), ("Scale, plans", f"1:{n_plans:g}"), ("Scale, body plan", f"1:{n_body:g}"),
-            ("Sheet", f"{fig_w:g} × {fig_h:.1f} in"), ("Stations", "0 AP … 10 FP"), ("Units", "m")]
-    text = "\n".join(f"{k:<17}{v}" for k, v in rows)
-    fig.text(0.97, 0.02, text, ha="right", va="bottom", fontsize=7.5, family="monospace", multialignment="left",
-             bbox=dict(boxstyle="square,pad=0.6", fc="white", ec="black", lw=1.0))
-    return save_figure(fig, path, dpi=150)
+        text = f"DWL T = {plan.draft:.2f} m"
+        out.append(Label("sheer", "dwl", text, (0.5 * plan.lpp, plan.draft), "center", "bottom", (0.0, 0.2)))
+        out.append(Label("body", "dwl", "DWL", (bounds["body"][1], plan.draft), "left", "center", (0.4, 0.0)))
+    level = plan.draft if plan.draft is not None else 0.5 * (top + bounds["sheer"][2])
+    for label, pts in _longest(plan.sheer, "buttock").items():  # where the buttock rises through the DWL forward
+        up = np.flatnonzero((pts[:-1, 1] < level) & (pts[1:, 1] >= level))
+        at = pts[-1] if not len(up) else pts[up[-1]] + (level - pts[up[-1], 1]) / (
+            pts[up[-1] + 1, 1] - pts[up[-1], 1]) * (pts[up[-1] + 1] - pts[up[-1]])
+        out.append(Label("sheer", "buttock", label, (float(at[0]), float(at[1])), "right", "bottom", (-0.3, 0.2)))
+    for kind, label, pts in plan.half_breadth:
+        if kind == "grid" and (label.startswith("Butt ") or label == "CL"):
+            out.append(Label("half_breadth", "buttock" if label != "CL" else "base", label, (x1, float(pts[0, 1])),
+                             "left", "center", (0.4, 0.0)))
+    out += _diagonal_labels(_longest(plan.half_breadth, "diagonal"), station_x(plan.lpp, plan.stations)[2:-2],
+                            bounds["half_breadth"][2])
+    for text, p in _station_groups(plan.body):
+        out.append(Label("body", "section", text, (float(p[0]), float(p[1])), "center", "bottom", (0.0, 0.3)))
+    named = {t for t, _ in _station_groups(plan.body) if t.isdigit()}
+    levels = [float(pts[0, 1]) for kind, label, pts in plan.body if kind == "grid" and label.startswith("WL ")]
+    out += _section_labels([(label, pts) for kind, label, pts in plan.body if kind == "station" and label not in named],
+                           levels or [level], 0.06 * bounds["body"][1])
+    b0, _, v0, _ = bounds["body"]
+    for kind, label, pts in plan.body:
+        if kind == "grid" and label.startswith("WL "):
+            out.append(Label("body", "waterline", label, (b0, float(pts[0, 1])), "right", "center", (-0.4, 0.0)))
+        elif kind == "grid" and label.startswith("Butt ") and pts[0, 0] < 0:
+            out.append(Label("body", "buttock", label.removeprefix("Butt "), (float(pts[0, 0]), v0), "center", "top",
+                             (0.0, -0.3)))
+        elif kind == "diagonal" and pts[-1, 0] > 0:
+            out.append(Label("body", "diagonal", label.removeprefix("Diag "), tuple(map(float, pts[-1])), "left",
+                             "center", (0.3, 0.0)))
+    out.append(Label("body", "base", "CL", (0.0, v0), "center", "top", (0.0, -0.3)))
+    return out
 
 
-def write_lines_dxf(plan: LinesPlan, path: str | os.PathLike) -> Path:
-    """Write the three views to a DXF (model space, metres): sheer plan at the origin, half-breadth plan
-    below it (y downward), body plan to the right; one layer per kind of line.
-
-    Parameters
-    ----------
-    plan : LinesPlan
-        The lines plan (:func:`lines_plan`).
-    path : str or os.PathLike
-        The DXF file to write.
-
-    Returns
-    -------
-    pathlib.Path
-        ``path``.
-    """
-    import io
-
-    import ezdxf
-
-    x0, x1, half, z0, z1 = plan.extent
-    gap = 0.05 * (x1 - x0)
-    doc = ezdxf.new("R2010")
-    doc.units = ezdxf.units.M
-    colors = {"station": 5, "waterline": 3, "buttock": 1, "outline": 7, "dwl": 6, "grid": 8}
-    for kind, c in colors.items():
-        doc.layers.add(kind.upper(), color=c)
-    msp = doc.modelspace()
-    placements = (
-        (plan.sheer, lambda p: p),
-        (plan.half_breadth, lambda p: np.column_stack([p[:, 0], z0 - gap - p[:, 1]])),
-        (plan.body, lambda p: np.column_stack([p[:, 0] + x1 + gap + half, p[:, 1]])),
-    )
-    for curves, place in placements:
-        for kind, _, pts in curves:
-            msp.add_lwpolyline([tuple(map(float, q)) for q in place(pts)], dxfattribs={"layer": kind.upper()})
-    buf = io.StringIO()
-    doc.write(buf)
-    atomic_write_bytes(path, buf.getvalue().encode())
-    return Path(path)
-
-
-def save_lines(plan: LinesPlan, path: str | os.PathLike) -> Path:
-    """Save the lines plan by the file's extension: .png, .svg, .pdf (matplotlib) or .dxf (ezdxf).
+def thin_labels(labels: list[Label], plan: LinesPlan, scale: float, height: float) -> list[Label]:
+    """The labels that do not overlap their neighbours when drawn ``scale`` units per metre with text ``height``
+    units high (mm on a sheet, m in a DXF): the waterlines' heights every k-th waterline (k · spacing on paper at
+    least 1.3 text heights; not the ¼ and ½ waterlines when k > 1), the station numbers every k-th station (3 text
+    heights apart).
 
     Parameters
     ----------
+    labels : list of Label
+        The labels (:func:`plan_labels`), of one view (its ``scale``).
     plan : LinesPlan
-        The lines plan (:func:`lines_plan`).
-    path : str or os.PathLike
-        The file; its suffix picks the format (one of ``LINES_FORMATS``).
+        The plan (its waterline spacing and stations).
+    scale : float
+        Units of the drawing per metre of hull.
+    height : float
+        The text height in the drawing's units.
 
     Returns
     -------
-    pathlib.Path
-        ``path``.
-
-    Raises
-    ------
-    HullError
-        For an unknown suffix.
+    list of Label
+        Those kept, in their order.
     """
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
-    if fmt not in LINES_FORMATS:
-        raise HullError(f"{path}: unknown drawing format {path.suffix!r}; expected one of .{', .'.join(LINES_FORMATS)}")
-    return write_lines_dxf(plan, path) if fmt == "dxf" else plot_lines(plan, path)
+    def every(step: float, room: float) -> float:  # the distance [m] between named lines: k steps, ≥ room apart
+        return step * max(1, math.ceil(room / max(step * scale, 1e-12) - 1e-9))
+
+    rules = {"waterline": every(plan.spacing, 1.3 * height), "station": every(plan.lpp / plan.stations, 3 * height)}
+
+    def keep(lab: Label) -> bool:
+        if lab.kind not in rules:
+            return True
+        value = float(lab.text.split()[-1]) * (plan.lpp / plan.stations if lab.kind == "station" else 1.0)
+        return abs(value / rules[lab.kind] - round(value / rules[lab.kind])) < 1e-6
+
+    return [lab for lab in labels if keep(lab)]
+
+
+def arrange(plan: LinesPlan, gap: float) -> dict[str, tuple[float, float]]:
+    """Where each view goes on one drawing [m]: the sheer plan as it is, the half-breadth plan under it and the
+    body plan under that, at the left, ``gap`` [m] apart: ``{view: (du, dv)}`` added to the view's coordinates."""
+    s, h, b = (view_bounds(getattr(plan, v)) for v in ("sheer", "half_breadth", "body"))
+    dv_half = s[2] - gap - h[3]
+    return {"sheer": (0.0, 0.0), "half_breadth": (0.0, dv_half),
+            "body": (s[0] - b[0], dv_half + h[2] - gap - b[3])}

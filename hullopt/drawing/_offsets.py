@@ -1,12 +1,12 @@
 """Offset tables cut from sections, written in the two layouts :func:`hullopt.models.read_offsets` reads:
-the wide layout (``x`` [m] × waterline heights [m]) and the seed-003 stations layout (AP, ¼, ½, … 9¾, FP ×
-waterline numbers)."""
+the wide layout (``x`` [m] × waterline heights [m]: machine data, a run's ``offsets.csv``) and the stations
+layout of seed 003 (station numbers × waterline numbers: a yard's table of offsets, stations 0…20 and round
+waterlines with the DWL)."""
 
 from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -14,34 +14,7 @@ from jaxtyping import ArrayLike, Float
 
 from .._types import Stations, Waterlines
 from ..geometry import SAME_POINT, TINY_LENGTH, Sections, atomic_write_bytes
-
-# The standard station list of seed 003 (station numbers, Lpp/10 apart).
-SEED003_STATIONS = tuple(Fraction(s) for s in (
-    "0", "1/4", "1/2", "3/4", "1", "3/2", "2", "5/2", "3", "4", "5", "6", "7", "15/2", "8", "17/2", "9",
-    "37/4", "19/2", "39/4", "10"))
-
-
-def station_label(s: Fraction) -> str:
-    """``0`` → ``AP``, ``10`` → ``FP``, ``3/2`` → ``1 1/2``, ``1/4`` → ``1/4``.
-
-    Parameters
-    ----------
-    s : fractions.Fraction
-        Station number, 0 (AP) to 10 (FP).
-
-    Returns
-    -------
-    str
-        The label as the seed-003 layout writes it.
-    """
-    if s == 0:
-        return "AP"
-    if s == 10:
-        return "FP"
-    whole, rest = divmod(s, 1)
-    if rest == 0:
-        return str(int(whole))
-    return f"{int(whole)} {rest}" if whole else str(rest)
+from ._grid import lowest_deck, station_x, waterline_heights, waterline_spacing
 
 
 def half_breadths(sections: Sections, x: Stations | Sequence[float], z: Waterlines) -> np.ndarray:
@@ -204,10 +177,48 @@ def dense_waterlines(sections: Sections, n: int = 41) -> np.ndarray:
     return top * np.linspace(0.0, 1.0, n) ** 2
 
 
-def write_offsets_stations(sections: Sections, path: str | os.PathLike, n_waterlines: int = 11,
-                           name: str = "") -> Path:
-    """Seed-003 layout: rows AP, 1/4, … 9 3/4, FP; columns waterline numbers 0…n−1, equally spaced from
-    the baseline to the lowest deck edge (``waterline_spacing`` metadata).
+def offset_table(sections: Sections, draft: float, stations: int = 20, spacing: float | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """A yard's table of offsets: half-breadths at the stations 0 (AP) … ``stations`` (FP) — and at the hull's
+    aft and fore ends where it reaches beyond the perpendiculars (a transom, a bulb) — and at the waterlines every
+    ``spacing`` [m] from the baseline to below the lowest deck at side, with the DWL among them: the ordinates of
+    the lines plan (:mod:`._grid`); 0 where a section has no breadth at a waterline.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x [m from the AP], y to port, z up from the baseline).
+    draft : float
+        The design draft [m above the baseline] (the DWL column).
+    stations : int
+        Station intervals over Lpp.
+    spacing : float or None
+        Waterline spacing [m]; None: the round spacing of :func:`~._grid.waterline_spacing`.
+
+    Returns
+    -------
+    tuple
+        ``x (s,)`` [m from the AP], ``z (w,)`` [m above the baseline], ``y (s, w)`` [m], ``spacing`` [m].
+    """
+    keel, depth = float(np.min(np.asarray(sections.yz)[..., 1])), float(np.max(np.asarray(sections.yz)[..., 1]))
+    if spacing is None:
+        spacing = waterline_spacing(float(draft), depth - max(keel, 0.0))
+    z = np.union1d(waterline_heights(spacing, lowest_deck(sections, stations), keel), [float(draft)])
+    xs, lpp = np.asarray(sections.x, float), float(sections.lpp)
+    ends = [v for v in (xs[0], xs[-1]) if v < -1e-6 * lpp or v > lpp * (1 + 1e-6)]
+    x = np.union1d(station_x(lpp, stations), ends)
+    return x, z, half_breadths(sections, x, z), float(spacing)
+
+
+def write_offsets_stations(sections: Sections, path: str | os.PathLike, draft: float, stations: int = 20,
+                           spacing: float | None = None, name: str = "") -> Path:
+    """The yard's table of offsets (:func:`offset_table`) in the stations layout that
+    :func:`hullopt.models.read_offsets` reads back: one row per station, numbered 0 (AP) … ``stations`` (FP)
+    (``# stations = N``) — ``AO`` and ``FO`` the hull's aft and fore ends beyond the perpendiculars, their station
+    numbers as metadata — one column per waterline, headed by its number (its height over
+    ``# waterline_spacing``: the DWL's may be fractional, 7.25 for 14.5 m at 2 m), half-breadths in m to the
+    millimetre, 0 where the section has no breadth; a comment row above the header gives each waterline's height
+    [m].
 
     Parameters
     ----------
@@ -215,8 +226,12 @@ def write_offsets_stations(sections: Sections, path: str | os.PathLike, n_waterl
         The hull (x [m from the AP], y to port, z up from the baseline).
     path : str or os.PathLike
         The CSV file to write.
-    n_waterlines : int
-        Number of waterlines, the baseline (0) to the lowest deck edge.
+    draft : float
+        The design draft [m above the baseline].
+    stations : int
+        Station intervals over Lpp (20: stations 0…20).
+    spacing : float or None
+        Waterline spacing [m]; None: the round default.
     name : str
         The hull's name for the comment line.
 
@@ -226,14 +241,22 @@ def write_offsets_stations(sections: Sections, path: str | os.PathLike, n_waterl
         ``path``.
     """
     lpp = float(sections.lpp)
-    dz = float(_default_waterlines(sections, n_waterlines)[1])
-    z = dz * np.arange(n_waterlines)
-    x = np.array([float(s) * lpp / 10.0 for s in SEED003_STATIONS])
-    y = half_breadths(sections, x, z)
-    rows = [[station_label(s), *(f"{v:.6g}" for v in yi)] for s, yi in zip(SEED003_STATIONS, y)]
-    meta = {"lpp": f"{lpp:.6g}", "waterline_spacing": f"{dz:.6g}"}
-    return _write(path, ["station", *map(str, range(n_waterlines))], rows, meta,
-                  f"offsets of {name or 'a hull'} (half-breadths, m; seed-003 station layout)")
+    x, z, y, spacing = offset_table(sections, draft, stations, spacing)
+    numbers = [f"{v / spacing:.6g}" for v in z]
+    meta = {"lpp": f"{lpp:.6g}", "stations": str(stations), "waterline_spacing": f"{spacing:g}",
+            "design_draft": f"{float(draft):.6g}"}
+    station = x * stations / lpp
+    labels = [("AO" if k < 0 else "FO") if abs(k - round(k)) > 1e-9 else str(round(k)) for k in station]
+    meta |= {label: f"{k:.6g}" for label, k in zip(labels, station) if label in ("AO", "FO")}
+    rows = [[label, *(f"{v:.3f}" for v in yk)] for label, yk in zip(labels, y)]
+    comment = (f"offsets of {name or 'a hull'}: half-breadths [m] at stations 0 (AP) … {stations} (FP), "
+               f"{lpp / stations:.6g} m apart, and waterlines {spacing:g} m apart (DWL = waterline "
+               f"{float(draft) / spacing:.6g}, T = {float(draft):.6g} m)")
+    heights = "# z above base [m]," + ",".join(f"{v:.6g}" for v in z)
+    lines = [f"# {comment}"] + [f"# {k} = {v}" for k, v in meta.items()] + [heights, ",".join(["station", *numbers])]
+    lines += [",".join(r) for r in rows]
+    atomic_write_bytes(path, ("\n".join(lines) + "\n").encode())
+    return Path(path)
 
 
 def _default_waterlines(sections: Sections, n: int = 11) -> np.ndarray:

@@ -22,15 +22,18 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
+from .._types import Lengths, Mask, Scalar
 from ..geometry import spline_curvatures
+
+Table = Float[ArrayLike, "s w"]  # half-breadths [m] at stations × waterlines, or a value at each offset
 
 FLOOR_FRACTION = 0.02  # the dead band, as a fraction of the largest |κ| of a line family on the given table
 _EPS = 0.05  # smoothing of |Δσ| in sign_variation
 
 
-def line_curvatures(x, z, y, end: str = "not-a-knot") -> tuple[Array, Array]:
+def line_curvatures(x: Lengths, z: Lengths, y: Table, end: str = "not-a-knot") -> tuple[Array, Array]:
     """Curvature at the knots of every frame line (``y(z)`` at a station) and every waterline (``y(x)``).
 
     Parameters
@@ -54,9 +57,20 @@ def line_curvatures(x, z, y, end: str = "not-a-knot") -> tuple[Array, Array]:
     return spline_curvatures(jnp.asarray(z), y.T, end).T, spline_curvatures(jnp.asarray(x), y, end)
 
 
-def hull_knots(y) -> tuple[np.ndarray, np.ndarray]:
-    """Interior hull knots ``(s, w)`` bool of the frame lines and of the waterlines: the offset and its two
-    neighbours along the line are > 0 (a constant of a fairing problem: the given table's)."""
+def hull_knots(y: Table) -> tuple[np.ndarray, np.ndarray]:
+    """Interior hull knots of the frame lines and of the waterlines: the offset and its two neighbours along
+    the line are > 0 (a constant of a fairing problem: the given table's).
+
+    Parameters
+    ----------
+    y : array_like, shape (s, w)
+        Half-breadths [m].
+
+    Returns
+    -------
+    frames, waterlines : numpy.ndarray of bool, shape (s, w) each
+        The knots that count along the frame lines (z) and along the waterlines (x).
+    """
     h = np.asarray(y) > 0.0
     frames, waterlines = np.zeros_like(h), np.zeros_like(h)
     frames[:, 1:-1] = h[:, :-2] & h[:, 1:-1] & h[:, 2:]
@@ -64,15 +78,39 @@ def hull_knots(y) -> tuple[np.ndarray, np.ndarray]:
     return frames, waterlines
 
 
-def knot_weights(knots) -> np.ndarray:
-    """Each knot's share of its line's length [m]: half of each adjacent interval, shape ``knots.shape``."""
+def knot_weights(knots: Lengths) -> np.ndarray:
+    """Each knot's share of its line's length: half of each adjacent interval.
+
+    Parameters
+    ----------
+    knots : array_like, shape (k,)
+        Knot positions along a line [m], increasing.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,)
+        The shares [m]; they sum to the line's length.
+    """
     h = np.diff(np.asarray(knots, np.float64))
     return np.concatenate([h[:1], h[:-1] + h[1:], h[-1:]]) / 2.0
 
 
-def floors(frames, waterlines, frame_knots, waterline_knots) -> tuple[float, float]:
-    """The dead bands [1/m] of the frame lines and of the waterlines: :data:`FLOOR_FRACTION` of each family's
-    largest ``|κ|`` at its interior hull knots (the two families' curvatures differ by orders of magnitude)."""
+def floors(frames: Table, waterlines: Table, frame_knots: Mask, waterline_knots: Mask) -> tuple[float, float]:
+    """The dead bands of the frame lines and of the waterlines: :data:`FLOOR_FRACTION` of each family's
+    largest ``|κ|`` at its interior hull knots (the two families' curvatures differ by orders of magnitude).
+
+    Parameters
+    ----------
+    frames, waterlines : array_like, shape (s, w) each
+        Curvatures at the knots [1/m] (:func:`line_curvatures`).
+    frame_knots, waterline_knots : array_like of bool, shape (s, w) each
+        The knots that count (:func:`hull_knots`).
+
+    Returns
+    -------
+    tuple of (float, float)
+        The frame lines' and the waterlines' dead bands [1/m] (0 for a family without a counted knot).
+    """
     def one(k, m):
         a = np.abs(np.asarray(k))[np.asarray(m)]
         return FLOOR_FRACTION * float(a.max()) if a.size else 0.0
@@ -80,7 +118,7 @@ def floors(frames, waterlines, frame_knots, waterline_knots) -> tuple[float, flo
     return one(frames, frame_knots), one(waterlines, waterline_knots)
 
 
-def inflection_counts(kappa, knots, floor: float, axis: int) -> np.ndarray:
+def inflection_counts(kappa: Table, knots: Mask, floor: float, axis: int) -> np.ndarray:
     """Inflections of each line: sign changes of ``κ`` along ``axis`` over the knots marked in ``knots``,
     curvatures within ``± floor`` skipped (numpy, exact).
 
@@ -108,7 +146,8 @@ def inflection_counts(kappa, knots, floor: float, axis: int) -> np.ndarray:
     return np.asarray(counts, dtype=int)
 
 
-def mixed_curvature(kappa: Float[Array, "s w"], knots, weights, floor, axis: int) -> Float[Array, " n"]:
+def mixed_curvature(kappa: Float[Array, "s w"], knots: Mask, weights: Table, floor: Scalar,
+                    axis: int) -> Float[Array, " n"]:
     """How much each line turns against its main sense: ``M = P·N/(P + N)`` with ``P = Σ w·max(0, κ −
     floor)²`` and ``N = Σ w·max(0, −κ − floor)²`` over the interior hull knots [1/m]; zero for a line whose
     curvature beyond the dead band has one sign, about the smaller of P and N otherwise. It measures the size
@@ -139,7 +178,7 @@ def mixed_curvature(kappa: Float[Array, "s w"], knots, weights, floor, axis: int
     return jnp.where(both, p * n / jnp.where(both, p + n, 1.0), 0.0)  # double where: no NaN gradient at 0/0
 
 
-def sign_variation(kappa: Float[Array, "s w"], knots, floor, axis: int) -> Float[Array, " n"]:
+def sign_variation(kappa: Float[Array, "s w"], knots: Mask, floor: Scalar, axis: int) -> Float[Array, " n"]:
     """Smooth inflection count of each line (module docstring): ``V = ½ Σ |σ_{j+1} − σ_j|`` over consecutive
     interior hull knots, ``σ = sign(κ)·S((|κ| − floor)/floor)`` with ``S`` the C¹ smoothstep (0 inside the dead
     band, ±1 beyond twice it) and ``|·|`` smoothed by ``√(d² + ε²) − ε`` (ε = 0.05). A crossing from beyond
@@ -172,11 +211,30 @@ def sign_variation(kappa: Float[Array, "s w"], knots, floor, axis: int) -> Float
     return 0.5 * jnp.sum(jnp.where(pair, jnp.sqrt(d * d + _EPS**2) - _EPS, 0.0), axis=-1)
 
 
-def count_inflections(x, z, y, given=None, end: str = "not-a-knot") -> tuple[np.ndarray, np.ndarray]:
-    """Inflections per frame line ``(s,)`` and per waterline ``(w,)`` of the table ``y`` (numpy), judged on
-    the hull knots and dead bands of the table ``given`` (default ``y``), the dead bands doubled: a line
-    counts as turned only where it turns clearly more than a fairing constraint on :func:`mixed_curvature`
-    (held with the single dead band) allows."""
+def count_inflections(x: Lengths, z: Lengths, y: Table, given: Table | None = None,
+                      end: str = "not-a-knot") -> tuple[np.ndarray, np.ndarray]:
+    """Inflections per frame line and per waterline of an offset table (numpy), judged on the hull knots and
+    dead bands of the table ``given``, the dead bands doubled: a line counts as turned only where it turns
+    clearly more than a fairing constraint on :func:`sign_variation` (held with the single dead band) allows.
+
+    Parameters
+    ----------
+    x : array_like, shape (s,)
+        Stations [m from the AP].
+    z : array_like, shape (w,)
+        Waterlines [m above the baseline].
+    y : array_like, shape (s, w)
+        Half-breadths [m] of the table judged.
+    given : array_like, shape (s, w), optional
+        The table whose knots and dead bands judge it (a faired table is judged by its given one); default ``y``.
+    end : str, optional
+        Spline end condition (:func:`hullopt.geometry.spline_slopes`).
+
+    Returns
+    -------
+    frames, waterlines : numpy.ndarray of int, shapes (s,) and (w,)
+        Inflections of each frame line and of each waterline.
+    """
     given = y if given is None else given
     knots = hull_knots(given)
     f = floors(*line_curvatures(x, z, given, end), *knots)

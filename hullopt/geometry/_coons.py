@@ -152,10 +152,24 @@ def spline_slopes(knots: Float[Array, " k"], values: Float[Array, "k ..."], end:
 
 
 def spline_curvatures(knots: Float[Array, " k"], values: Float[Array, "k ..."], end: str = "not-a-knot") -> Array:
-    """Curvature ``κ = y''/(1 + y'²)^{3/2}`` of the cubic spline through ``(knots, values)`` at its knots
-    [1/m] (positive where the curve turns towards +y; same shapes and end conditions as
-    :func:`spline_slopes`). A cubic spline's ``y''`` is linear between knots, so the signs at the knots
-    are its inflections."""
+    """Curvature ``κ = y''/(1 + y'²)^{3/2}`` of the cubic spline through ``(knots, values)`` at its knots.
+
+    A cubic spline's ``y''`` is linear between knots, so the signs at the knots are its inflections.
+
+    Parameters
+    ----------
+    knots : Array, shape (k,)
+        Strictly increasing abscissae [m].
+    values : Array, shape (k, ...)
+        Values at the knots [m] (several curves on trailing axes).
+    end : str, optional
+        ``"not-a-knot"`` or ``"natural"`` (:func:`spline_slopes`).
+
+    Returns
+    -------
+    Array, shape (k, ...)
+        κ at the knots [1/m], positive where the curve turns towards +values.
+    """
     knots, y = jnp.asarray(knots), jnp.asarray(values)
     s = spline_slopes(knots, y, end)
     h = jnp.diff(knots).reshape((-1,) + (1,) * (y.ndim - 1))

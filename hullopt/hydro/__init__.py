@@ -1,4 +1,5 @@
-"""Hydrostatics (upright), large-angle stability (GZ, KN, heeled equilibrium) and the IS Code criteria."""
+"""Hydrostatics (upright), large-angle stability (GZ, KN, heeled equilibrium) and the IS Code criteria (§2.2
+and the weather criterion of §2.3)."""
 
 from ._hydrostatics import RHO_SEA as RHO_SEA
 from ._hydrostatics import Hydrostatics as Hydrostatics
@@ -27,3 +28,10 @@ from ._criteria import Criteria as Criteria
 from ._criteria import criteria_from_gz as criteria_from_gz
 from ._criteria import criteria_heels as criteria_heels
 from ._criteria import intact_criteria as intact_criteria
+from ._weather import WEATHER_CRITERIA as WEATHER_CRITERIA
+from ._weather import WIND_PRESSURE as WIND_PRESSURE
+from ._weather import Weather as Weather
+from ._weather import deck_immersion_angle as deck_immersion_angle
+from ._weather import lateral_plane as lateral_plane
+from ._weather import weather_criterion as weather_criterion
+from ._weather import weather_factors as weather_factors

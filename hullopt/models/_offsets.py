@@ -5,9 +5,11 @@ metadata):
 
 * **wide**: header ``x,<z1>,<z2>,…`` (waterline heights in m); one row per station: its x [m from the AP],
   then the half-breadths [m]. Metadata: ``lpp`` (default: the largest x, i.e. the last station is the FP).
-* **stations** (seed 003): header ``station,<wl0>,<wl1>,…`` (waterline numbers); rows named
-  ``AP, 1/4, 1/2, 3/4, 1, 1 1/2, … 9 3/4, FP`` (or ``0`` … ``10``), ``AO``/``FO`` for the aft and fore ends.
-  Metadata: ``lpp`` and ``waterline_spacing`` (required), ``AO``/``FO`` (their station numbers).
+* **stations** (seed 003): header ``station,<wl0>,<wl1>,…`` (waterline numbers, a fractional one allowed:
+  the DWL between two); rows named ``AP, 1/4, 1/2, 3/4, 1, 1 1/2, … 9 3/4, FP`` (or ``0`` … ``10``),
+  ``AO``/``FO`` for the aft and fore ends. Metadata: ``lpp`` and ``waterline_spacing`` (required), ``AO``/``FO``
+  (their station numbers), ``stations`` (the station intervals over Lpp, 10 by default: a yard's table of 0 … 20
+  gives ``# stations = 20``, its FP is station 20).
 
 Either layout may give ``knuckles = <station>@<z>; …``: the spline along that station is split at the
 waterline ``z`` (a transom edge or chine), so the section keeps its corner.
@@ -177,33 +179,45 @@ def read_offsets(path: str | Path) -> OffsetTable:
         x = np.array([_station_x(row[0], meta, lpp, f"{path}, line {ln}") for ln, row in body])
         z = np.asarray(cols) * dz
     validate_offsets(x, z, y, str(path), rows=lines)
-    knuckles = _parse_knuckles(meta.get("knuckles", ""), x, z, lpp, kind, str(path))
+    to_x = (lambda st: _station_x(st, meta, lpp, str(path))) if kind == "station" else float
+    knuckles = _parse_knuckles(meta.get("knuckles", ""), x, z, to_x, str(path))
     return OffsetTable(x=x, z=z, y=y, lpp=lpp, knuckles=knuckles, source=str(path))
+
+
+def _station_spacing(meta: dict[str, str], lpp: float, where: str) -> tuple[float, float]:
+    """The station intervals over Lpp (``# stations``, 10 by default) and the station spacing [m]."""
+    n = _number(meta.get("stations", "10"), f"{where}, metadata stations")
+    if not (math.isfinite(n) and n >= 1):
+        raise HullError(f"{where}: metadata stations = {n:g}; expected the station intervals over Lpp (≥ 1)")
+    return n, lpp / n
 
 
 def _station_x(label: str, meta: dict[str, str], lpp: float, where: str) -> float:
     key = label.strip().upper()
+    n, dx = _station_spacing(meta, lpp, where)
     if key in ("AO", "FO"):
         if key not in meta:
             raise HullError(f"{where}: row {key} needs its station number as metadata '# {key} = <station>'")
-        return _number(meta[key], f"{where}, metadata {key}") * lpp / 10.0
+        return _number(meta[key], f"{where}, metadata {key}") * dx
+    if key == "FP":
+        return n * dx
     try:
-        return float(parse_station(label)) * lpp / 10.0
+        return float(parse_station(label)) * dx
     except ValueError:
         raise HullError(
             f"{where}: unknown station {label!r}; expected AP, FP, AO, FO or a station number such as 9 3/4"
         ) from None
 
 
-def _parse_knuckles(spec: str, x, z, lpp, kind, where) -> dict[int, int]:
+def _parse_knuckles(spec: str, x, z, to_x, where) -> dict[int, int]:
     out = {}
     for item in filter(None, (s.strip() for s in spec.split(";"))):
         try:
             st, zz = item.split("@")
-            xs = float(parse_station(st)) * lpp / 10.0 if kind == "station" else float(st)
+            xs = to_x(st)
             i = int(np.flatnonzero(np.isclose(x, xs))[0])
             j = int(np.flatnonzero(np.isclose(z, float(zz)))[0])
-        except (ValueError, IndexError):
+        except (ValueError, IndexError, HullError):
             raise HullError(
                 f"{where}: knuckle {item!r} must be '<station>@<z>' with a station and a waterline of the table"
             ) from None

@@ -558,10 +558,20 @@ def resolve_spec(spec: str, folder: Path) -> str:
     return prefix + str(folder / base) + sep + query
 
 
-def conditions_text(objective) -> str:
-    """Where an objective (or a sweep's measure) config is evaluated, as a caption: its profile (``"22, 24,
-    26 kn × (Hs 2.5 m/Tp 8 s, Hs 4 m/Tp 10 s), weighted"`` when the points are every speed in every sea),
-    its speed list, or its speed and sea state; ``""`` for an objective without a speed."""
+def conditions_text(objective: ObjectiveConfig) -> str:
+    """Where an objective (or a sweep's measure) config is evaluated, as a caption.
+
+    Parameters
+    ----------
+    objective : ObjectiveConfig
+        The ``[objective]`` or ``[sweep.measure]`` config.
+
+    Returns
+    -------
+    str
+        Its profile (``"22, 24, 26 kn × (Hs 2.5 m/Tp 8 s, Hs 4 m/Tp 10 s), weighted"`` when the points are
+        every speed in every sea), its speed list, or its speed and sea state; ``""`` without a speed.
+    """
     def sea(hs, tp, heading):
         return "calm" if not hs else f"Hs {hs:g} m/Tp {tp:g} s" + (f" at {heading:g}°" if heading else "")
 

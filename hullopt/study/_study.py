@@ -106,11 +106,24 @@ _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 
 
 def structure(cfg: RunConfig) -> dict:
-    """The config as a kept program depends on it: the numbers of targets, tolerances, kg, the draft, the
-    objective, the sweep's ends and the constraint bounds, which enter the programs as arrays, each replaced by
-    ``"#"`` (so a run with other numbers reuses the program); the design's and the solver's sections, which
-    the program closes over, and every count (an array's shape) as they are. What else a program bakes in is
-    read off its arguments (:func:`hullopt.study.cached_call`)."""
+    """The config as a kept program depends on it.
+
+    The numbers of the targets, tolerances, kg, the draft, the objective, the sweep's ends and the constraint
+    bounds enter the programs as arrays: each is replaced by ``"#"``, so a run with other numbers reuses the
+    program. The design's and the solver's sections, which the programs close over, and every count (an
+    array's shape) stay as they are. What else a program bakes in is read off its arguments
+    (:func:`hullopt.study.cached_call`).
+
+    Parameters
+    ----------
+    cfg : RunConfig
+        The run config.
+
+    Returns
+    -------
+    dict
+        Its JSON dump with those numbers blanked.
+    """
     def blank(v, in_text: bool):
         if isinstance(v, dict):
             return {k: blank(x, in_text) for k, x in v.items()}

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Annotated
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
@@ -24,6 +25,7 @@ from .._app import app
 from ..output import (
     EXIT_CRITERIA,
     busy,
+    check_out,
     parse_range,
     print_json,
     say,
@@ -35,6 +37,7 @@ from .hydro import HULL_HELP, parse_displacement
 
 SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
 PLOT_FORMATS = (".png", ".svg", ".pdf")
+WIND_PRESSURE = 504.0  # Pa: hullopt.hydro.WIND_PRESSURE (IS Code §2.3.2), here so that --help loads no hydro
 
 
 def _sectioned(hull: LoadedHull, sheer: str):
@@ -46,14 +49,6 @@ def _sectioned(hull: LoadedHull, sheer: str):
 
         return with_sheer(hull.sections, icll_sheer(hull.sections))
     raise HullError(f"--sheer {sheer!r}: expected 'none' or 'icll'")
-
-
-def _check_out(path: Path, formats: tuple[str, ...], what: str) -> Path:
-    if path.suffix.lower() not in formats:
-        raise HullError(f"{what} {path}: unknown format {path.suffix!r}; expected one of {', '.join(formats)}")
-    if not path.parent.is_dir():
-        raise HullError(f"{what} {path}: the folder {str(path.parent)!r} does not exist")
-    return path
 
 
 def _volume(sections, displacement: str, rho: float, what: str = "--displacement") -> float:
@@ -108,8 +103,21 @@ def stability_cmd(
     json: Annotated[bool, typer.Option("--json", help="Print JSON (heels in degrees, lengths in m).")] = False,
     plot: Annotated[Path | None, typer.Option(help="Save the GZ curve (.png, .svg, .pdf).")] = None,
     kn_plot: Annotated[Path | None, typer.Option(help="Save the cross curves (needs --cross).")] = None,
+    weather: Annotated[bool, typer.Option("--weather", help="Also the IS Code §2.3 weather criterion (windage: "
+                                                        "the hull above the waterline).")] = False,
+    windage_area: Annotated[float | None, typer.Option(help="Lateral area [m²] above the hull that its geometry "
+                                                            "lacks (superstructure, deck cargo), added to the "
+                                                            "hull's (with --windage-lever).")] = None,
+    windage_lever: Annotated[float | None, typer.Option(help="Z of --windage-area [m]: its centre above the centre "
+                                                             "of the underwater lateral area.")] = None,
+    bilge_keel_area: Annotated[float, typer.Option(help="Total bilge-keel (and bar-keel) area A_k [m²] for the "
+                                                        "roll angle.")] = 0.0,
+    sharp_bilges: Annotated[bool, typer.Option("--sharp-bilges", help="A sharp-bilged hull (k = 0.7).")] = False,
+    wind_pressure: Annotated[float, typer.Option(help="Wind pressure P [Pa] (504; less for restricted service, "
+                                                      "as the Administration approves).")] = WIND_PRESSURE,
 ) -> None:
-    """GZ curve, GM₀, angle of vanishing stability and the IMO IS Code 2008 §2.2 criteria for a loading.
+    """GZ curve, GM₀, angle of vanishing stability and the IMO IS Code 2008 §2.2 criteria for a loading; with
+    --weather also the §2.3 severe wind and rolling criterion.
 
     Exit code 4 when some criterion fails (the table and the JSON say which), so that a script can gate on it."""
     if not (np.isfinite(rho) and rho > 0):
@@ -124,10 +132,14 @@ def stability_cmd(
     deg = parse_range(heels, "--heels")
     if deg.min() < 0 or deg.max() > 90:
         raise HullError(f"--heels {heels}: heels must lie within 0…90 degrees")
+    _check_weather(weather, windage_area, windage_lever, bilge_keel_area, sharp_bilges, wind_pressure)
+    # the weather criterion takes GZ at every degree (the §2.2 criteria's grid: no extra equilibria)
+    solve_deg = np.union1d(deg, np.arange(0.0, 91.0)) if weather else deg
+    rows = np.searchsorted(solve_deg, deg)
     if plot is not None:
-        _check_out(plot, PLOT_FORMATS, "--plot")
+        check_out(plot, PLOT_FORMATS, "--plot")
     if kn_plot is not None:
-        _check_out(kn_plot, PLOT_FORMATS, "--kn-plot")
+        check_out(kn_plot, PLOT_FORMATS, "--kn-plot")
         if cross is None:
             raise HullError("--kn-plot needs --cross START:STOP:COUNT (displacements in t)")
     with busy("reading the hull", quiet=json) as stage:
@@ -137,18 +149,20 @@ def stability_cmd(
         if lcg is not None and not (float(x[0]) <= lcg <= float(x[-1])):
             raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(x[0]):g} … {float(x[-1]):g} m)")
         volume = parse_displacement(displacement) / rho
-        stage(f"GZ curve: equilibrium at {len(deg)} heels")
-        curve, criteria, full = _stability_call(sections, volume, kg, np.deg2rad(deg), lcg, fsc, not fixed_trim,
-                                                None if flooding_angle is None else np.deg2rad(flooding_angle))
+        stage(f"GZ curve: equilibrium at {len(solve_deg)} heels")
+        theta_f = None if flooding_angle is None else np.deg2rad(flooding_angle)
+        curve, criteria, full = _stability_call(sections, volume, kg, np.deg2rad(solve_deg), lcg, fsc,
+                                                not fixed_trim, theta_f)
         from ...hydro import (  # imported while the program computes
             Criteria,
             StabilityCurve,
         )
 
-        c, crit = StabilityCurve(**curve), Criteria(**criteria)
+        solved, crit = StabilityCurve(**curve), Criteria(**criteria)
         if volume >= float(full):  # the curve solved for it is thrown away
             raise HullError(f"--displacement {displacement}: more than the hull displaces at its deck "
                             f"({rho * float(full) / 1e3:,.0f} t)")
+        c = jax.tree.map(lambda a: np.asarray(a)[rows] if np.ndim(a) == 1 else a, solved)  # the requested heels
         out = {
             "hull": h.name, "displacement": rho * volume, "volume": volume, "kg": kg, "lcg": float(c.lcg),
             "fsc": fsc, "sheer": sheer, "free_trim": not fixed_trim, "heel_deg": deg, "gz": c.gz, "kn": c.kn,
@@ -157,6 +171,11 @@ def stability_cmd(
             "angle_gz_max_deg": np.rad2deg(float(crit.angle_gz_max)),
             "vanishing_angle_deg": np.rad2deg(float(crit.vanishing_angle)), "criteria": crit.to_list(),
         }
+        wx = None
+        if weather:
+            stage("weather criterion")
+            wx, out["weather"] = _weather(sections, solved, rho * volume, kg, rho, theta_f, windage_area,
+                                          windage_lever, bilge_keel_area, sharp_bilges, wind_pressure)
         if cross is not None:
             disp_t = parse_range(cross, "--cross")
             stage(f"cross curves: {len(disp_t)} displacements × {len(deg)} heels")
@@ -175,20 +194,109 @@ def stability_cmd(
             from ...drawing import plot_gz
 
             stage("plotting the GZ curve")
-            plot_gz(c, plot, crit, h.name)
-    if not bool(np.all(np.asarray(c.converged))):
-        bad = deg[~np.asarray(c.converged)]
+            plot_gz(c, plot, crit, h.name, rho=rho, flooding_angle=theta_f, weather=wx)
+    if not bool(np.all(np.asarray(solved.converged))):
+        bad = solve_deg[~np.asarray(solved.converged)]
         warn(f"no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°")
-    failed = [r["criterion"] for r in out["criteria"] if not r["pass"]]
+    if wx is not None and out["weather"]["outside"]:
+        warn("the weather criterion's roll-angle tables rest on ships with B/d < 3.5, −0.3 ≤ KG/d − 1 ≤ 0.5 and "
+             f"T < 20 s (IS Code 2008 §2.3.4); this loading has {'; '.join(out['weather']['outside'])}")
+    records = out["criteria"] + out.get("weather", {}).get("criteria", [])
+    failed = [r["criterion"] for r in records if not r["pass"]]
     if json:
         print_json(out)
     else:
         _print_stability(out, h.name, rho, plot, kn_plot)
     if failed:
         if not json:
-            say(f"{len(failed)} of {len(out['criteria'])} criteria fail: {'; '.join(failed)} (exit code "
+            say(f"{len(failed)} of {len(records)} criteria fail: {'; '.join(failed)} (exit code "
                 f"{EXIT_CRITERIA})", style="bold red")
         raise typer.Exit(EXIT_CRITERIA)
+
+
+def _check_weather(weather: bool, area: float | None, lever: float | None, bilge_keel_area: float,
+                   sharp_bilges: bool, pressure: float) -> None:
+    """The weather options: given only with --weather, finite, the windage area and its lever together."""
+    given = [name for name, v in (("--windage-area", area is not None), ("--windage-lever", lever is not None),
+                                  ("--bilge-keel-area", bilge_keel_area != 0.0), ("--sharp-bilges", sharp_bilges),
+                                  ("--wind-pressure", pressure != WIND_PRESSURE)) if v]
+    if given and not weather:
+        raise HullError(f"{given[0]} applies to the weather criterion: add --weather")
+    if (area is None) != (lever is None):
+        raise HullError("--windage-area and --windage-lever go together: the extra lateral area [m²] and its "
+                        "lever Z [m]")
+    if area is not None and not (np.isfinite(area) and area >= 0):
+        raise HullError(f"--windage-area {area}: expected an area ≥ 0 m²")
+    if lever is not None and not np.isfinite(lever):
+        raise HullError(f"--windage-lever {lever}: expected a finite lever Z in m")
+    if not (np.isfinite(bilge_keel_area) and bilge_keel_area >= 0):
+        raise HullError(f"--bilge-keel-area {bilge_keel_area}: expected an area ≥ 0 m²")
+    if not (np.isfinite(pressure) and pressure > 0):
+        raise HullError(f"--wind-pressure {pressure}: expected a positive pressure in Pa")
+
+
+def _weather_program(sections, heel, gz, level, trim, gm0, displacement, kg, theta_f, extra_area, extra_lever,
+                     bilge_keel_area, pressure, sharp_bilges: bool, rho: float):
+    """The §2.3 weather criterion of a loading solved at every degree (``heel``, ``gz``, ``level``, ``trim``
+    (91,)) as a dict of :class:`~hullopt.hydro.Weather`'s fields (a kept program's outputs then need no hydro
+    class), and a dict of what it was computed from: the windage of the hull above its mean draft (its side,
+    :func:`hullopt.wind.wind_variables`, with its lever Z to the centre of the underwater lateral plane) plus the
+    extra area, B, C_B and L_WL from the hydrostatics at that draft, the deck-edge immersion angle along the
+    curve (NaN: none to 90°)."""
+    from ...hydro import (
+        deck_immersion_angle,
+        hydrostatics,
+        lateral_plane,
+        weather_criterion,
+    )
+    from ...wind import no_parts, wind_variables
+
+    draft = level[0]  # heel 0: the mean draft (the waterplane at midship)
+    hs = hydrostatics(sections, draft, rho)
+    wv = wind_variables(sections, draft, no_parts())
+    _, z_lateral = lateral_plane(sections, draft)
+    hull_lever = draft + wv.H_C - z_lateral
+    area = wv.A_L + extra_area
+    lever = (wv.A_L * hull_lever + extra_area * extra_lever) / jnp.where(area > 0, area, 1.0)
+    deck = deck_immersion_angle(sections, heel, level, trim)
+    w = weather_criterion(heel, gz, gm0, displacement, area, lever, hs.bwl, draft, kg, hs.cb, hs.lwl,
+                          bilge_keel_area, sharp_bilges, theta_f, deck, pressure)
+    inputs = {"windage_area": area, "windage_lever": lever, "windage_area_hull": wv.A_L,
+              "windage_lever_hull": hull_lever, "breadth": hs.bwl, "draft": draft, "cb": hs.cb, "lwl": hs.lwl,
+              "deck_edge_angle": deck}
+    return dict(vars(w)), inputs
+
+
+def _weather(sections, curve, displacement: float, kg: float, rho: float, theta_f: float | None,
+             extra_area: float | None, extra_lever: float | None, bilge_keel_area: float, sharp_bilges: bool,
+             pressure: float):
+    """:func:`_weather_program` through a kept program (no tracing or compiling when warm) for the ``curve``
+    solved at every degree; returns the :class:`~hullopt.hydro.Weather` and its JSON record (angles in
+    degrees)."""
+    from ...hydro import Weather
+    from ...study import cached_call
+
+    def arr(v):
+        return jnp.asarray(v, dtype=float)
+
+    args = (sections, *(arr(getattr(curve, f)) for f in ("heel", "gz", "level", "trim", "gm0")), arr(displacement),
+            arr(kg), None if theta_f is None else arr(theta_f), arr(extra_area or 0.0), arr(extra_lever or 0.0),
+            arr(bilge_keel_area), arr(pressure))
+    fields, inputs = cached_call("weather", _weather_program, args, (sharp_bilges, float(rho)),
+                                 key={"flooding_angle": theta_f is not None, "v": 1})
+    w = Weather(**fields)
+    inputs = {k: float(v) for k, v in inputs.items()}
+    if not inputs["windage_area"] > 0:
+        raise HullError("--weather: no lateral area above the waterline (the hull is under water to its deck); "
+                        "give --windage-area and --windage-lever")
+    deck = inputs.pop("deck_edge_angle")
+    record = {
+        "wind_pressure": pressure, **inputs, "windage_area_extra": extra_area or 0.0,
+        "windage_lever_extra": extra_lever, "kg": kg, "gm0": float(curve.gm0), "bilge_keel_area": bilge_keel_area,
+        "sharp_bilges": sharp_bilges, "deck_edge_angle_deg": float(np.rad2deg(deck)),
+        "flooding_angle_deg": None if theta_f is None else float(np.rad2deg(theta_f)), **w.to_dict(),
+    }
+    return w, record
 
 
 def _print_stability(out: dict, name: str, rho: float, plot: Path | None, kn_plot: Path | None) -> None:
@@ -209,6 +317,8 @@ def _print_stability(out: dict, name: str, rho: float, plot: Path | None, kn_plo
     van = out["vanishing_angle_deg"]
     say(f"GZmax {quantity(out['gz_max'], 'm', places=3)} at {quantity(out['angle_gz_max_deg'], '°', 3, ref=10)}; "
         "angle of vanishing stability " + (quantity(van, "°", 3, ref=10) if np.isfinite(van) else "beyond 90°"))
+    if "weather" in out:
+        _print_weather(out["weather"])
     if "cross_curves" in out:
         cc = out["cross_curves"]
         kn = np.asarray(cc["kn"])
@@ -272,3 +382,41 @@ def print_cmd(
     whole = mesh.volume * (1000.0 * s) ** 3 / 1e3
     table(f"{h.name} at 1:{1 / s:g} in {out} (mm)", ["piece", "x from [mm]", "x to [mm]", "volume [cm³]", "watertight"],
           rows + [["whole", float(mesh.bounds[0, 0] * 1000 * s), float(mesh.bounds[1, 0] * 1000 * s), float(whole), ""]])
+
+
+def _print_weather(w: dict) -> None:
+    """The §2.3 table of ``hullopt stability --weather``: the levers, angles and areas with their units, the
+    two criteria with pass/FAIL, and the factors of the roll angle under it."""
+    (heel, ratio) = w["criteria"]
+
+    def verdict(r):
+        return styled("pass", "green") if r["pass"] else styled("FAIL", "bold red")
+
+    deck = w["deck_edge_angle_deg"]
+    ends = {"θf": w["flooding_angle_deg"], "θc": w["theta_c_deg"]}
+    rows = [
+        ["Lateral windage area A", w["windage_area"], "", "m²", ""],
+        ["Lever Z of A (to the underwater centre)", w["windage_lever"], "", "m", ""],
+        ["Steady-wind lever lw1 = P·A·Z/(g·Δ)", w["lw1"], "", "m", ""],
+        ["Gust lever lw2 = 1.5·lw1", w["lw2"], "", "m", ""],
+        ["Roll period T = 2·C·B/√GM", w["roll_period"], "", "s", ""],
+        ["Roll to windward φ1", w["phi1_deg"], "", "deg", ""],
+        ["Steady heel φ0 (≤ 16° and 0.8 × deck edge)", heel["value"], f"≤ {fmt(heel['required'], sig=3, places=1)}",
+         "deg", verdict(heel)],
+        ["Roll-back angle φ0 − φ1", w["phi_roll_deg"], "", "deg", ""],
+        ["First intercept with lw2", w["phi_c_deg"] if w["reaches_lw2"] else "none: GZ < lw2", "", "deg", ""],
+        ["End of area b φ2 (50°, θf, θc)", w["phi2_deg"], "", "deg", ""],
+        ["Area a", w["area_a"], "", "m·rad", ""],
+        ["Area b", w["area_b"], "", "m·rad", ""],
+        ["Area b / area a", ratio["value"], "≥ 1", "–", verdict(ratio)],
+    ]
+    table("IMO IS Code 2008 Part A §2.3 (weather criterion)", ["quantity", "value", "required", "unit", ""], rows,
+          by="row", places=[unit_places(r[3]) for r in rows])
+    given = "; ".join(f"{k} {quantity(v, '°', 3, ref=10)}" for k, v in ends.items() if v is not None and np.isfinite(v))
+    f3 = lambda v: fmt(v, sig=3)
+    say(f"φ1 = 109·k·X1·X2·√(r·s): X1 {f3(w['x1'])} (B/d {f3(w['b_over_d'])}), X2 {f3(w['x2'])} "
+        f"(C_B {f3(w['cb'])}), k {f3(w['k'])} (100·A_k/(L·B) {f3(w['bilge_keel_ratio'])}), s {f3(w['s'])} "
+        f"(T {quantity(w['roll_period'], 's', sig=3)}), r {f3(w['r'])} (OG/d {f3(w['og_over_d'])}); B "
+        f"{quantity(w['breadth'], 'm', places=3)}, d {quantity(w['draft'], 'm', places=3)}, L_WL "
+        f"{quantity(w['lwl'], 'm', places=3)}; P {fmt(w['wind_pressure'])} Pa; deck edge immerses at "
+        + (quantity(deck, "°", 3, ref=10) if np.isfinite(deck) else "beyond 90°") + (f"; {given}" if given else ""))
