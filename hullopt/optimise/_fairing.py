@@ -1,16 +1,22 @@
 """Automatic fairing of offsets, hullopt's own formulation (seed 001's text stops before it defines its
 unfairness functionals): minimise an unfairness functional of :mod:`hullopt.fairing` over the offsets while
-the hull keeps its character — bounded moves, fixed contour and flat lines, displacement and LCB held.
+the hull keeps its character — bounded moves, fixed contour and flat lines, displacement and LCB held, no
+section given an inflection.
 
-A small design problem: the free offsets ``q`` are the parameters, bounded to ``y₀ ± b`` (the solver's tanh
-change of variables, so ``q = y₀ + b·tanh u``), the objective is
+A small design problem: the free offsets ``q`` are the parameters, bounded to ``y₀ ± b`` and to ``[0, max
+y₀]`` (no negative offset, nothing wider than the table's widest; the solver's tanh change of variables), the
+objective is
 
     ‖r(y)‖² / max(F₀, 1)  +  α · mean(((q − y₀)/b)²),
 
 ``r`` the residuals of the chosen measure on the offsets' Coons surface (``F₀`` its value on the given hull;
 a value ≲ 1 counts as fair, so a fair hull is not pushed further) and ``α`` a small pull towards the given
 offsets (so a fair hull stays put), with the constraints ``c = ((∇ − ∇₀)/(10⁻³ ∇₀), (LCB − LCB₀)/(5·10⁻⁴
-Lpp))`` — displacement within 0.1 % and LCB within 0.05 % Lpp when ``|c| ≤ 1``. It is solved by
+Lpp))`` — displacement within 0.1 % and LCB within 0.05 % Lpp when ``|c| ≤ 1`` — and, for every frame line,
+the inequalities ``V ≤ V₀ + 1/4`` (its smooth inflection count, :func:`hullopt.fairing.sign_variation`) and
+``M ≤ M₀ + f²·depth`` (the size of its S-shapes, :func:`hullopt.fairing.mixed_curvature`; ``f`` the dead
+band): a line may lose inflections or straighten, not gain them. A count alone let a given hair-line S grow
+into a pinch of 0.35 m on the seed-003 table; an energy alone let one S become two. It is solved by
 :func:`~hullopt.optimise.minimise_constrained` (an augmented Lagrangian over BFGS with a fixed number of
 rounds, here with a constant penalty μ = 10): one jitted computation, ``vmap``-able over offsets.
 """
@@ -190,18 +196,17 @@ class _Frames(eqx.Module):
                 mixed_curvature(kappa, self.knots, self.weights, self.floor, 1))
 
     def excess(self, x, z, y, end):
-        """``((V − V₀)/V_TOL, (M − M₀)/M_TOL)`` stacked, ``(2s,)``: ≤ 1 where a frame line turns both ways no
-        more than given: no new crossing, no S-shape grown (``M_TOL`` a dead band's worth of curvature over
-        the depth)."""
+        """``((V − V₀)/V_TOL, (M − M₀)/(f²·depth))`` stacked, ``(2s,)``: ≤ 1 where a frame line turns both
+        ways no more than given (no new crossing, no S-shape grown; ``f`` the dead band)."""
         v, m = self.measures(x, z, y, end)
         depth = z[-1] - z[0]
         return jnp.concatenate([(v - self.v0) / V_TOL, (m - self.m0) / (self.floor**2 * depth)])
 
 
 def _frames(x, z, y0, end) -> _Frames:
-    knots = hull_knots(y0)[0]
+    knots = hull_knots(y0)
     kappa = line_curvatures(x, z, y0, end)
-    floor = floors(*kappa, *hull_knots(y0))[0]
+    floor, knots = floors(*kappa, *knots)[0], knots[0]
     weights = np.broadcast_to(knot_weights(z), y0.shape)
     frames = _Frames(knots=jnp.asarray(knots), weights=jnp.asarray(weights), floor=jnp.asarray(floor),
                      v0=jnp.zeros(len(x)), m0=jnp.zeros(len(x)))
@@ -246,8 +251,7 @@ def _solve(x, z, y0, idx, lower, upper, bound, lpp, draft, proximity, frames: _F
         return frames.excess(x, z, offsets(q), end)
 
     r = minimise_constrained(objective, constraints, q0, lower, upper, inequalities=no_new_inflections,
-                              outer=outer, mu0=MU, growth=1.0, rtol=rtol, atol=rtol,
-                             max_steps=max_steps)
+                             outer=outer, mu0=MU, growth=1.0, rtol=rtol, atol=rtol, max_steps=max_steps)
     yy = offsets(r.params)
     return _Solved(y=yy, result=r, before=f0, after=jnp.sum(unfair(yy) ** 2), particulars0=p0,
                    particulars=particulars(yy))
