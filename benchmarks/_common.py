@@ -62,6 +62,20 @@ def goal(name: str, value, unit: str, target: str, met: bool | None, peer: str |
     return {"name": name, "value": value, "unit": unit, "target": target, "met": met, "peer": peer}
 
 
+def run_process(cmd: list[str], cache: str | os.PathLike) -> float:
+    """Wall time [s] of one whole ``hullopt`` process with its own cache folder ``cache``. It inherits this
+    process's environment (a GPU machine's CUDA paths, XLA flags) and, when it fails, raises with its exit
+    code and the end of its stderr: a benchmark never dies on an unexplained ``CalledProcessError``."""
+    import subprocess
+
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, capture_output=True, text=True, env=os.environ | {"HULLOPT_CACHE": str(cache)})
+    dt = time.perf_counter() - t0
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(map(str, cmd))} exited {p.returncode}:\n{p.stderr[-3000:]}")
+    return dt
+
+
 def timeit(fn, repeat: int = 7) -> float:
     """Median wall time [s] of ``fn()`` over ``repeat`` runs (after the caller's warm-up)."""
     times = []

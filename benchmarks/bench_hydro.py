@@ -10,7 +10,6 @@ Run: ``make bench`` (or ``.venv/bin/python benchmarks/bench_hydro.py``); results
 
 from __future__ import annotations
 
-import subprocess
 import sys
 import tempfile
 import time
@@ -22,7 +21,7 @@ jax.config.update("jax_enable_x64", True)
 
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import HULLS, save, timeit  # noqa: E402
+from _common import HULLS, run_process, save, timeit  # noqa: E402
 
 from hullopt.hydro import hydrostatic_table, hydrostatics  # noqa: E402
 from hullopt.models import MeshTransform, read_mesh, slice_mesh  # noqa: E402
@@ -92,12 +91,7 @@ def main() -> None:
     # CLI start-up: cold (empty compilation cache) and warm
     cli = [sys.executable, "-m", "hullopt", "hydro", "builtin:wigley?L=100&B=10&T=6.25&D=10", "--json"]
     with tempfile.TemporaryDirectory() as cache:
-        env = {"HULLOPT_CACHE": cache, "PATH": ""}
-        starts = []
-        for _ in range(3):
-            t0 = time.perf_counter()
-            subprocess.run(cli, check=True, capture_output=True, env=env)
-            starts.append(time.perf_counter() - t0)
+        starts = [run_process(cli, cache) for _ in range(3)]
     print(f"hullopt hydro: cold {starts[0]:.2f} s, warm {min(starts[1:]):.2f} s")
     save("hydro", {
         "dtc_sections": [sections.n, sections.m], "slice_seconds": t_slice, "drafts": DRAFTS.tolist(),
