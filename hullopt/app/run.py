@@ -29,6 +29,7 @@ from ..report import (
     FRONTS_NAME,
     OVERLAY_NAME,
     Hulls,
+    label,
     plot_body_plans,
     plot_convergence,
     plot_overlay,
@@ -98,7 +99,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         for k, mk in enumerate(design_outcomes(study, solution.designs)):
             _write_hull(mk, d.draft, out / "designs" / str(k))
         o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
-        where = f"{kinds[1]}: {conditions_text(cfg.objective)}; {kinds[0]}: {conditions_text(cfg.sweep.measure)}"
+        where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
+                          for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
         plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds),
                     conditions=where)
         hulls = None

@@ -139,11 +139,11 @@ def inflection_counts(kappa: Table, knots: Mask, floor: float, axis: int) -> np.
         Inflections per line.
     """
     k, m = np.moveaxis(np.asarray(kappa), axis, -1), np.moveaxis(np.asarray(knots, bool), axis, -1)
-    counts = []
-    for line, keep in zip(k, m):  # a handful of lines, in numpy, for reports and tests
-        signs = np.sign(line[keep & (np.abs(line) > floor)])
-        counts.append(int(np.count_nonzero(np.diff(signs))))
-    return np.asarray(counts, dtype=int)
+    signs = np.where(m & (np.abs(k) > floor), np.sign(k), 0.0)  # 0: skipped (off the hull or in the band)
+    # the last counted knot at or before each knot, so a sign is compared with the previous counted one
+    last = np.maximum.accumulate(np.where(signs != 0, np.arange(signs.shape[-1]), -1), axis=-1)
+    before = np.take_along_axis(signs, np.maximum(last[..., :-1], 0), axis=-1) * (last[..., :-1] >= 0)
+    return np.count_nonzero(signs[..., 1:] * before < 0, axis=-1)
 
 
 def mixed_curvature(kappa: Float[Array, "s w"], knots: Mask, weights: Table, floor: Scalar,
