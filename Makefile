@@ -5,7 +5,7 @@ PYTHON ?= $(shell for p in python3.12 python3.11 python3; do \
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test test-slow bench clean
+.PHONY: demo test test-slow bench bench-gpu clean
 
 # constraints.txt pins the jax the suite passes on (pyproject.toml allows only a tested range)
 $(STAMP): pyproject.toml constraints.txt
@@ -32,6 +32,13 @@ bench: $(STAMP)
 	$(VENV)/bin/python -m pip install -q -c constraints.txt -e '.[test,bench]'
 	$(VENV)/bin/python -m pip install -q --no-deps 'ship-model-lib==1.0.2'
 	$(VENV)/bin/python benchmarks/run.py $(BENCH_ARGS)
+
+# the same on an NVIDIA GPU (Linux, CUDA 12): results/<name>-gpu.json beside the CPU's, side by side in the table;
+# stops at once if jax does not see a GPU
+bench-gpu: $(STAMP)
+	$(VENV)/bin/python -m pip install -q -c constraints.txt -e '.[test,bench,gpu]'
+	$(VENV)/bin/python -m pip install -q --no-deps 'ship-model-lib==1.0.2'
+	$(VENV)/bin/python benchmarks/run.py --require-gpu $(BENCH_ARGS)
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -36,7 +36,7 @@ from _common import HULLS, goal, quick, save
 REPO = Path(__file__).resolve().parents[1]
 DTC = f"{HULLS / 'DTC-scaled.stl.gz'}?scale=59.407&lpp=355"
 DISPLACEMENT_T, VOLUME, KG = 177804.0, 173467.0, 20.0  # ≈ 1.025 t/m³ · ∇ (bench_stability.py's loading)
-HULLOPT = Path(sys.executable).parent / "hullopt"
+HULLOPT = [sys.executable, "-m", "hullopt"]  # the snapshot's, on PYTHONPATH (no console script needed)
 
 NTB_HYDRO = """
 import sys
@@ -89,15 +89,16 @@ def main() -> None:
     snapshot = tmp / "snapshot"
     shutil.copytree(REPO / "hullopt", snapshot / "hullopt", ignore=shutil.ignore_patterns("__pycache__"))
 
-    hydro = [str(HULLOPT), "hydro", DTC, "--drafts", "2:20:20", "--json"]
-    stab = [str(HULLOPT), "stability", DTC, "--displacement", f"{DISPLACEMENT_T:g}", "--kg", f"{KG:g}", "--json"]
-    run = [str(HULLOPT), "run", str(REPO / "configs" / "fit_cb_lcb.toml"), "--out", str(tmp / "run")]
+    hydro = [*HULLOPT, "hydro", DTC, "--drafts", "2:20:20", "--json"]
+    stab = [*HULLOPT, "stability", DTC, "--displacement", f"{DISPLACEMENT_T:g}", "--kg", f"{KG:g}", "--json"]
+    run = [*HULLOPT, "run", str(REPO / "configs" / "fit_cb_lcb.toml"), "--out", str(tmp / "run")]
     loads = [os.getloadavg()[0]]
     res: dict = {}
     for name, cmd, ok in (("hydro", hydro, (0,)), ("stability", stab, (0, 4)), ("run", run, (0, 3))):
-        env = dict(os.environ, HULLOPT_CACHE=str(tmp / f"cache-{name}"), PYTHONPATH=str(snapshot))
+        path = [str(snapshot), *filter(None, [os.environ.get("PYTHONPATH")])]  # the snapshot before any wheels
+        env = dict(os.environ, HULLOPT_CACHE=str(tmp / f"cache-{name}"), PYTHONPATH=os.pathsep.join(path))
         cold, out = timed(cmd, env, ok, snapshot, f"{name} cold")
-        shown = " ".join(cmd[1:]).replace(str(REPO) + "/", "").replace(str(tmp), "TMP")  # no local paths
+        shown = " ".join(cmd[3:]).replace(str(REPO) + "/", "").replace(str(tmp), "TMP")  # no local paths
         res[name] = {"command": shown, "cold_s": cold, "warm_s": []}
         if name == "stability":
             lcg = json.loads(out)["lcg"]

@@ -14,6 +14,7 @@ item 4); results in results/design.json.
 
 from __future__ import annotations
 
+import json
 import sys
 import tempfile
 import time
@@ -162,9 +163,11 @@ def cli_run(out: dict) -> None:
         # the whole environment, not an empty one: on a GPU machine the run needs its CUDA paths (it exited 1 there)
         starts = [run_process(cli + ["--out", f"{tmp}/run{i}"], f"{tmp}/cache") for i in range(3)]
         t_import = run_process([sys.executable, "-c", "import hullopt.app.cli, jax"], f"{tmp}/cache")
+        phases = [json.loads(Path(f"{tmp}/run{i}/report.json").read_text()).get("seconds", {}) for i in range(3)]
     print(f"hullopt run fit_cb_lcb: cold {starts[0]:.1f} s, warm {min(starts[1:]):.1f} s (goal < 2 s; "
-          f"python + imports alone {t_import:.1f} s)")
-    out["cli_run"] = {"cold_s": starts[0], "warm_s": min(starts[1:]), "import_s": t_import}
+          f"python + imports alone {t_import:.1f} s); phases cold {phases[0]}, warm {phases[-1]}")
+    out["cli_run"] = {"cold_s": starts[0], "warm_s": min(starts[1:]), "import_s": t_import,
+                      "phases_cold_s": phases[0], "phases_warm_s": phases[-1]}
     save("design", out)
 
 

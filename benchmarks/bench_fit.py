@@ -85,7 +85,8 @@ def quality(s, parent, draft, targets: dict, tol: dict) -> dict:
 def run_case(name: str, overrides: list[str]) -> dict:
     cfg, _ = load_config(CONFIG, overrides)
     prob = load_study(cfg).problem
-    d, p0, lower, upper = prob.design, prob.p0, prob.lower, prob.upper
+    p0, lower, upper = prob.p0, prob.lower, prob.upper
+    d = with_objective_scale(prob.design, p0)  # the fairness term as `hullopt run` scales it (U/U_parent)
     draft = float(d.draft)
     targets = {k: float(v) for k, v in zip(d.targets.names, np.asarray(d.targets.values))}
     tol = {k: float(v) for k, v in zip(d.targets.names, np.asarray(d.targets.tol))}

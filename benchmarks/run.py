@@ -1,13 +1,16 @@
 """Run every benchmark script in this folder (``bench_*.py``), each in its own process, one after the other; then
 write ``results/summary.md``: one table of every goal from the ``results/*.json`` files, with the date, the
 machine (cores, load at the start), the jax version and the device, beside the peers' figures (NavalToolbox,
-ship_model_lib, SLSQP). Paste it into README.md's "Goals at a glance".
+ship_model_lib, SLSQP). Paste it into README.md's "Goals at a glance". On a GPU (jax with CUDA: ``make bench-gpu``)
+each script writes ``results/<name>-gpu.json`` beside the CPU's ``<name>.json`` and the table puts the two side
+by side.
 
 Usage (from anywhere)::
 
     python benchmarks/run.py                    # every bench_*.py, then the summary
     python benchmarks/run.py --quick            # HULLOPT_BENCH_QUICK=1: shorter runs where a script offers them
-    python benchmarks/run.py --only hydro,peers # just these scripts (bench_hydro.py, bench_peers.py), then the summary
+    python benchmarks/run.py --only hydro,peers # just these scripts (bench_hydro.py, bench_peers.py), in that order
+    python benchmarks/run.py --timeout 300      # a script still running after 300 s is stopped and reported
     python benchmarks/run.py --summary          # only rewrite results/summary.md from the stored results
     python benchmarks/run.py --summary --readme # … and paste it into README.md's "Goals at a glance"
 
@@ -24,6 +27,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -81,7 +85,8 @@ def _design(d):
            o["ratio"] <= 3),
         _g("AD gradient vs central finite differences", g["speedup"], "× faster", f"≥ P/3 = {g['goal']:.1f}",
            g["speedup"] >= g["goal"], "central FD"),
-        _g("vmap(256) gain per design", v["gain"], "×", "≥ 20", v["gain"] >= 20),
+        _g("vmap(256) gain per design", v["gain"], "×", "≥ 8 (CPU), ≥ 100 (GPU)",
+           v["gain"] >= (8 if d["machine"]["device"]["platform"] == "cpu" else 100)),
     ]
     if "cli_run" in d:
         rows.append(_g("`hullopt run configs/fit_cb_lcb.toml`, warm", d["cli_run"]["warm_s"], "s", "< 2",
@@ -156,19 +161,25 @@ def _machine_line(m):
             f"device {dev_text}")
 
 
+def _device(stem: str) -> tuple[str, str]:
+    """``(benchmark, device label)`` of a result file's stem: ``design`` → ``("design", "CPU")``,
+    ``design-gpu`` → ``("design", "GPU")`` (``_common.save``'s suffix)."""
+    name, _, backend = stem.partition("-")
+    return name, (backend or "cpu").upper()
+
+
 def summary(started: str | None = None, failed: dict | None = None, run_machine: dict | None = None) -> str:
-    """The summary table (Markdown) of every ``results/*.json``; ``started``: this run's start (older results
-    are marked), ``failed``: script name → exit code, ``run_machine``: ``_common.machine()`` at the start
-    (None: the newest result's)."""
+    """The summary table (Markdown) of every ``results/*.json``, with one column of measured values per device
+    (CPU, and GPU where ``results/*-gpu.json`` exist) side by side; ``started``: this run's start (older
+    results are marked), ``failed``: script name → exit code, ``run_machine``: ``_common.machine()`` at the
+    start (None: the newest result's)."""
     failed = failed or {}
-    files = sorted(p for p in RESULTS.glob("*.json"))
-    lines, machines = [], {}
-    rows = []
-    for path in files:
-        name = path.stem
+    machines, table = {}, {}  # (benchmark, goal) -> {device: goal row with "when"}
+    for path in sorted(RESULTS.glob("*.json")):
+        name, dev = _device(path.stem)
         data = json.loads(path.read_text())
         m = data.get("machine", {})
-        machines[name] = m
+        machines[(name, dev)] = m
         goals = data.get("goals")
         if goals is None and name in EXTRACT:
             try:
@@ -181,27 +192,41 @@ def summary(started: str | None = None, failed: dict | None = None, run_machine:
         load = m.get("load_at_start")
         when = f"{m.get('date', '?')}{stale}; load {'not recorded' if load is None else load}"
         for g in goals:
-            met = {True: "**met**", False: "**missed**", None: "—"}[g.get("met")]
-            rows.append(f"| {name} | {g['name']} | {_fmt(g['value'], g.get('unit', ''))} | {g.get('target', '—')} "
-                        f"| {met} | {g.get('peer') or '—'} | {when} |")
+            table.setdefault((name, g["name"]), {})[dev] = g | {"when": when}
+    devices = sorted({dev for _, dev in machines}, key=lambda d: (d != "CPU", d))
+    head = {dev: next((m for (_, d), m in machines.items() if d == dev), {}) for dev in devices}
+    rows = []
+    for (name, goal_name), by_dev in table.items():
+        first = next(iter(by_dev.values()))
+        cells = [_fmt(by_dev[d]["value"], by_dev[d].get("unit", "")) if d in by_dev else "—" for d in devices]
+        met = " / ".join({True: "**met**", False: "**missed**", None: "—"}[by_dev[d].get("met")] if d in by_dev
+                         else "—" for d in devices)
+        when = " / ".join(by_dev[d]["when"] if d in by_dev else "—" for d in devices)
+        rows.append(f"| {name} | {goal_name} | {' | '.join(cells)} | {first.get('target', '—')} | {met} "
+                    f"| {first.get('peer') or '—'} | {when} |")
     for name, rc in failed.items():
-        rows.append(f"| {name} | the script failed (exit {rc}): its row(s) above, if any, are from an earlier run "
-                    f"| — | — | **failed** | — | — |")
-    run_m = run_machine or (max(machines.values(), key=lambda m: m.get("date", "")) if machines else {})
-    jaxes = sorted({m.get("jax", "?") for m in machines.values()})
-    devices = sorted({f"{m['device']['platform']} ({m['device']['kind']})" if m.get("device") else "not recorded"
-                      for m in machines.values()})
-    lines.append(f"Run {started or 'of the stored results'}; machine: {_machine_line(run_m)}.")
-    if len(jaxes) > 1 or len(devices) > 1:
-        lines.append(f"(The results mix jax {', '.join(jaxes)} and devices {', '.join(devices)}.)")
+        rc = f"exit {rc}" if isinstance(rc, int) else rc
+        rows.append(f"| {name} | the script failed ({rc}): its row(s) above, if any, are from an earlier run "
+                    f"| {' | '.join('—' for _ in devices)} | — | **failed** | — | — |")
+    lines = []
+    for dev in devices:
+        ms = [m for (_, d), m in machines.items() if d == dev]
+        m = run_machine if run_machine and dev == "CPU" else max(ms, key=lambda m: m.get("date", ""))
+        jaxes = sorted({x.get("jax", "?") for x in ms})
+        mixed = f" (its results mix jax {', '.join(jaxes)})" if len(jaxes) > 1 else ""
+        lines.append(f"- {dev}: {_machine_line(m)}{mixed}.")
+    lines.insert(0, f"Run {started or 'of the stored results'}; machines:")
     lines.append("")
-    lines.append("| benchmark | goal | measured | target | met | peer | recorded (UTC; 1-min load at start) |")
-    lines.append("|---|---|---|---|---|---|---|")
+    lines.append(f"| benchmark | goal | {' | '.join(f'measured ({d})' for d in devices)} | target | met "
+                 f"({' / '.join(devices)}) | peer | recorded (UTC; 1-min load at start) |")
+    lines.append("|---" * (6 + len(devices)) + "|")
     lines += rows
-    met = sum(r.count("**met**") for r in rows)
-    missed = sum(r.count("**missed**") for r in rows)
     lines.append("")
-    lines.append(f"{met} goals met, {missed} missed" + (f", {len(failed)} script(s) failed" if failed else "") + ".")
+    for dev in devices:
+        mets = [by_dev[dev].get("met") for by_dev in table.values() if dev in by_dev]
+        lines.append(f"{dev}: {mets.count(True)} goals met, {mets.count(False)} missed.")
+    if failed:
+        lines.append(f"{len(failed)} script(s) failed.")
     return "\n".join(lines) + "\n"
 
 
@@ -224,6 +249,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="HULLOPT_BENCH_QUICK=1 for every script: shorter runs")
     ap.add_argument("--only", default="", help="comma-separated names (hydro, peers, …): run just these scripts")
+    ap.add_argument("--timeout", type=float, default=None, help="seconds each script may run (default: no limit)")
+    ap.add_argument("--require-gpu", action="store_true", help="stop unless jax's default device is a GPU")
     ap.add_argument("--summary", action="store_true", help="only rewrite results/summary.md")
     ap.add_argument("--readme", action="store_true", help="also paste the table into README.md's Goals at a glance")
     args = ap.parse_args(argv)
@@ -231,22 +258,32 @@ def main(argv: list[str] | None = None) -> int:
     import _common  # its LOAD_AT_START: the load before any benchmark starts
 
     run_machine = None if args.summary else _common.machine()
+    if args.require_gpu and run_machine["device"]["platform"] != "gpu":
+        ap.error(f"--require-gpu: jax's default device is {run_machine['device']['platform']} "
+                 f"({run_machine['device']['kind']}); install the gpu extra on a machine with an NVIDIA GPU")
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     failed = {}
     if not args.summary:
         scripts = sorted(HERE.glob("bench_*.py"))
         if args.only:
-            want = {f"bench_{n.strip().removeprefix('bench_').removesuffix('.py')}.py" for n in args.only.split(",")}
-            unknown = want - {s.name for s in scripts}
+            want = [f"bench_{n.strip().removeprefix('bench_').removesuffix('.py')}.py" for n in args.only.split(",")]
+            unknown = set(want) - {s.name for s in scripts}
             if unknown:
                 ap.error(f"--only: no such script(s) {sorted(unknown)}; expected names of {[s.name for s in scripts]}")
-            scripts = [s for s in scripts if s.name in want]
+            scripts = [HERE / w for w in want]  # in the order given
         env = dict(os.environ, HULLOPT_BENCH_QUICK="1" if args.quick else os.environ.get("HULLOPT_BENCH_QUICK", ""))
         for script in scripts:
             print(f"== {script.name}", flush=True)
             t0 = time.perf_counter()
-            rc = subprocess.run([sys.executable, str(script)], cwd=HERE, env=env).returncode
-            print(f"== {script.name}: {'ok' if rc == 0 else f'FAILED (exit {rc})'} in {time.perf_counter() - t0:.0f} s",
+            # its own process group, so that a timeout also ends the hullopt processes it started
+            proc = subprocess.Popen([sys.executable, str(script)], cwd=HERE, env=env, start_new_session=True)
+            try:
+                rc = proc.wait(timeout=args.timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+                rc = f"timed out after {args.timeout:g} s"
+            print(f"== {script.name}: {'ok' if rc == 0 else f'FAILED ({rc})'} in {time.perf_counter() - t0:.0f} s",
                   flush=True)
             if rc:
                 failed[script.stem.removeprefix("bench_")] = rc

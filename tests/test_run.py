@@ -43,6 +43,10 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, mo
     assert set(objectives) >= {"bf", "unfairness", "sac_roughness", "section_roughness"}
     assert all(set(v) == {"parent", "design", "unit"} for v in objectives.values())
     assert isinstance(report["warnings"], list)
+    # where the time went: each phase's wall time, in order, report.json holding the files' time too
+    assert list(report["seconds"]) == ["setup", "solve", "assess", "rescore", "files"]
+    assert all(t >= 0 for t in report["seconds"].values()) and report["seconds"]["solve"] > 0
+    assert json.loads((out / "report.json").read_text())["seconds"] == report["seconds"]
     # the parent's offsets read back: the parent's volume (the dense table gives ∇ to about 1e-4)
     code, stdout, err = cli("hydro", str(out / "parent_offsets.csv"), "--draft", "6.25", "--json")
     assert code == 0, err

@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import contextlib
+import time
 from pathlib import Path
 
 from rich.progress import (
@@ -60,9 +61,13 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     ``parent`` (the ``hullopt hydro --json`` keys of the final and the parent hull), ``objective``
     (value, parent value, name), ``params``, ``objectives`` (every measure, parent and design), ``warnings``;
     for sweeps ``designs`` (one per sweep value, with its objectives, particulars, parameters and whether it is
-    Pareto-optimal). ``options``: the study's (a sweep's ``shard = (k, N)``, ``executor`` and ``address``); a
-    shard whose sweep is not complete yet returns a partial report and writes no hull files.
+    Pareto-optimal); ``seconds``: the wall time of each phase (``setup``: the config's hull and study;
+    ``solve``; ``assess``: every measure of parent and design; ``rescore``: the second opinions; ``files``:
+    hulls, plots, report.html), so that a slow run says where its time went. ``options``: the study's (a sweep's
+    ``shard = (k, N)``, ``executor`` and ``address``); a shard whose sweep is not complete yet returns a partial
+    report and writes no hull files.
     """
+    clock = _Clock()
     study: Study = load_study(cfg)  # a bad design or draft is refused before anything is written
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "config.json", raw)
@@ -70,9 +75,12 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     save_features(d.model.hull, out / "parent.json")  # the run folder rebuilds its designs from it
     shard = options.get("shard", (1, 1))
     title = f"{study.title}: {cfg.hull.parent}" + (f" shard {shard[0]}/{shard[1]}" if shard[1] > 1 else "")
+    clock("setup")
     with _progress(quiet, study.units(options), title) as (bar, task):
         solution = study.solve(out, progress=lambda n: bar.update(task, advance=n), **options)
+    clock("solve")
     report = solution.report
+    report["seconds"] = clock.seconds
     if solution.partial:
         write_json(out / "report.json", report)
         return report
@@ -80,7 +88,9 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
     report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
     report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
+    clock("assess")
     rescored, doubts = study.rescore(solution.designs)
+    clock("rescore")
     if rescored is not None:
         report["rescored"], report["rescored_warnings"] = rescored, doubts
         report["warnings"] += doubts
@@ -105,9 +115,24 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
                     conditions=where)
         hulls = None
     write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
-    write_json(out / "report.json", report)
+    write_json(out / "report.json", report)  # before report.html: a failure there loses no result
     write_report(out, report, hulls)
+    clock("files")
+    write_json(out / "report.json", report)  # again, with the files' time (report.html's included)
     return report
+
+
+class _Clock:
+    """Wall time [s] of consecutive phases: ``clock("name")`` ends the phase begun at the previous call."""
+
+    def __init__(self):
+        self.seconds: dict[str, float] = {}
+        self._t = time.perf_counter()
+
+    def __call__(self, phase: str) -> None:
+        t = time.perf_counter()
+        self.seconds[phase] = round(t - self._t, 3)
+        self._t = t
 
 
 def _write_hull(m: Outcome, draft, out: Path) -> None:

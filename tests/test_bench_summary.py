@@ -1,0 +1,51 @@
+"""benchmarks/run.py's summary table: a GPU run's results (``results/<name>-gpu.json``, as ``_common.save`` names
+them on a GPU) sit beside the CPU's, one measured column per device, and each device's goals are counted apart."""
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+
+
+@pytest.fixture
+def run_module(tmp_path, monkeypatch):
+    spec = importlib.util.spec_from_file_location("bench_run", BENCH / "run.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    monkeypatch.setattr(mod, "RESULTS", tmp_path)
+    return mod
+
+
+def _result(path: Path, platform: str, kind: str, goals: list[dict]) -> None:
+    machine = {"python": "3.12", "jax": "0.11.2", "cores": 2, "cpu": "x86_64", "load_at_start": 0.5,
+               "device": {"backend": platform, "platform": platform, "kind": kind, "count": 1},
+               "date": "2026-11-26 12:00 UTC"}
+    path.write_text(json.dumps({"machine": machine, "goals": goals}))
+
+
+def _goal(name, value, met):
+    return {"name": name, "value": value, "unit": "s", "target": "< 2", "met": met, "peer": None}
+
+
+def test_cpu_and_gpu_side_by_side(run_module, tmp_path):
+    _result(tmp_path / "sweep.json", "cpu", "cpu", [_goal("KCS sweep, cold", 298.0, False)])
+    _result(tmp_path / "sweep-gpu.json", "gpu", "NVIDIA H100", [_goal("KCS sweep, cold", 41.0, True)])
+    _result(tmp_path / "hydro.json", "cpu", "cpu", [_goal("table, warm", 0.025, True)])
+    text = run_module.summary()
+    assert "| benchmark | goal | measured (CPU) | measured (GPU) | target | met (CPU / GPU) |" in text
+    assert "- GPU: 2 cores x86_64" in text and "NVIDIA H100" in text
+    rows = {line.split(" | ")[1]: line for line in text.splitlines() if line.startswith("| sweep") or
+            line.startswith("| hydro")}
+    assert "| 298 s | 41 s | < 2 | **missed** / **met** |" in rows["KCS sweep, cold"]
+    assert "| 0.025 s | — | < 2 | **met** / — |" in rows["table, warm"]  # no GPU result: a dash, not a guess
+    assert "CPU: 1 goals met, 1 missed." in text and "GPU: 1 goals met, 0 missed." in text
+
+
+def test_cpu_only_has_one_measured_column(run_module, tmp_path):
+    _result(tmp_path / "hydro.json", "cpu", "cpu", [_goal("table, warm", 0.025, True)])
+    text = run_module.summary(failed={"panel": "timed out after 60 s"})
+    assert "| benchmark | goal | measured (CPU) | target | met (CPU) |" in text
+    assert "the script failed (timed out after 60 s)" in text
