@@ -478,3 +478,4 @@ def test_saved_parent_reads_back_exactly(tmp_path):
     with pytest.raises(HullError, match="not a feature-curve parent file") as e:
         read_features(bad)
     assert str(bad) in str(e.value)
+

@@ -80,12 +80,18 @@ def test_stations_are_drawn_at_the_stations_between_the_given_sections():
     near = np.asarray(h.yz)[np.argmin(np.abs(np.asarray(h.x)[:, None] - x), 0)]
     assert np.max(np.abs(np.array([np.interp(z, p[:, 1], p[:, 0]) for p in near]) - exact)) > 0.05
     plan = lines_plan(h, "wigley", draft=Tw)  # the body plan: those sections at the 21 stations, midship on both sides
-    body = {(c[1], bool(c[2][-1, 0] > 0)): c[2] for c in plan.body if c[0] == "station"}
+    body = {}
+    for c in plan.body:
+        if c[0] == "station":
+            body.setdefault(c[1], []).append(c[2])
     _, _, yz20 = station_sections(h, stations=20)
-    assert len(body) == 22
+    assert sorted(map(int, body)) == list(range(21)) and len(body["10"]) == 2
     for k in range(21):
-        for fore in ([False, True] if k == 10 else [k > 10]):
-            np.testing.assert_allclose(np.abs(body[str(k), fore]), yz20[k], atol=1e-12)
+        for curve in body[str(k)]:
+            np.testing.assert_allclose(np.abs(curve), yz20[k], atol=1e-12)
+        if 0 < k < 20:  # fore body right, aft body left, midship both (the Wigley's ends have no breadth)
+            sides = [np.sign(np.sum(curve[:, 0])) for curve in body[str(k)]]
+            assert sides == ([-1.0, 1.0] if k == 10 else [1.0] if k > 10 else [-1.0])
 
 
 def test_waterlines_buttocks_and_diagonals_follow_the_closed_form(hull):

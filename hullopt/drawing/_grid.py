@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import Sections
+from ..geometry import Sections, pchip
 
 #: Round steps [m]: these times a power of ten.
 ROUND_STEPS = (1.0, 2.0, 2.5, 5.0)
@@ -130,7 +130,6 @@ def deck_at_side(sections: Sections, stations: int = 20) -> tuple[np.ndarray, np
         ``x (k,)`` [m from the AP], the half-breadth ``y (k,)`` and height ``z (k,)`` [m] of the deck at side,
         from the aft end of the hull to the fore end.
     """
-    from scipy.interpolate import PchipInterpolator
     from scipy.ndimage import grey_closing, median_filter
 
     x = np.asarray(sections.x, float)
@@ -145,7 +144,7 @@ def deck_at_side(sections: Sections, stations: int = 20) -> tuple[np.ndarray, np
     knots = np.union1d(knots, x[[0, -1]])
     at = np.column_stack([np.interp(knots, x, smooth[:, 0]), np.interp(knots, x, smooth[:, 1])])
     fine = np.union1d(np.linspace(x[0], x[-1], 401), knots)
-    y, z = PchipInterpolator(knots, at, axis=0)(fine).T
+    y, z = pchip(knots, at, fine).T
     return fine, np.maximum(y, 0.0), z
 
 

@@ -53,7 +53,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..errors import HullError
-from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, safe_div
+from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, pchip_slopes, safe_div
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -415,13 +415,6 @@ def _chain(h: FeatureHull) -> np.ndarray:
     return a
 
 
-def _pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Fritsch–Carlson monotone slopes (n, C) (numpy, once per model)."""
-    from scipy.interpolate import PchipInterpolator
-
-    return PchipInterpolator(x, y, axis=0).derivative()(x)
-
-
 def _pchip(x, y, m, t):
     """Cubic Hermite interpolation of the columns ``y (n, C)`` with slopes ``m`` at ``t (n,)`` → ``(n, C)``;
     exact at the knots."""
@@ -617,7 +610,7 @@ def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributio
         base=base,
         chained=base @ chain,
         unchain=np.linalg.inv(chain),
-        slopes=np.asarray(_pchip_slopes(x, base @ chain)),
+        slopes=pchip_slopes(x, base @ chain),
         move_w=np.array([w for _, w in mw]).reshape(len(mw), len(x)),
         move_seg=tuple(s for s, _ in mw),
         dist_mask=np.array(masks).reshape(len(masks), c),

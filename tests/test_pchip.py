@@ -1,0 +1,26 @@
+"""hullopt.geometry.pchip: numpy PCHIP (the feature model's distributions, the mesh writer, the lines plan's deck
+line) against scipy's PchipInterpolator, on random data with flat chords, sign changes and uneven knots."""
+
+import numpy as np
+import pytest
+from scipy.interpolate import PchipInterpolator
+
+from hullopt.geometry import pchip, pchip_slopes
+
+
+@pytest.mark.parametrize("shape", [(), (4,), (5, 2)])
+def test_pchip_is_scipys(shape):
+    rng = np.random.default_rng(7)
+    for _ in range(100):
+        x = np.unique(rng.uniform(0.0, 100.0, rng.integers(2, 25)))
+        if x.size < 2:
+            continue
+        y = rng.normal(size=(x.size, *shape))
+        y[rng.uniform(size=y.shape) < 0.2] = 0.0  # flat chords
+        y[:2] = y[:1]  # a flat start
+        if shape:
+            y[..., 0] = np.cumsum(np.abs(y[..., 0]), axis=0)  # a monotone column
+        ref = PchipInterpolator(x, y, axis=0)
+        np.testing.assert_allclose(pchip_slopes(x, y), ref.derivative()(x), rtol=1e-12, atol=1e-12)
+        t = np.sort(np.r_[rng.uniform(x[0], x[-1], 50), x])
+        np.testing.assert_allclose(pchip(x, y, t), ref(t), rtol=1e-12, atol=1e-12)
