@@ -2,4 +2,5 @@
 
 from hullopt.app.cli import run
 
-run()
+if __name__ == "__main__":  # not in a process that multiprocessing's spawn starts (it imports this as __mp_main__)
+    run()

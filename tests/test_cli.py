@@ -111,11 +111,12 @@ def test_help_lists_every_command():
 
 
 def test_xla_scheduler_workaround_is_set_and_leaves_the_users_choice():
-    """The CLI turns off XLA:CPU's concurrency-optimised scheduler (it wedged the report's vmapped program of a
-    sweep), before jax's backend starts; a user's own setting of that flag wins."""
+    """Importing hullopt (the CLI's first step, and the API's) turns off XLA:CPU's concurrency-optimised
+    scheduler (it wedged the report's vmapped program of a sweep), before jax's backend starts; a user's own
+    setting of that flag wins."""
     import os
 
-    from hullopt.app.cli import XLA_SCHEDULER_OFF, xla_flags
+    from hullopt import XLA_SCHEDULER_OFF, xla_flags
 
     assert XLA_SCHEDULER_OFF in os.environ["XLA_FLAGS"]
     assert xla_flags("") == XLA_SCHEDULER_OFF

@@ -11,22 +11,6 @@ from pathlib import Path
 # the user (set TF_CPP_MIN_LOG_LEVEL yourself to see XLA's logs). It must be set before jax is imported.
 os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
 
-# XLA:CPU's concurrency-optimised scheduler wedges its thread pool on the report's program of a sweep (every
-# design's measures, strip-theory motions included, in one vmap): all workers parked, no CPU, forever (KCS bow
-# sweep, jax 0.10.1: 3 of 3 runs hung at 3 or 6 designs; with the scheduler off 3 of 3 finished in ~33 s; single-
-# threaded Eigen still hung). Off here, before jax starts its backend, unless XLA_FLAGS already names it.
-XLA_SCHEDULER_OFF = "--xla_cpu_enable_concurrency_optimized_scheduler=false"
-
-
-def xla_flags(current: str) -> str:
-    """``XLA_FLAGS`` with :data:`XLA_SCHEDULER_OFF` appended, unless the user's flags set that option."""
-    if "xla_cpu_enable_concurrency_optimized_scheduler" in current:
-        return current
-    return f"{current} {XLA_SCHEDULER_OFF}".strip()
-
-
-os.environ["XLA_FLAGS"] = xla_flags(os.environ.get("XLA_FLAGS", ""))
-
 from ..errors import HullError  # noqa: E402
 
 

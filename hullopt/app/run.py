@@ -11,7 +11,10 @@
 from __future__ import annotations
 
 import contextlib
+import multiprocessing
+import os
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from rich.progress import (
@@ -106,8 +109,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         _write_hull(m, d.draft, out)
         hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
     else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
-        for k, mk in enumerate(design_outcomes(study, solution.designs)):
-            _write_hull(mk, d.draft, out / "designs" / str(k))
+        _write_designs(design_outcomes(study, solution.designs), float(d.draft), out / "designs")
         o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
         where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
                           for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
@@ -148,6 +150,31 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
     who = f"Design {out.name}" if out.parent.name == "designs" else "The design"
     plot_overlay(m.before, m.after, float(draft), out / OVERLAY_NAME,
                  title=f"{who} against its parent at T = {float(draft):g} m (parent dashed)")
+
+
+def _write_designs(outcomes: list[Outcome], draft: float, out: Path) -> None:
+    """Each design's files (:func:`_write_hull`) in ``out/<k>/``. A few seconds a design, mostly plots on the
+    CPU (a 64-design sweep on a GPU spent minutes here after a solve of seconds), so with several designs and
+    cores they are written by a pool of processes (started fresh — jax's threads do not survive a fork —, on
+    the CPU backend: they only draw and write), as many as there are cores, designs in order."""
+    workers = min(len(outcomes), os.cpu_count() or 1)
+    if workers < 2 or len(outcomes) < 4:
+        for k, mk in enumerate(outcomes):
+            _write_hull(mk, draft, out / str(k))
+        return
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_writer_process) as pool:
+        jobs = [pool.submit(_write_hull, mk, draft, out / str(k)) for k, mk in enumerate(outcomes)]
+        for job in jobs:
+            job.result()  # a failure is raised here, with the worker's traceback
+
+
+def _writer_process() -> None:
+    """A design writer's set-up: float64 on the CPU (the parent process holds the GPU, if any)."""
+    import jax
+
+    jax.config.update("jax_platforms", "cpu")
+    jax.config.update("jax_enable_x64", True)
 
 
 def write_offsets(sections: Sections, draft: float, out: Path, name: str) -> None:
