@@ -8,10 +8,22 @@ import numpy as np
 
 
 def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """The slopes ``dy/dx`` at the knots: ``x (n,)`` increasing, n ≥ 2; ``y (n, ...)`` → ``(n, ...)``. Zero where
-    the chords on either side differ in sign or one is flat, else their weighted harmonic mean; at the ends
-    the one-sided three-point slope, kept shape-preserving (Moler, *Numerical Computing with MATLAB*, pchiptx);
-    two knots: the chord's slope."""
+    """The PCHIP slopes at the knots: zero where the chords on either side differ in sign or one is flat, else
+    their weighted harmonic mean; at the ends the one-sided three-point slope, kept shape-preserving (Moler,
+    *Numerical Computing with MATLAB*, pchiptx); with two knots the chord's slope.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, (n,)
+        The knots, increasing, n ≥ 2 (any unit of length).
+    y : numpy.ndarray, (n, ...)
+        The values at the knots; trailing axes are independent curves.
+
+    Returns
+    -------
+    numpy.ndarray, (n, ...)
+        ``dy/dx`` at the knots (units of ``y`` per unit of ``x``).
+    """
     y = np.asarray(y, float)
     h = np.diff(x).reshape((-1,) + (1,) * (y.ndim - 1))
     m = np.diff(y, axis=0) / h  # (n - 1, ...) the chords' slopes
@@ -34,8 +46,22 @@ def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def pchip(x: np.ndarray, y: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """The PCHIP interpolant of ``y (n, ...)`` on the knots ``x (n,)`` at ``t (p,)`` in ``[x[0], x[-1]]`` →
-    ``(p, ...)``; exact at the knots."""
+    """The PCHIP interpolant (monotone between monotone data, no overshoot), exact at the knots.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, (n,)
+        The knots, increasing, n ≥ 2.
+    y : numpy.ndarray, (n, ...)
+        The values at the knots; trailing axes are independent curves.
+    t : numpy.ndarray, (p,)
+        Where to interpolate, within ``[x[0], x[-1]]`` (outside: the end pieces extended).
+
+    Returns
+    -------
+    numpy.ndarray, (p, ...)
+        The interpolated values.
+    """
     y = np.asarray(y, float)
     d = pchip_slopes(x, y)
     i = np.clip(np.searchsorted(x, t, side="right") - 1, 0, len(x) - 2)
