@@ -121,7 +121,7 @@ def _motions(d):
         chunk = f" (chunks of {w['vmap_chunk']})" if w.get("vmap_chunk", w["vmap_designs"]) < w["vmap_designs"] else ""
         rss = f"; peak RSS {w['peak_rss_gib_after_batch']:.1f} GiB" if "peak_rss_gib_after_batch" in w else ""
         rows.append(_g(f"motions vmap over {w['vmap_designs']} designs × 30 ω{chunk}, per design",
-                       w["vmap_per_design_s"], "s", "—", None, f"alone {w['value_s']:.2f} s{rss}"))
+                       w["vmap_per_design_s"], "s", "—", None, f"alone {_fmt(w['value_s'], 's')}{rss}"))
     k = next((v for kk, v in d.items() if kk.startswith("kcs")), None)
     if k:
         lam, tot, mot = k["lambda_over_l"], k["nmri"]["total"], k["nmri"]["motion"]
@@ -197,13 +197,15 @@ def summary(started: str | None = None, failed: dict | None = None, run_machine:
     head = {dev: next((m for (_, d), m in machines.items() if d == dev), {}) for dev in devices}
     rows = []
     for (name, goal_name), by_dev in table.items():
-        first = next(iter(by_dev.values()))
+        first = by_dev[next(d for d in devices if d in by_dev)]
+        peers = [by_dev[d].get("peer") or "—" if d in by_dev else "—" for d in devices]
+        peer = peers[0] if len(set(peers)) == 1 else " / ".join(peers)  # one per device where they differ
         cells = [_fmt(by_dev[d]["value"], by_dev[d].get("unit", "")) if d in by_dev else "—" for d in devices]
         met = " / ".join({True: "**met**", False: "**missed**", None: "—"}[by_dev[d].get("met")] if d in by_dev
                          else "—" for d in devices)
         when = " / ".join(by_dev[d]["when"] if d in by_dev else "—" for d in devices)
         rows.append(f"| {name} | {goal_name} | {' | '.join(cells)} | {first.get('target', '—')} | {met} "
-                    f"| {first.get('peer') or '—'} | {when} |")
+                    f"| {peer} | {when} |")
     for name, rc in failed.items():
         rc = f"exit {rc}" if isinstance(rc, int) else rc
         rows.append(f"| {name} | the script failed ({rc}): its row(s) above, if any, are from an earlier run "
