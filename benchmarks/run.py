@@ -194,7 +194,6 @@ def summary(started: str | None = None, failed: dict | None = None, run_machine:
         for g in goals:
             table.setdefault((name, g["name"]), {})[dev] = g | {"when": when}
     devices = sorted({dev for _, dev in machines}, key=lambda d: (d != "CPU", d))
-    head = {dev: next((m for (_, d), m in machines.items() if d == dev), {}) for dev in devices}
     rows = []
     for (name, goal_name), by_dev in table.items():
         first = by_dev[next(d for d in devices if d in by_dev)]
