@@ -12,8 +12,8 @@ from .errors import HullError as HullError
 # XLA:CPU's concurrency-optimised scheduler wedges its thread pool on the report's program of a sweep (every
 # design's measures, strip-theory motions included, in one vmap): all workers parked, no CPU, forever (KCS bow
 # sweep, jax 0.10.1: 3 of 3 runs hung at 3 or 6 designs; with the scheduler off 3 of 3 finished in ~33 s; single-
-# threaded Eigen still hung). Off it also runs a batch of 256 designs twice as fast (the design objective's vmap
-# gain 5.6x -> 10.9x a design; benchmarks/README.md). Set here, for the CLI and the Python API alike: jax reads
+# threaded Eigen still hung). Off it also runs a batch of 256 designs faster (the design objective's vmap gain
+# 2-6x -> 5-11x a design on 2 cores; benchmarks/README.md). Set here, for the CLI and the Python API alike: jax reads
 # XLA_FLAGS when it starts its backend, so this holds where hullopt is imported before jax computes anything.
 XLA_SCHEDULER_OFF = "--xla_cpu_enable_concurrency_optimized_scheduler=false"
 

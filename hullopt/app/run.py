@@ -154,9 +154,9 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
 
 def _write_designs(outcomes: list[Outcome], draft: float, out: Path) -> None:
     """Each design's files (:func:`_write_hull`) in ``out/<k>/``. A few seconds a design, mostly plots on the
-    CPU (a 64-design sweep on a GPU spent minutes here after a solve of seconds), so with several designs and
-    cores they are written by a pool of processes (started fresh — jax's threads do not survive a fork —, on
-    the CPU backend: they only draw and write), as many as there are cores, designs in order."""
+    CPU (a 64-design sweep spends minutes here), so with four designs or more and several cores they are
+    written by a pool of processes, one per core: spawned, not forked (jax's threads do not survive a fork),
+    and on the CPU backend (they only draw and write)."""
     workers = min(len(outcomes), os.cpu_count() or 1)
     if workers < 2 or len(outcomes) < 4:
         for k, mk in enumerate(outcomes):

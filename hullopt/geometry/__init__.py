@@ -30,6 +30,7 @@ from ._sections import section_integrals as section_integrals
 from ._splines import CubicSpline as CubicSpline
 from ._splines import natural_cubic_spline as natural_cubic_spline
 from ._splines import spline_matrix as spline_matrix
+from ._pchip import hermite as hermite
 from ._pchip import pchip as pchip
 from ._pchip import pchip_slopes as pchip_slopes
 from ._print import split_for_print as split_for_print

@@ -4,7 +4,10 @@ second. Used on the parent's data (the feature model's distributions, the mesh w
 
 from __future__ import annotations
 
+from types import ModuleType
+
 import numpy as np
+from jaxtyping import ArrayLike
 
 
 def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -63,9 +66,31 @@ def pchip(x: np.ndarray, y: np.ndarray, t: np.ndarray) -> np.ndarray:
         The interpolated values.
     """
     y = np.asarray(y, float)
-    d = pchip_slopes(x, y)
-    i = np.clip(np.searchsorted(x, t, side="right") - 1, 0, len(x) - 2)
+    return hermite(x, y, pchip_slopes(x, y), t)
+
+
+def hermite(x: ArrayLike, y: ArrayLike, d: ArrayLike, t: ArrayLike, xp: ModuleType = np) -> ArrayLike:
+    """Piecewise cubic Hermite interpolation with given slopes: numpy (``xp=np``) or traced (``xp=jax.numpy``,
+    the feature model's distributions, whose slopes :func:`pchip_slopes` gave once).
+
+    Parameters
+    ----------
+    x : array, (n,)
+        The knots, increasing, n ≥ 2.
+    y, d : array, (n, ...)
+        The values and their slopes ``dy/dx`` at the knots.
+    t : array, (p,)
+        Where to interpolate (outside ``[x[0], x[-1]]``: the end pieces extended).
+    xp : module
+        ``numpy`` or ``jax.numpy``.
+
+    Returns
+    -------
+    array, (p, ...)
+        The interpolated values; exact at the knots.
+    """
+    i = xp.clip(xp.searchsorted(x, t, side="right") - 1, 0, x.shape[0] - 2)
     h = (x[i + 1] - x[i]).reshape((-1,) + (1,) * (y.ndim - 1))
-    s = (np.asarray(t) - x[i]).reshape(h.shape) / h
+    s = (xp.asarray(t) - x[i]).reshape(h.shape) / h
     return ((2 * s**3 - 3 * s**2 + 1) * y[i] + (s**3 - 2 * s**2 + s) * h * d[i]
             + (-2 * s**3 + 3 * s**2) * y[i + 1] + (s**3 - s**2) * h * d[i + 1])

@@ -53,7 +53,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..errors import HullError
-from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, pchip_slopes, safe_div
+from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, hermite, pchip_slopes, safe_div
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -341,7 +341,7 @@ class FeatureModel(eqx.Module):
                 x_out = jnp.where((x > xa) & (x < xb), t, x_out)
             else:
                 # the change only, so that zero parameters give the parent bit for bit
-                warped = self.base + (_pchip(x, self.chained, self.slopes, t) - self.chained) @ self.unchain
+                warped = self.base + (hermite(x, self.chained, self.slopes, t, jnp) - self.chained) @ self.unchain
                 f = jnp.where(self.dist_mask[g] > 0, warped, f)
         # 2. contour edits.
         f = f + jnp.einsum("e,enc->nc", params.contour, self.edit_w)
@@ -413,18 +413,6 @@ def _chain(h: FeatureHull) -> np.ndarray:
     a = np.eye(_flatten(h).shape[1])
     a[chain[:-1].reshape(-1), chain[1:].reshape(-1)] = -1.0
     return a
-
-
-def _pchip(x, y, m, t):
-    """Cubic Hermite interpolation of the columns ``y (n, C)`` with slopes ``m`` at ``t (n,)`` → ``(n, C)``;
-    exact at the knots."""
-    i = jnp.clip(jnp.searchsorted(x, t, side="right") - 1, 0, x.shape[0] - 2)
-    h = x[i + 1] - x[i]
-    s = ((t - x[i]) / h)[:, None]
-    hh = h[:, None]
-    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
-    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
-    return h00 * y[i] + h10 * hh * m[i] + h01 * y[i + 1] + h11 * hh * m[i + 1]
 
 
 def _station(x: np.ndarray, value: float, what: str) -> int:
