@@ -135,7 +135,7 @@ class MeanAddedResistance(Objective):
 
 class CalmResistance(Objective):
     """Calm-water resistance R_T = (1 + k1)·R_F + R_APP + R_W + R_A [N] (:func:`~hullopt.resistance.calm_water`)
-    with R_W by ``method`` ("holtrop", "michell" or "panel"), at ``speed`` [m/s] — or over an operating profile:
+    with R_W by ``method`` ("holtrop", "michell", "panel" or "dawson"), at ``speed`` [m/s] — or over an operating profile:
     speeds (k,) with ``weights`` (k,), the weighted mean Σ wᵢ R_T(Uᵢ) / Σ wᵢ. Holtrop–Mennen's R_W sees Cp, LCB
     and the entrance angle only; Michell's and the panel method's see every section (a Pareto sweep against
     added resistance has something to trade), within their validity (slender hulls, see the module)."""

@@ -299,7 +299,7 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
         One record a speed, as ``hullopt resistance --json`` prints them: ``speed_kn``, ``fn`` and, for each
         method ``<m>``, ``r_total_<m>`` [N], ``p_e_<m>`` [W] and ``c_w_<m>``.
     methods : sequence of str
-        The wave-resistance methods to draw: ``"holtrop"``, ``"michell"``, ``"panel"``.
+        The wave-resistance methods to draw: ``"holtrop"``, ``"michell"``, ``"panel"``, ``"dawson"``.
     path : pathlib.Path
         The image file (PNG; :func:`hullopt.drawing.save_figure`).
     title : str
@@ -313,7 +313,7 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
     fig, axes = _figure(1, 3, figsize=(14, 4.2))
     kn = [r["speed_kn"] for r in records]
     fn = [r["fn"] for r in records]
-    names = {"holtrop": "Holtrop–Mennen", "michell": "Michell", "panel": "panel"}
+    names = {"holtrop": "Holtrop–Mennen", "michell": "Michell", "panel": "panel", "dawson": "Dawson"}
     for i, m in enumerate(methods):
         style = dict(color=f"C{i}", marker="o", ms=3, label=names[m])
         axes[0].plot(kn, [r[f"r_total_{m}"] / 1e3 for r in records], **style)

@@ -21,3 +21,9 @@ from ._calm import check_method as check_method
 from ._calm import outside_validity as outside_validity
 from ._calm import DISAGREE as DISAGREE
 from ._panel import wave_pattern as wave_pattern
+from ._dawson import DawsonFlow as DawsonFlow
+from ._dawson import DawsonResult as DawsonResult
+from ._dawson import FreeSurface as FreeSurface
+from ._dawson import dawson_flow as dawson_flow
+from ._dawson import dawson_wave_resistance as dawson_wave_resistance
+from ._dawson import free_surface as free_surface

@@ -28,7 +28,7 @@ from .._app import app
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP
 
-NAMES = {"holtrop": "H-M", "michell": "Michell", "panel": "panel"}
+NAMES = {"holtrop": "H-M", "michell": "Michell", "panel": "panel", "dawson": "Dawson"}
 
 # JSON key → (table label, unit, display scale); forces in N and powers in W in the JSON
 COLUMNS = {
@@ -98,7 +98,7 @@ def resistance(
     speed: Annotated[str, typer.Option(help="Speeds [kn]: a list 12,14,16 or START:STOP:COUNT.")],
     draft: Annotated[float | None, typer.Option(help="Draft above the baseline [m] (default: the hull's).")] = None,
     method: Annotated[str, typer.Option(help="Wave resistance by: all, or a comma list of holtrop, michell, "
-                                             "panel.")] = "all",
+                                             "panel, dawson.")] = "all",
     levels: Annotated[int, typer.Option(help="Heights from the keel to the draft sampled by Michell's integral.")] = 33,
     plot: Annotated[Path | None, typer.Option(help="Draw R_T and P_E against speed and C_W against Fn, each "
                                                    "method's curve (.png, .svg, .pdf).")] = None,
@@ -108,8 +108,8 @@ def resistance(
 ) -> None:
     """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
     Holtrop's form factor 1 + k1, appendages and correlation allowance R_A — with the wave resistance R_W by
-    Holtrop & Mennen 1982 (R_W + R_B + R_TR), Michell's thin-ship integral and the Rankine-source panel method
-    (with its double-body sinkage and trim), and effective power P_E = R_T·U. Warns where two methods' R_W differ
+    Holtrop & Mennen 1982 (R_W + R_B + R_TR), Michell's thin-ship integral, the Rankine-source panel method
+    (with its double-body sinkage and trim) and Dawson's method (free-surface panels), and effective power P_E = R_T·U. Warns where two methods' R_W differ
     by more than 1.5× and names the one outside its validity.
     """
     knots = parse_speeds(speed)
