@@ -132,31 +132,22 @@ def spearman(a, b) -> float:
     return float(spearmanr(a, b).statistic)
 
 
-def hullopt_cw(specs: list[dict], froude: float = FROUDE) -> list[float]:
-    """hullopt's panel-method C_W = R_W/(½ρU²S) of the variants (:func:`hullopt.resistance.panel_wave_resistance`
-    at its default panelling; S hullopt's wetted surface at rest, as :func:`michell_cw`)."""
-    from hullopt.resistance import panel_wave_resistance, wave_resistance_coefficient
+def hullopt_cw(specs: list[dict], method: str = "panel", froude: float = FROUDE) -> list[float]:
+    """hullopt's C_W = R_W/(½ρU²S) of the variants by ``method`` at its default grid: ``"panel"``
+    (:func:`hullopt.resistance.panel_wave_resistance`, Kelvin's condition), ``"dawson"``
+    (:func:`hullopt.resistance.dawson_wave_resistance`, Dawson's) or ``"michell"`` (the thin-ship reference);
+    S hullopt's wetted surface at rest."""
+    from hullopt.resistance import (dawson_wave_resistance, michell_wave_resistance, panel_wave_resistance,
+                                    wave_resistance_coefficient)
 
     speed = froude * np.sqrt(G * LPP)
-    f = jax.jit(lambda s, t: panel_wave_resistance(s, t, speed).r_wave)
+    f = {"panel": jax.jit(lambda s, t: panel_wave_resistance(s, t, speed).r_wave),
+         "dawson": jax.jit(lambda s, t: dawson_wave_resistance(s, t, speed).r_wave),
+         "michell": lambda s, t: michell_wave_resistance(s, t, speed)}[method]
     out = []
     for v in specs:
         s = hydrostatics(v["sections"], v["draft"]).wetted_surface
         out.append(float(wave_resistance_coefficient(f(v["sections"], v["draft"]), speed, s)))
-    return out
-
-
-def michell_cw(specs: list[dict], froude: float = FROUDE) -> list[float]:
-    """hullopt's Michell thin-ship C_W = R_W/(½ρU²S) of the variants (S hullopt's wetted surface at rest): a
-    reference beside the panel method until that exists, not the comparison asked for."""
-    from hullopt.resistance import michell_wave_resistance, wave_resistance_coefficient
-
-    speed = froude * np.sqrt(G * LPP)
-    out = []
-    for v in specs:
-        rw = michell_wave_resistance(v["sections"], v["draft"], speed)
-        s = hydrostatics(v["sections"], v["draft"]).wetted_surface
-        out.append(float(wave_resistance_coefficient(rw, speed, s)))
     return out
 
 
@@ -218,8 +209,8 @@ def main() -> None:
 
 
 def score(data: dict, specs: list[dict] | None = None) -> dict:
-    """Add to ``data`` (the L2-Sea results) hullopt's own C_W of the same hulls when
-    :func:`hullopt.resistance.panel_wave_resistance` exists, the Spearman rank correlations and the goal rows."""
+    """Add to ``data`` (the L2-Sea results) hullopt's own C_W of the same hulls by Michell, the panel method and
+    Dawson's, the Spearman rank correlations and the goal rows."""
     levels = data["levels"]
     cw = data["l2sea_cw"]
     n = len(data["names"])
@@ -235,23 +226,16 @@ def score(data: dict, specs: list[dict] | None = None) -> dict:
         goals.append(goal(f"L2-Sea C_W ranking of the {n} hulls, level {levels[0]} vs {levels[1]} (Spearman)",
                           rho, "", "—", None))
     specs = specs if specs is not None else variant_specs()
-    mich = michell_cw(specs)
-    data["hullopt_michell_cw"] = mich
-    for lv in levels:
-        rho = spearman(mich, cw[str(lv)])
-        data.setdefault("spearman_michell", {})[str(lv)] = rho
-        goals.append(goal(f"C_W ranking of {n} DTMB 5415 variants, hullopt Michell thin ship vs L2-Sea level {lv} "
-                          "(Spearman; reference)", rho, "", "—", None, "L2-Sea WARP"))
-    ours = hullopt_cw(specs)
-    if ours is not None:
-        data["hullopt_cw"] = ours
+    for method, key, what, target in (("michell", "michell", "Michell thin ship", None),
+                                      ("panel", "", "panel", 0.9), ("dawson", "dawson", "Dawson", 0.9)):
+        cws = hullopt_cw(specs, method)
+        data["hullopt_" + (key + "_" if key else "") + "cw"] = cws
         for lv in levels:
-            rho = spearman(ours, cw[str(lv)])
-            data.setdefault("spearman", {})[str(lv)] = rho
-            goals.append(goal(f"C_W ranking of {n} DTMB 5415 variants, hullopt panel vs L2-Sea level {lv} (Spearman)",
-                              rho, "", "≥ 0.9", bool(rho >= 0.9), "L2-Sea WARP"))
-    else:
-        print("hullopt.resistance.panel_wave_resistance not available: L2-Sea's C_W recorded alone")
+            rho = spearman(cws, cw[str(lv)])
+            data.setdefault("spearman" + ("_" + key if key else ""), {})[str(lv)] = rho
+            goals.append(goal(f"C_W ranking of {n} DTMB 5415 variants, hullopt {what} vs L2-Sea level {lv} (Spearman"
+                              + ("; reference)" if target is None else ")"), rho, "", "—" if target is None else "≥ 0.9",
+                              None if target is None else bool(rho >= target), "L2-Sea WARP"))
     data["goals"] = goals
     return data
 

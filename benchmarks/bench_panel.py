@@ -1,6 +1,7 @@
-"""The panel method's validation and speed: the Wigley against Michell's integral (and its thin-ship limit),
-the KCS and DTMB 5415 models against towing-tank C_T, sinkage and trim (tests/data, see SOURCES.md there), and
-the time of one evaluation at the default panelling (value; value + gradient; compile), with a figure.
+"""The panel methods' validation and speed (Kelvin's hull-panel method and Dawson's): the Wigley against
+Michell's integral (and the thin-ship limit), the KCS and DTMB 5415 models against towing-tank C_T, sinkage and
+trim (tests/data, see SOURCES.md there), Dawson's KCS C_W on three free-surface grids, and the time of one
+evaluation at the default grid (value; value + gradient; compile), with a figure.
 
 Model-scale totals: C_T = (1 + k1)·C_F(ITTC-57, the model's Re) + C_W(method), Holtrop's 1 + k1, no C_A (a
 model has none). Writes ``results/panel.json`` and ``results/panel.png``.
@@ -21,8 +22,8 @@ jax.config.update("jax_enable_x64", True)
 
 from hullopt.constants import G  # noqa: E402
 from hullopt.models import load_hull, wigley  # noqa: E402
-from hullopt.resistance import (calm_water, michell_wave_resistance, panel_wave_resistance,  # noqa: E402
-                                wave_resistance_coefficient)
+from hullopt.resistance import (calm_water, dawson_wave_resistance, michell_wave_resistance,  # noqa: E402
+                                panel_wave_resistance, wave_resistance_coefficient)
 from hullopt.geometry import wetted_surface  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data"
@@ -44,7 +45,9 @@ def wigley_curves():
         s = wetted_surface(h, 6.25)
         p = panel_wave_resistance(h, 6.25, u)
         rm = michell_wave_resistance(h, 6.25, u)
+        rd = dawson_wave_resistance(h, 6.25, u).r_wave
         out[key] = {"cw_panel": np.asarray(wave_resistance_coefficient(p.r_wave, u, s)).tolist(),
+                    "cw_dawson": np.asarray(wave_resistance_coefficient(rd, u, s)).tolist(),
                     "cw_michell": np.asarray(wave_resistance_coefficient(rm, u, s)).tolist(),
                     "sinkage_over_l": (np.asarray(p.sinkage) / 100.0).tolist()}
     return out
@@ -63,7 +66,7 @@ def model_totals(spec, draft, scale, fn, nu, ct_tank, label):
     re = (u / np.sqrt(scale)) * (lpp / scale) / nu
     rec = {"hull": label, "fn": fn, "re_model": re, "cf_model": _cf(re), "ct_tank": ct_tank}
     s = float(wetted_surface(h, draft))
-    for m in ("holtrop", "michell", "panel"):
+    for m in ("holtrop", "michell", "panel", "dawson"):
         cw = calm_water(h, draft, u, m)
         c_w = float(cw.r_wave) / (0.5 * 1025.0 * u * u * s)
         rec[f"cw_{m}"] = c_w
@@ -75,12 +78,22 @@ def model_totals(spec, draft, scale, fn, nu, ct_tank, label):
     return rec
 
 
-def speed():
-    """Time of one evaluation at the default panelling (48 × 12 + ends) on the KCS at 24 kn."""
+def dawson_grid(spec, draft, fn, columns=(64, 96, 128)):
+    """Dawson's C_W of a hull at ``fn`` on free-surface grids of ``columns`` nodes along the stream."""
+    h = load_hull(spec).sections
+    u = fn * np.sqrt(G * float(h.lpp))
+    s = wetted_surface(h, draft)
+    return {"columns": list(columns), "cw": [float(wave_resistance_coefficient(
+        dawson_wave_resistance(h, draft, u, columns=c).r_wave, u, s)) for c in columns]}
+
+
+def speed(method=panel_wave_resistance):
+    """Time of one evaluation at the default grid (48 × 12 + ends hull panels; Dawson's free surface 95 × 13) on
+    the KCS at 24 kn."""
     h = load_hull(f"{HULLS}/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230").sections
     u = 24 * 1852 / 3600
-    f = jax.jit(lambda s: panel_wave_resistance(s, 10.8, u).r_wave)
-    g = jax.jit(jax.value_and_grad(lambda s: panel_wave_resistance(s, 10.8, u).r_wave))
+    f = jax.jit(lambda s: method(s, 10.8, u).r_wave)
+    g = jax.jit(jax.value_and_grad(lambda s: method(s, 10.8, u).r_wave))
     t0 = time.perf_counter()
     jax.block_until_ready(f(h))
     compile_value = time.perf_counter() - t0
@@ -100,14 +113,15 @@ def plot(w, rows, path):
     a, b = fig.subplots(1, 2)
     a.plot(w["fn"], np.array(w["wigley"]["cw_panel"]) * 1e3, "o-", label="panel")
     a.plot(w["fn"], np.array(w["wigley"]["cw_michell"]) * 1e3, "s--", label="Michell")
+    a.plot(w["fn"], np.array(w["wigley"]["cw_dawson"]) * 1e3, "^-", label="Dawson")
     a.set(xlabel="Fn", ylabel="C_W × 10³", title="Wigley L/B 10, B/T 1.6")
     a.legend()
     a.grid(alpha=0.3)
     labels = [f"{r['hull']}\nFn {r['fn']}" for r in rows]
     x = np.arange(len(rows))
     for i, (key, name) in enumerate((("ct_tank", "tank"), ("ct_holtrop", "H-M"), ("ct_michell", "Michell"),
-                                     ("ct_panel", "panel"))):
-        b.bar(x + (i - 1.5) * 0.2, [r[key] * 1e3 for r in rows], 0.2, label=name)
+                                     ("ct_panel", "panel"), ("ct_dawson", "Dawson"))):
+        b.bar(x + (i - 2) * 0.16, [r[key] * 1e3 for r in rows], 0.16, label=name)
     b.set_xticks(x, labels)
     b.set(ylabel="model C_T × 10³", title="(1+k1)·C_F + C_W against the tank")
     b.legend()
@@ -130,21 +144,32 @@ def main():
     rows[0]["sinkage_tank_m"] = -float(kcs[0.26]["sinkage_m"])  # the tank's sinks negative; ours down positive
     rows[0]["trim_tank_deg"] = float(kcs[0.26]["trim_deg"])  # negative bow down, as ours
     t = speed()
+    td = speed(dawson_wave_resistance)
+    grid = dawson_grid(kspec, 10.8, 0.26)
     plot(w, rows, RESULTS / "panel.png")
     thin = np.array(w["thin"]["cw_panel"]) / np.array(w["thin"]["cw_michell"])
     goals = [goal("panel: thin Wigley (B/L 0.02) C_W / Michell's, Fn 0.2–0.45", [round(float(thin.min()), 3),
                   round(float(thin.max()), 3)], "-", "within 0.95–1.05", bool(np.all(abs(thin - 1) < 0.05)))]
-    for r in rows:
-        err = r["ct_panel"] / r["ct_tank"] - 1
-        goals.append(goal(f"panel: model C_T {r['hull']} Fn {r['fn']} / tank − 1", round(err, 3), "-",
-                          "within ±0.10", bool(abs(err) <= 0.10), peer=f"H-M {r['ct_holtrop'] / r['ct_tank'] - 1:+.3f}"))
+    for m in ("panel", "dawson"):
+        for r in rows:
+            err = r[f"ct_{m}"] / r["ct_tank"] - 1
+            goals.append(goal(f"{m}: model C_T {r['hull']} Fn {r['fn']} / tank − 1", round(err, 3), "-",
+                              "within ±0.10", bool(abs(err) <= 0.10),
+                              peer=f"H-M {r['ct_holtrop'] / r['ct_tank'] - 1:+.3f}"))
+    goals.append(goal("dawson: KCS Fn 0.26 C_W × 10³ on 64, 96, 128 free-surface columns",
+                      [round(c * 1e3, 3) for c in grid["cw"]], "-", "—", None,
+                      peer=f"tank − (1+k1)·C_F {(rows[0]['ct_tank'] - rows[0]['form_factor'] * rows[0]['cf_model']) * 1e3:.3f}"))
     goals += [goal("panel: one evaluation (KCS, 24 kn, 48×12 panels)", round(t["value_s"], 3), "s", "≤ 2",
                    t["value_s"] <= 2.0),
-              goal("panel: value + gradient / value", round(t["ratio"], 2), "×", "≤ 4", t["ratio"] <= 4.0)]
-    save("panel", {"machine": machine(), "wigley": w, "models": rows, "speed": t, "goals": goals})
+              goal("panel: value + gradient / value", round(t["ratio"], 2), "×", "≤ 4", t["ratio"] <= 4.0),
+              goal("dawson: one evaluation (KCS, 24 kn, 48×12 hull + 95×13 free-surface panels)",
+                   round(td["value_s"], 3), "s", "≤ 2", td["value_s"] <= 2.0),
+              goal("dawson: value + gradient / value", round(td["ratio"], 2), "×", "≤ 4", td["ratio"] <= 4.0)]
+    save("panel", {"machine": machine(), "wigley": w, "models": rows, "speed": t, "speed_dawson": td,
+                   "dawson_grid_kcs": grid, "goals": goals})
     for r in rows:
         print(r["hull"], r["fn"], {k: round(v * 1e3, 3) for k, v in r.items() if k.startswith("ct_")})
-    print(t)
+    print(t, td, grid)
 
 
 if __name__ == "__main__":

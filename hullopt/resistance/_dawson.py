@@ -36,7 +36,7 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from .._types import Draft, Speeds
 from ..constants import G, RHO_SEA
@@ -71,7 +71,7 @@ class FreeSurface(eqx.Module):
         return Panels(vertices=quad, draft=p[0, 0, 2])
 
 
-def free_surface(x_fore: Array, x_aft: Array, width: Array, z: Array, columns: int, rows: int,
+def free_surface(x_fore: ArrayLike, x_aft: ArrayLike, width: ArrayLike, z: ArrayLike, columns: int, rows: int,
                  waterline: tuple[Array, Array] | None = None) -> FreeSurface:
     """The port side's free surface z = ``z`` [m] from x = ``x_fore`` to ``x_aft`` [m] (``columns`` nodes, evenly
     spaced) and from the centreline — or the ``waterline`` (x ascending, half-breadth y) [m] beside the hull — to
