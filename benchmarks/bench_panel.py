@@ -74,6 +74,9 @@ def model_totals(spec, draft, scale, fn, nu, ct_tank, label):
         if m == "panel":
             rec["sinkage_model_m"] = float(cw.sinkage) / scale
             rec["trim_deg"] = float(np.degrees(cw.trim))
+        if m == "dawson":
+            rec["sinkage_dawson_model_m"] = float(cw.sinkage) / scale
+            rec["trim_dawson_deg"] = float(np.degrees(cw.trim))
     rec["form_factor"] = float(cw.form_factor)
     return rec
 

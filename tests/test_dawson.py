@@ -45,7 +45,7 @@ def _sphere_resistance(columns):
     k0 = G / u**2
     lam = 2 * np.pi / k0
     pan = Panels(jnp.asarray(_half_sphere(1.0, 16, 8, -f)), jnp.array(0.0))
-    r = 0.5 * RHO_SEA * u * u * float(dawson_flow(pan, free_surface(lam, -3 * lam, 2 * lam, 0.0, columns, 16),
+    r = 0.5 * RHO_SEA * u * u * float(dawson_flow(pan, free_surface(jnp.linspace(lam, -3 * lam, columns), 2 * lam, 0.0, 16),
                                                   jnp.array([k0])).drag[0])
     sec = lambda t: 1.0 / np.cos(t)  # noqa: E731
     want = 4 * np.pi * RHO_SEA * G * k0**3 * quad(lambda t: np.exp(-2 * k0 * f * sec(t) ** 2) * sec(t) ** 5,

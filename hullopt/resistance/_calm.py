@@ -55,7 +55,8 @@ class CalmWater(eqx.Module):
     r_a : (k,) correlation allowance R_A [N].
     total : (k,) R_T = (1 + k1)·R_F + R_APP + R_W + R_A [N].
     method : str, the wave-resistance method.
-    sinkage, trim : (k,) the panel method's double-body sinkage [m, down] and trim [rad, bow up]; None otherwise.
+    sinkage, trim : (k,) the panel methods' sinkage [m, down] and trim [rad, bow up] (``"panel"``: the double
+        body's; ``"dawson"``: with its waves); None otherwise.
     """
 
     fn: Float[Array, "*k"]
@@ -121,7 +122,8 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
     elif method == "michell":
         rw = michell_wave_resistance(sections, draft, u, n_levels=n_levels, panels=lambda_panels)
     elif method == "dawson":
-        rw = dawson_wave_resistance(sections, draft, u, stations=stations, girth=girth).r_wave
+        panel = dawson_wave_resistance(sections, draft, u, stations=stations, girth=girth)
+        rw = panel.r_wave
     else:
         panel = panel_wave_resistance(sections, draft, u, stations=stations, girth=girth,
                                       lambda_panels=lambda_panels)

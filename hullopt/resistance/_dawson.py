@@ -41,7 +41,8 @@ from jaxtyping import Array, ArrayLike, Float
 from .._types import Draft, Speeds
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, safe_norm
-from ._panel import GIRTH, STATIONS, Panels, _images, _velocities, double_body_flow, hull_panels, source_velocity
+from ._panel import (GIRTH, STATIONS, Panels, _images, _velocities, double_body_flow, hull_panels, source_velocity,
+                     squat)
 
 UPSTREAM = 0.5  # free-surface grid ahead of the bow [L]
 DOWNSTREAM = 1.0  # behind the stern [L]
@@ -71,12 +72,12 @@ class FreeSurface(eqx.Module):
         return Panels(vertices=quad, draft=p[0, 0, 2])
 
 
-def free_surface(x_fore: ArrayLike, x_aft: ArrayLike, width: ArrayLike, z: ArrayLike, columns: int, rows: int,
+def free_surface(x: ArrayLike, width: ArrayLike, z: ArrayLike, rows: int,
                  waterline: tuple[Array, Array] | None = None) -> FreeSurface:
-    """The port side's free surface z = ``z`` [m] from x = ``x_fore`` to ``x_aft`` [m] (``columns`` nodes, evenly
-    spaced) and from the centreline — or the ``waterline`` (x ascending, half-breadth y) [m] beside the hull — to
+    """The port side's free surface z = ``z`` [m] on the columns ``x`` [m] (descending: along the stream) and
+    from the centreline — or the ``waterline`` (x ascending, half-breadth y) [m] beside the hull — to
     y = ``width`` [m] (``rows`` nodes, finer inboard: η^1.5)."""
-    x = jnp.linspace(x_fore, x_aft, columns)
+    x = jnp.asarray(x)
     y_in = jnp.zeros_like(x)
     if waterline is not None:
         xw, yw = waterline
@@ -89,13 +90,20 @@ def free_surface(x_fore: ArrayLike, x_aft: ArrayLike, width: ArrayLike, z: Array
 def hull_surface(hull: Panels, stations: int, girth: int, columns: int, rows: int, upstream: float = UPSTREAM,
                  downstream: float = DOWNSTREAM, width: float = WIDTH) -> FreeSurface:
     """:func:`free_surface` fitted to the hull panels' waterline (:func:`._panel.hull_panels`' top corners),
-    ``upstream``, ``downstream`` and ``width`` in wet lengths L."""
+    ``upstream``, ``downstream`` and ``width`` in wet lengths L: ``columns`` nodes about evenly spaced, with
+    nodes on the hull's ends (so the waterline's ends, a transom's edge, do not move with the grid)."""
     wl = hull.vertices[: (stations - 1) * girth].reshape(stations - 1, girth, 4, 3)[:, -1]
     xw = jnp.concatenate([wl[:, 0, 0], wl[-1:, 3, 0]])  # aft to fore
     yw = jnp.concatenate([wl[:, 1, 1], wl[-1:, 2, 1]])
     length = xw[-1] - xw[0]
-    return free_surface(xw[-1] + upstream * length, xw[0] - downstream * length, width * length, hull.draft,
-                        columns, rows, (xw, yw))
+    total = upstream + 1.0 + downstream
+    n_up = max(1, round((columns - 1) * upstream / total))
+    n_hull = max(2, round((columns - 1) / total))
+    n_down = columns - 1 - n_up - n_hull
+    x = jnp.concatenate([xw[-1] + upstream * length * (1.0 - jnp.arange(n_up, dtype=xw.dtype) / n_up),
+                         xw[-1] - length * jnp.arange(n_hull, dtype=xw.dtype) / n_hull,
+                         xw[0] - downstream * length * jnp.arange(n_down + 1, dtype=xw.dtype) / n_down])
+    return free_surface(x, width * length, hull.draft, rows, (xw, yw))
 
 
 def _upstream_d(s: Array, points: int = 4) -> Array:
@@ -199,6 +207,10 @@ class DawsonResult(eqx.Module):
     ----------
     r_wave : (k,) float
         Wave resistance R_w [N].
+    sinkage : (k,) float
+        Sinkage at the centre of flotation [m], positive down, from the hull pressure (not iterated).
+    trim : (k,) float
+        Trim [rad], positive bow up.
     zeta : (k, nx − 1, ny − 1) float
         Free-surface elevation ζ [m], up positive, at ``centres``.
     centres : (nx − 1, ny − 1, 3) float
@@ -206,6 +218,8 @@ class DawsonResult(eqx.Module):
     """
 
     r_wave: Float[Array, "*k"]
+    sinkage: Float[Array, "*k"]
+    trim: Float[Array, "*k"]
     zeta: Float[Array, "*k nx ny"]
     centres: Float[Array, "nx ny 3"]
 
@@ -235,7 +249,8 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
     Returns
     -------
     DawsonResult
-        ``r_wave`` of ``speed``'s shape, ``zeta`` (speed's shape + the grid's), ``centres``.
+        ``r_wave``, ``sinkage``, ``trim`` of ``speed``'s shape, ``zeta`` (speed's shape + the grid's),
+        ``centres``.
     """
     hull = hull_panels(sections, draft, stations, girth)
     surface = hull_surface(hull, stations, girth, columns, rows)
@@ -245,7 +260,9 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
     u2 = jnp.where(ok, flat * flat, 1.0)
     flow = dawson_flow(hull, surface, g / u2, points)
     r = jnp.where(ok, 0.5 * rho * u2 * flow.drag, 0.0)
+    sink, trim = jax.vmap(lambda cp, h: squat(hull, cp, h, stations, girth))(flow.cp, 0.5 * u2 / g)
     zeta = jnp.where(ok[:, None, None], flow.zeta * (u2 / g)[:, None, None], 0.0)
     shape = jnp.shape(u)
-    return DawsonResult(r_wave=r.reshape(shape), zeta=zeta.reshape(shape + zeta.shape[1:]),
+    return DawsonResult(r_wave=r.reshape(shape), sinkage=jnp.where(ok, sink, 0.0).reshape(shape),
+                        trim=jnp.where(ok, trim, 0.0).reshape(shape), zeta=zeta.reshape(shape + zeta.shape[1:]),
                         centres=surface.panels.centre.reshape(zeta.shape[1:] + (3,)))

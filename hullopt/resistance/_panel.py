@@ -407,6 +407,18 @@ def _waterplane(panels: Panels, stations: int, girth: int):
     return awp, xf, ix
 
 
+def squat(panels: Panels, cp: Float[Array, " N"], head: Float[ArrayLike, ""], stations: int,
+          girth: int) -> tuple[Array, Array]:
+    """Sinkage [m, down] at the centre of flotation and trim [rad, bow up] from the hull pressure ``cp`` (N,)
+    [per ½ρU²] at ``head`` = U²/(2g) [m], against the waterplane's area and longitudinal moment of inertia
+    (``panels`` from :func:`hull_panels` with ``stations``, ``girth``; not iterated)."""
+    w = panels.area_vector * panels.real[:, None]
+    awp, xf, ix = _waterplane(panels, stations, girth)
+    fz = -2.0 * jnp.sum(cp * w[:, 2])  # both sides; per ½ρU², upward positive
+    my = -2.0 * jnp.sum(cp * (w[:, 2] * (panels.centre[:, 0] - xf)))  # about the centre of flotation, bow up
+    return -safe_div(head * fz, awp), safe_div(head * my, ix)
+
+
 def panel_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rho: float = RHO_SEA, g: float = G,
                           stations: int = STATIONS, girth: int = GIRTH, lambda_panels: int = 256,
                           lam_max: float = LAMBDA_MAX) -> PanelResult:
@@ -445,11 +457,6 @@ def panel_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rh
     panels = hull_panels(sections, draft, stations, girth)
     sigma, vel = double_body_flow(panels)
     cp = 1.0 - jnp.sum(vel * vel, -1)  # pressure coefficient of the double body (per ½ρU²)
-    w = panels.area_vector * panels.real[:, None]
-    fz = -2.0 * jnp.sum(cp * w[:, 2])  # both sides; per ½ρU², upward positive
-    xc = panels.centre[:, 0]
-    awp, xf, ix = _waterplane(panels, stations, girth)
-    my = -2.0 * jnp.sum(cp * (w[:, 2] * (xc - xf)))  # about the centre of flotation, bow up positive
     lam, wts = lambda_nodes(lambda_panels, lam_max)
     speed = jnp.asarray(speed, dtype=sections.yz.dtype)
 
@@ -458,9 +465,7 @@ def panel_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rh
         u2 = jnp.where(ok, u * u, 1.0)
         s = kelvin_spectrum(panels, sigma, g / u2, lam)
         r = rho * g * g / (jnp.pi * u2) * jnp.sum(wts * (s.real**2 + s.imag**2))
-        q = 0.5 * u2 / g  # ½ρU²/(ρg)
-        sink = -safe_div(q * fz, awp)
-        trim = safe_div(q * my, ix)
+        sink, trim = squat(panels, cp, 0.5 * u2 / g, stations, girth)
         return jnp.where(ok, r, 0.0), jnp.where(ok, sink, 0.0), jnp.where(ok, trim, 0.0)
 
     flat = jnp.reshape(speed, (-1,))

@@ -141,8 +141,9 @@ def resistance(
                         f"c_w_{m}": rw / (0.5 * 1025.0 * u[i] ** 2 * s)})
         if "holtrop" in methods:
             rec.update(r_w=float(hm.wave[i]), r_b=float(hm.bulb[i]), r_tr=float(hm.transom[i]))
-        if "panel" in out:
-            rec.update(sinkage_panel=float(out["panel"].sinkage[i]), trim_panel=float(out["panel"].trim[i]))
+        for m in ("panel", "dawson"):
+            if m in out:
+                rec.update({f"sinkage_{m}": float(out[m].sinkage[i]), f"trim_{m}": float(out[m].trim[i])})
         records.append(rec)
     invalid = outside_validity(particulars, max(r["fn"] for r in records))
     for msg in disagreements(records, methods, invalid):
