@@ -75,6 +75,11 @@ def _quoted_numbers():
                     f"(its C_W alone {_sci(kcs['cw_panel'], 1)}); its sinkage {1e3 * kcs['sinkage_model_m']:.1f} mm "
                     f"(tank {1e3 * kcs['sinkage_tank_m']:.1f} mm) and trim {_minus(format(kcs['trim_deg'], '.2f'))}° "
                     f"(tank {_minus(format(kcs['trim_tank_deg'], '.2f'))}°)")
+    d41 = next(m for m in models if m["hull"] == "DTMB 5415" and m["fn"] == pytest.approx(0.41))
+    yield methods, (f"Dawson's method: KCS {_sci(kcs['ct_dawson'], 2)} ({rel(kcs, 'ct_dawson')}), DTMB 5415 at Fn "
+                    f"{dtmb['fn']:.2f} {rel(dtmb, 'ct_dawson')} and at Fn {d41['fn']:.2f} {rel(d41, 'ct_dawson')}; its "
+                    f"KCS sinkage {1e3 * kcs['sinkage_dawson_model_m']:.1f} mm and trim "
+                    f"{_minus(format(kcs['trim_dawson_deg'], '.2f'))}°.")
 
     # thresholds the docs state are the code's own
     from hullopt.resistance._calm import DISAGREE

@@ -16,7 +16,7 @@ R_W is the wave resistance by the chosen method:
   full hulls (no viscous wake, no double-body free-surface condition) — see ``benchmarks/README.md``.
 * ``"dawson"`` — Dawson's method (:mod:`._dawson`): the same hull panels plus free-surface panels, the free
   surface linearised about the double-body flow, so the waves of the slowed flow at a full hull's bow and run are
-  not overstated; the method for full and bulbous hulls (≈ 20× the panel method's time).
+  not overstated; the method for full and bulbous hulls (≈ 2× the panel method's time a speed).
 
 With ``"holtrop"`` the total is Holtrop & Mennen's own; the totals differ in R_W only.
 """
@@ -139,8 +139,8 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
 def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
     """Each method of :data:`METHODS` that is outside its validity on ``hull`` at Froude number ``fn``, with
     why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb:
-    uniform-stream Kelvin waves overpredict its waves several-fold — KCS 5–7×), Holtrop–Mennen outside its
-    data (Cp 0.55–0.85, Fn ≤ 0.45).
+    uniform-stream Kelvin waves overpredict its waves several-fold — KCS 5–10×; Dawson's method is the one for
+    it), Holtrop–Mennen outside its data (Cp 0.55–0.85, Fn ≤ 0.45).
 
     Parameters
     ----------
@@ -159,7 +159,8 @@ def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
     bulb = float(hull.A_BT) > 0.0
     out = {}
     if cb > 0.55 or bulb:
-        why = f"Cb {cb:.2f}{' with a bulb' if bulb else ''}: linear Kelvin waves overpredict a full hull's"
+        why = (f"Cb {cb:.2f}{' with a bulb' if bulb else ''}: linear Kelvin waves overpredict a full hull's; "
+               "dawson sees its slowed flow")
         out.update(michell=why, panel=why)
     if not 0.55 <= cp <= 0.85 or fn > 0.45:
         out["holtrop"] = f"Cp {cp:.2f}, Fn {fn:.2f}: outside its data (Cp 0.55–0.85, Fn ≤ 0.45)"

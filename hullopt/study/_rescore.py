@@ -1,5 +1,5 @@
 """A second opinion on a study's designs: each design and the parent re-scored by every calm-water method
-(Holtrop–Mennen, Michell, the panel method) and every added-resistance method a naval architect compares (NMRI,
+(Holtrop–Mennen, Michell, the panel method, and Dawson's on a full or bulbous parent: :func:`calm_methods`) and every added-resistance method a naval architect compares (NMRI,
 SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In each kind the
 run claims a gain in (the objective's, and a Pareto sweep's measure's) a gain counts only if a method other
 than the objective's own finds the design lower than the parent at the profile (by more than :data:`HOLDS`: a
@@ -22,8 +22,7 @@ import numpy as np
 
 from ..constants import KNOT
 from ..models import FeatureParams
-from ..resistance import METHODS as CALM_METHODS
-from ..resistance import calm_water
+from ..resistance import calm_water, holtrop_hull, outside_validity
 from ..waves import mean_added_resistance
 from ._config import RunConfig
 from ._problem import Problem
@@ -111,7 +110,15 @@ CONDITIONS = ((1.0, 0.0), *((f, 0.0) for f in SPEED_FACTORS if f != 1.0), *((1.0
 T_p (calm water sees only the first three)."""
 
 
-def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool):
+def calm_methods(sections, draft: float) -> tuple[str, ...]:
+    """The calm-water methods a study re-scores by: Holtrop–Mennen, Michell and the panel method, and Dawson's
+    where the parent is full or bulbous (there Kelvin's waves, Michell's and the panel method's, are outside
+    their validity; on a slender hull Dawson's would add its cost and no independent view)."""
+    kelvin_invalid = "panel" in outside_validity(holtrop_hull(sections, draft), 0.0)
+    return ("holtrop", "michell", "panel") + (("dawson",) if kelvin_invalid else ())
+
+
+def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool, calm: tuple[str, ...]):
     """Every method's value [N] of the parent and each design (stacked on a leading axis) in each condition of
     :data:`CONDITIONS` ``(1 + k, 5)``: calm-water R_T and, when ``waves``, the mean R_AW, each the profile's
     weighted mean (the points without a sea state, ``hs`` 0, add no R_AW)."""
@@ -124,7 +131,7 @@ def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves:
     def one(p):
         s = model(p)
         out = {f"calm_{m}": jax.vmap(lambda f, m=m: calm_water(s, draft, f * speeds, m).total @ w)(factors)
-               for m in CALM_METHODS}
+               for m in calm}
         if waves:
             for m in RESCORE_WAVES:
                 def point(f, dt, u, h, t, a, m=m):
@@ -171,7 +178,8 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             d.draft, np.asarray(cond["speeds_kn"], float) * KNOT, np.asarray(cond["weights"], float), hs, tp,
             np.radians(heading))
     waves = bool(np.any(hs > 0))
-    values = jax.device_get(cached_call("rescore", _program, args, (waves,), key=[key, "rescore"]))
+    calm = calm_methods(d.model(prob.p0), d.draft)
+    values = jax.device_get(cached_call("rescore", _program, args, (waves, calm), key=[key, "rescore"]))
     own = _own_method(cfg)
     methods = {}
     for name, v in values.items():
