@@ -20,7 +20,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._types import Draft
 from ..constants import KNOT
+from ..geometry import Sections
 from ..models import FeatureParams
 from ..resistance import calm_water, holtrop_hull, outside_validity
 from ..waves import mean_added_resistance
@@ -110,7 +112,7 @@ CONDITIONS = ((1.0, 0.0), *((f, 0.0) for f in SPEED_FACTORS if f != 1.0), *((1.0
 T_p (calm water sees only the first three)."""
 
 
-def calm_methods(sections, draft: float) -> tuple[str, ...]:
+def calm_methods(sections: Sections, draft: Draft) -> tuple[str, ...]:
     """The calm-water methods a study re-scores by: Holtrop–Mennen, Michell and the panel method, and Dawson's
     where the parent is full or bulbous (there Kelvin's waves, Michell's and the panel method's, are outside
     their validity; on a slender hull Dawson's would add its cost and no independent view)."""
