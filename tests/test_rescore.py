@@ -94,3 +94,22 @@ def test_an_objective_that_is_the_sum_is_confirmed_by_a_pair_of_methods():
     assert held and "michell + snnm -5.00 % (worst -0.50 %)" in text and "michell + nmri" not in text
     values["waves_snnm"][1, 4] = 111.0  # now 201 > 200 off the profile
     assert not _total_holds(values, methods, 0)[0]
+
+
+def test_a_method_outside_its_validity_confirms_nothing():
+    """On a full hull the Kelvin panel method (outside its validity) finding a design lower does not confirm the
+    objective's (Michell's) gain when Dawson's and Holtrop's find it higher: the warning names both, and the
+    excluded one as not counted."""
+    from hullopt.study._rescore import _confirmed
+
+    def method(name, change, own=False, invalid=None):
+        return {"kind": "calm", "method": name, "own": own, "outside_validity": invalid, "change_pct": [change],
+                "worst_pct": [change], "holds": [change <= 0.1]}
+
+    methods = {m["method"]: m for m in (method("michell", -5.0, own=True, invalid="Cb 0.64"),
+                                        method("panel", -3.6, invalid="Cb 0.64"), method("holtrop", 0.2),
+                                        method("dawson", 0.9))}
+    held, warning = _confirmed(methods, "calm", 0, claimed=True)
+    assert not held and "dawson +0.90 %" in warning and "not counted, outside their validity on the parent: panel -3.60 %" in warning
+    methods["panel"]["outside_validity"] = None
+    assert _confirmed(methods, "calm", 0, claimed=True) == (True, None)

@@ -59,20 +59,23 @@ def test_table_and_range(capsys):
 
 @pytest.mark.slow
 def test_all_methods_plot_and_warning(capsys, tmp_path):
-    """Every method on one convention (the totals differ in R_W only), the panel method's sinkage and trim,
-    the plots written (curves, Kelvin pattern), and the KCS's warning: Michell and the panel method several times Holtrop–Mennen on a full
-    bulbous hull, named as outside their validity."""
+    """Every method on one convention (the totals differ in R_W only), the panel methods' sinkage and trim,
+    the plots written (curves, Dawson's wave pattern), and the KCS's warning: Michell and the Kelvin panel
+    method several times Holtrop–Mennen on a full bulbous hull, named as outside their validity; Dawson's
+    method a third of the Kelvin one's or less, and not named."""
     code, out, err = run(capsys, "examples/hulls/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230", "--draft",
                          "10.8", "--speed", "20,24", "--json", "--plot", str(tmp_path / "r.png"), "--pattern",
                          str(tmp_path / "w.png"))
     assert code == 0 and (tmp_path / "r.png").stat().st_size > 10_000 and (tmp_path / "w.png").stat().st_size > 10_000
     for r in json.loads(out):
         base = r["form_factor"] * r["r_f"] + r["r_app"] + r["r_a"]
-        for m in ("holtrop", "michell", "panel"):
+        for m in ("holtrop", "michell", "panel", "dawson"):
             assert r[f"r_total_{m}"] == pytest.approx(base + r[f"r_wave_{m}"], rel=1e-12)
         assert r["r_wave_panel"] > 3 * r["r_wave_holtrop"] and r["sinkage_panel"] > 0 and r["trim_panel"] < 0
+        assert r["r_wave_dawson"] < r["r_wave_panel"] / 3 and r["sinkage_dawson"] > 0 and r["trim_dawson"] < 0
     assert "michell is outside its validity (Cb 0.64 with a bulb" in " ".join(err.split())
     assert "panel is outside its validity" in " ".join(err.split())
+    assert "dawson is outside" not in " ".join(err.split())
 
 
 @pytest.mark.parametrize("args,needle", [

@@ -698,7 +698,9 @@ def rescored_table(report: dict) -> str:
     rows = []
     for name, m in methods.items():
         what = ("calm water R_T" if m["kind"] == "calm" else "waves mean R_AW") + f": {m['method']}"
-        cells = [_e(what + (" (the objective's)" if m["own"] else "")), f"{m['parent'] / 1e3:.2f}"]
+        note = " (the objective's)" if m["own"] else ""
+        note += " (outside its validity on the parent: confirms nothing)" if m.get("outside_validity") else ""
+        cells = [_e(what + note), f"{m['parent'] / 1e3:.2f}"]
         for k in range(n):
             text = f"{m['change_pct'][k]:+.2f} / {m['worst_pct'][k]:+.2f}"
             cells.append(_e(text) if m["holds"][k] else f'<span class="warn">{_e(text)} ✗</span>')

@@ -1,12 +1,13 @@
 """A second opinion on a study's designs: each design and the parent re-scored by every calm-water method
-(Holtrop–Mennen, Michell, the panel method, and Dawson's on a full or bulbous parent: :func:`calm_methods`) and every added-resistance method a naval architect compares (NMRI,
-SNNM, STAWAVE-2), over the config's operating profile and off it (±10 % speed, ±2 s T_p). In each kind the
-run claims a gain in (the objective's, and a Pareto sweep's measure's) a gain counts only if a method other
-than the objective's own finds the design lower than the parent at the profile (by more than :data:`HOLDS`: a
+(Holtrop–Mennen, Michell, the panel method, and Dawson's on a full or bulbous parent: :func:`calm_methods`)
+and every added-resistance method a naval architect compares (NMRI, SNNM, STAWAVE-2), over the config's
+operating profile and off it (±10 % speed, ±2 s T_p). In each kind the run claims a gain in (the objective's,
+and a Pareto sweep's measure's) a gain counts only if a method other than the objective's own, and inside its
+validity on the parent, finds the design lower than the parent at the profile (by more than :data:`HOLDS`: a
 method blind to the change confirms nothing) and nowhere higher off it; in the other kind, if one finds it
 nowhere higher. Where the objective is the sum of both (an operating profile with sea states) its gain counts
-only if a pair of methods, not both the objective's own, finds the sum so. Each design where that fails is
-warned of.
+only if a pair of such methods, not both the objective's own, finds the sum so. Each design where that fails
+is warned of.
 
 The operating points (:func:`conditions`): an operating-profile objective's own, else the objective's speeds
 with the sea state of the objective or of the sweep's measure. Each method's value is the profile's weighted
@@ -21,7 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._types import Draft
-from ..constants import KNOT
+from ..constants import G, KNOT
 from ..geometry import Sections
 from ..models import FeatureParams
 from ..resistance import calm_water, holtrop_hull, outside_validity
@@ -65,12 +66,33 @@ def _combined(cfg: RunConfig) -> bool:
     return o is not None and o.kind in ("profile_resistance", "profile_power") and o.build().waves
 
 
+def _confirmed(methods: dict, kind: str, k: int, claimed: bool) -> tuple[bool, str | None]:
+    """Whether design ``k`` holds in ``kind`` under a method other than the run's own and inside its validity
+    (``claimed``: the run claims a gain there, which such a method must find; else it must find no loss), and
+    the warning where it does not."""
+    others = [m for m in methods.values() if m["kind"] == kind and not m["own"]]
+    independent = [m for m in others if not m.get("outside_validity")]
+    what = "calm-water resistance" if kind == "calm" else "added resistance in waves"
+    worst = ", ".join(f"{m['method']} {m['change_pct'][k]:+.2f} % (worst {m['worst_pct'][k]:+.2f} %)"
+                      for m in independent)
+    if len(independent) < len(others):
+        worst += "; not counted, outside their validity on the parent: " + ", ".join(
+            f"{m['method']} {m['change_pct'][k]:+.2f} %" for m in others if m.get("outside_validity"))
+    if claimed:
+        held = any(m["holds"][k] and m["change_pct"][k] < -100.0 * HOLDS for m in independent)
+        return held, None if held else (f"design {k}: its gain in {what} is not confirmed by any independent method "
+                                        f"(lower than the parent's at the profile, and nowhere higher off it): {worst}")
+    held = any(m["holds"][k] for m in independent)
+    return held, None if held else (f"design {k}: no independent method finds its {what} at or below the parent's "
+                                    f"in every condition of the profile and off it: {worst}")
+
+
 def _total_holds(values: dict, methods: dict, k: int) -> tuple[bool, str]:
     """Whether design ``k``'s calm-water R_T plus mean R_AW (each the profile's weighted mean) is lower than the
     parent's at the profile by more than :data:`HOLDS` and nowhere higher off it, under a pair of methods
     other than the objective's own pair; and the pairs' changes as text."""
     held, parts = False, []
-    for c, m_c in ((n, m) for n, m in methods.items() if m["kind"] == "calm"):
+    for c, m_c in ((n, m) for n, m in methods.items() if m["kind"] == "calm" and not m.get("outside_validity")):
         for w, m_w in ((n, m) for n, m in methods.items() if m["kind"] == "waves"):
             if m_c["own"] and m_w["own"]:
                 continue
@@ -112,12 +134,14 @@ CONDITIONS = ((1.0, 0.0), *((f, 0.0) for f in SPEED_FACTORS if f != 1.0), *((1.0
 T_p (calm water sees only the first three)."""
 
 
-def calm_methods(sections: Sections, draft: Draft) -> tuple[str, ...]:
-    """The calm-water methods a study re-scores by: Holtrop–Mennen, Michell and the panel method, and Dawson's
-    where the parent is full or bulbous (there Kelvin's waves, Michell's and the panel method's, are outside
-    their validity; on a slender hull Dawson's would add its cost and no independent view)."""
-    kelvin_invalid = "panel" in outside_validity(holtrop_hull(sections, draft), 0.0)
-    return ("holtrop", "michell", "panel") + (("dawson",) if kelvin_invalid else ())
+def calm_methods(sections: Sections, draft: Draft, fn: float) -> tuple[tuple[str, ...], dict[str, str]]:
+    """The calm-water methods a study re-scores by, and those of them outside their validity on the parent
+    ``sections`` at ``draft`` up to Froude number ``fn`` (with why): Holtrop–Mennen, Michell and the panel
+    method, and Dawson's where the parent is full or bulbous (there Kelvin's waves, Michell's and the panel
+    method's, are outside their validity; on a slender hull Dawson's would add its cost and no independent
+    view). A method outside its validity is shown but confirms no gain."""
+    invalid = outside_validity(holtrop_hull(sections, draft), fn)
+    return ("holtrop", "michell", "panel") + (("dawson",) if "panel" in invalid else ()), invalid
 
 
 def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool, calm: tuple[str, ...]):
@@ -180,7 +204,9 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             d.draft, np.asarray(cond["speeds_kn"], float) * KNOT, np.asarray(cond["weights"], float), hs, tp,
             np.radians(heading))
     waves = bool(np.any(hs > 0))
-    calm = calm_methods(d.model(prob.p0), d.draft)
+    parent = d.model(prob.p0)
+    fn = max(SPEED_FACTORS) * float(np.max(args[4])) / float(np.sqrt(G * float(holtrop_hull(parent, d.draft).L)))
+    calm, invalid = calm_methods(parent, d.draft, fn)
     values = jax.device_get(cached_call("rescore", _program, args, (waves, calm), key=[key, "rescore"]))
     own = _own_method(cfg)
     methods = {}
@@ -191,6 +217,7 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
         change = 100.0 * (v[1:] / v[:1] - 1.0)
         methods[name] = {
             "kind": kind, "method": method, "own": own[kind] == method, "unit": "N",
+            "outside_validity": invalid.get(method) if kind == "calm" else None,
             "parent": float(v[0, 0]), "designs": [float(x) for x in v[1:, 0]],
             "change_pct": [float(x) for x in change[:, 0]],
             "worst_pct": [float(x) for x in change.max(axis=1)],
@@ -208,22 +235,10 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             verdict.append(row)
             continue
         for kind in ("calm", "waves"):
-            independent = [m for m in methods.values() if m["kind"] == kind and not m["own"]]
-            if not independent:
-                continue
-            what = "calm-water resistance" if kind == "calm" else "added resistance in waves"
-            worst = ", ".join(f"{m['method']} {m['change_pct'][k]:+.2f} % (worst {m['worst_pct'][k]:+.2f} %)"
-                              for m in independent)
-            if own[kind] is not None:  # a kind the run claims a gain in: seen by an independent method too
-                row[kind] = any(m["holds"][k] and m["change_pct"][k] < -100.0 * HOLDS for m in independent)
-                if not row[kind]:
-                    warnings.append(f"design {k}: its gain in {what} is not confirmed by any independent method "
-                                    f"(lower than the parent's at the profile, and nowhere higher off it): {worst}")
-            else:  # a kind it claims nothing in: no loss
-                row[kind] = any(m["holds"][k] for m in independent)
-                if not row[kind]:
-                    warnings.append(f"design {k}: no independent method finds its {what} at or below the "
-                                    f"parent's in every condition of the profile and off it: {worst}")
+            if any(m["kind"] == kind and not m["own"] for m in methods.values()):
+                row[kind], warning = _confirmed(methods, kind, k, own[kind] is not None)
+                if warning:
+                    warnings.append(warning)
         verdict.append(row)
     rescored = {"conditions": {**cond, "speed_factors": list(SPEED_FACTORS), "tp_shifts_s": list(TP_SHIFTS)},
                 "methods": methods, "verdict": verdict}

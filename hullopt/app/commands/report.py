@@ -70,7 +70,8 @@ def _print_rescored(r: dict) -> None:
     """Each method's parent value and each design's change at the nominal condition and at its worst."""
     methods = r["methods"]
     n = len(next(iter(methods.values()))["designs"])
-    rows = [[f"{m['kind']}: {m['method']}" + (" (objective's)" if m["own"] else ""), m["parent"] / 1e3,
+    rows = [[f"{m['kind']}: {m['method']}" + (" (objective's)" if m["own"] else "")
+             + (" (outside its validity)" if m.get("outside_validity") else ""), m["parent"] / 1e3,
              *(f"{m['change_pct'][k]:+.2f} / {m['worst_pct'][k]:+.2f}" + ("" if m["holds"][k] else " ✗")
                for k in range(n))] for m in methods.values()]
     table("Re-scored by independent methods (change against the parent: nominal / worst condition [%])",
