@@ -657,7 +657,7 @@ h1{font-size:1.6em;margin-bottom:.2em}h2{font-size:1.2em;margin-top:1.6em;border
 table{border-collapse:collapse;margin:.5em 0;font-size:.92em}th,td{padding:.25em .8em;border-bottom:1px solid #eee}
 th{text-align:left;background:#f6f6f6}td{font-variant-numeric:tabular-nums}td:not(:first-child){text-align:right}
 .ok{color:#1a7f37}.bad{color:#c62828;font-weight:bold}.warn{background:#fff6e0;border-left:4px solid #f0a020;
-padding:.5em 1em}.plot{margin:.5em 0}.grid{display:grid;grid-template-columns:1fr 1fr;gap:1em}
+padding:.5em 1em}td .warn{padding:.1em .3em;white-space:nowrap}.plot{margin:.5em 0}.grid{display:grid;grid-template-columns:1fr 1fr;gap:1em}
 @media (max-width:900px){.grid{grid-template-columns:1fr}}
 """
 
@@ -699,7 +699,7 @@ def rescored_table(report: dict) -> str:
     for name, m in methods.items():
         what = ("calm water R_T" if m["kind"] == "calm" else "waves mean R_AW") + f": {m['method']}"
         note = " (the objective's)" if m["own"] else ""
-        note += " (outside its validity on the parent: confirms nothing)" if m.get("outside_validity") else ""
+        note += " (outside its validity: not counted)" if m.get("outside_validity") else ""
         cells = [_e(what + note), f"{m['parent'] / 1e3:.2f}"]
         for k in range(n):
             text = f"{m['change_pct'][k]:+.2f} / {m['worst_pct'][k]:+.2f}"

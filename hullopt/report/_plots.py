@@ -495,10 +495,15 @@ def plot_rescored_fronts(rescored: dict, path: Path, met: list[bool] | None = No
                 ax.annotate(str(k), pts[k + 1], xytext=(3, 2), textcoords="offset points", fontsize=7, color="0.25")
             ax.grid(alpha=0.3)
             ax.margins(0.12)
+            for values, limits in ((pts[:, 0], ax.set_xlim), (pts[:, 1], ax.set_ylim)):
+                mid = float(np.mean(values))
+                if np.ptp(values) < 1e-4 * abs(mid):  # a method blind to the change: no offset ticks
+                    limits(mid - 0.005 * abs(mid), mid + 0.005 * abs(mid))
             if i == len(calm) - 1:
                 ax.set_xlabel(f"R_AW by {w['method'].upper()} [kN]")
             if j == 0:
-                ax.set_ylabel(f"R_T by {c['method']} [kN]")
+                ax.set_ylabel(f"R_T by {c['method']} [kN]"
+                              + ("\n(outside its validity)" if c.get("outside_validity") else ""))
             ax.tick_params(labelsize=7)
     fig.suptitle("The designs (numbered) and the parent (★) under each pair of methods; blue: non-dominated under "
                  "that pair, grey: dominated, ×: targets not met", x=0.01, ha="left", fontsize=10)
