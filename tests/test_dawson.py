@@ -121,3 +121,15 @@ def test_dawson_gradient_matches_differences():
     ad = np.asarray(jax.grad(f)(jnp.asarray(p)))
     fd = fd_grad(f, p, h=1e-5)
     np.testing.assert_allclose(ad, fd, rtol=1e-4)
+
+
+def test_low_speed_is_outside_its_validity():
+    """Below FN_MIN (≈ 0.205: 10 grid columns a transverse wavelength 2πFn²L) the method says so, naming the
+    Froude number; above it nothing is said of it."""
+    from hullopt.resistance import holtrop_hull, outside_validity
+    from hullopt.resistance._dawson import FN_MIN
+
+    hull = holtrop_hull(wigley(100.0, 10.0, 6.25, 10.0, n=41, m=33), 6.25)
+    assert FN_MIN == pytest.approx(0.2047, abs=1e-3)
+    assert "Fn 0.15: below Fn 0.20" in outside_validity(hull, 0.3, 0.15)["dawson"]
+    assert "dawson" not in outside_validity(hull, 0.3, 0.25) and "dawson" not in outside_validity(hull, 0.3)

@@ -31,6 +31,7 @@ from .._types import Draft, Speeds
 from ..errors import HullError
 from ..geometry import Sections
 from ._holtrop import HoltropHull, holtrop_hull, holtrop_mennen
+from ._dawson import FN_MIN as DAWSON_FN_MIN
 from ._dawson import dawson_wave_resistance
 from ._michell import michell_wave_resistance
 from ._panel import GIRTH, STATIONS, panel_wave_resistance
@@ -136,11 +137,12 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
                      sinkage=None if panel is None else panel.sinkage, trim=None if panel is None else panel.trim)
 
 
-def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
+def outside_validity(hull: HoltropHull, fn: float, fn_min: float | None = None) -> dict[str, str]:
     """Each method of :data:`METHODS` that is outside its validity on ``hull`` at Froude number ``fn``, with
     why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb:
     uniform-stream Kelvin waves overpredict its waves several-fold — KCS 5–10×; Dawson's method is the one for
-    it), Holtrop–Mennen outside its data (Cp 0.55–0.85, Fn ≤ 0.45).
+    it), Holtrop–Mennen outside its data (Cp 0.55–0.85, Fn ≤ 0.45), Dawson's method below
+    :data:`._dawson.FN_MIN` when ``fn_min`` is given.
 
     Parameters
     ----------
@@ -148,6 +150,8 @@ def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
         The hull's particulars (concrete values).
     fn : float
         The highest Froude number asked for.
+    fn_min : float, optional
+        The lowest (Dawson's method below :data:`._dawson.FN_MIN`: its default grid too coarse for the waves).
 
     Returns
     -------
@@ -164,4 +168,7 @@ def outside_validity(hull: HoltropHull, fn: float) -> dict[str, str]:
         out.update(michell=why, panel=why)
     if not 0.55 <= cp <= 0.85 or fn > 0.45:
         out["holtrop"] = f"Cp {cp:.2f}, Fn {fn:.2f}: outside its data (Cp 0.55–0.85, Fn ≤ 0.45)"
+    if fn_min is not None and fn_min < DAWSON_FN_MIN:
+        out["dawson"] = (f"Fn {fn_min:.2f}: below Fn {DAWSON_FN_MIN:.2f} its free-surface grid has fewer than 10 "
+                         "columns a transverse wave, whose damping lowers C_W")
     return out

@@ -33,6 +33,8 @@ T.H. (1932) Proc. R. Soc. A 138, 339–348 (the submerged sphere, the test).
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -41,8 +43,8 @@ from jaxtyping import Array, ArrayLike, Float
 from .._types import Draft, Speeds
 from ..constants import G, RHO_SEA
 from ..geometry import Sections, safe_norm
-from ._panel import (GIRTH, STATIONS, Panels, _images, _velocities, double_body_flow, hull_panels, source_velocity,
-                     squat)
+from ._panel import (GIRTH, STATIONS, Panels, centre_velocities, double_body_flow, hull_panels, mirrored,
+                     source_velocity, squat)
 
 UPSTREAM = 0.5  # free-surface grid ahead of the bow [L]
 DOWNSTREAM = 1.0  # behind the stern [L]
@@ -50,6 +52,9 @@ WIDTH = 1.0  # beside the centreline [L]
 COLUMNS = 96  # free-surface grid nodes along the stream
 ROWS = 14  # and outwards
 POINTS = 3  # the upstream difference's points: second order
+FN_MIN = (10.0 * (UPSTREAM + 1.0 + DOWNSTREAM) / (2.0 * math.pi * (COLUMNS - 1))) ** 0.5
+"""The lowest Froude number at which the default grid has 10 columns a transverse wavelength 2πFn²L (≈ 0.205);
+below it the upstream difference's damping lowers C_W (Wigley at Fn 0.2: 0.28e-3, Michell's 0.89e-3)."""
 
 
 class FreeSurface(eqx.Module):
@@ -76,7 +81,26 @@ def free_surface(x: ArrayLike, width: ArrayLike, z: ArrayLike, rows: int,
                  waterline: tuple[Array, Array] | None = None) -> FreeSurface:
     """The port side's free surface z = ``z`` [m] on the columns ``x`` [m] (descending: along the stream) and
     from the centreline — or the ``waterline`` (x ascending, half-breadth y) [m] beside the hull — to
-    y = ``width`` [m] (``rows`` nodes, finer inboard: η^1.5)."""
+    y = ``width`` [m] (``rows`` nodes, finer inboard: η^1.5).
+
+    Parameters
+    ----------
+    x : (nx,) array_like
+        The grid's columns [m], from ahead of the body to behind it.
+    width : float
+        The grid's outer edge y [m].
+    z : float
+        The free surface's height [m] (the draft T above the baseline for a hull).
+    rows : int
+        Nodes from the inner edge to ``width``.
+    waterline : tuple of (m,) Array, optional
+        The hull's waterline (x ascending [m], half-breadth [m]): the inner edge beside the hull.
+
+    Returns
+    -------
+    FreeSurface
+        ``(nx, rows)`` nodes.
+    """
     x = jnp.asarray(x)
     y_in = jnp.zeros_like(x)
     if waterline is not None:
@@ -148,16 +172,33 @@ class DawsonFlow(eqx.Module):
 
 def dawson_flow(hull: Panels, surface: FreeSurface, k0: Float[Array, " k"], points: int = POINTS) -> DawsonFlow:
     """Solve Dawson's problem for the port ``hull`` panels (mirrored in y and in z = ``hull.draft``) and the
-    port ``surface`` (mirrored in y) at each k₀ = g/U² [1/m], per unit speed (the stream −x̂)."""
+    port ``surface`` (mirrored in y) at each k₀ = g/U² [1/m], per unit speed (the stream −x̂).
+
+    Parameters
+    ----------
+    hull : Panels
+        The port side's wet panels (:func:`._panel.hull_panels`, or any closed body's, e.g. a submerged one).
+    surface : FreeSurface
+        The port side's free-surface grid on z = ``hull.draft`` (:func:`free_surface`).
+    k0 : (k,) Array
+        g/U² [1/m] for each speed.
+    points : int
+        Points of the upstream difference (:func:`_upstream_d`; 3: second order).
+
+    Returns
+    -------
+    DawsonFlow
+        ``drag`` R_w/(½ρU²) [m²], the hull's ``cp`` and the free surface's ``zeta``·k₀, one row per k₀.
+    """
     sigma_db, vel_db = double_body_flow(hull)
     fp = surface.panels
     nh, nf = hull.vertices.shape[0], fp.vertices.shape[0]
     ncol, nrow = surface.nodes.shape[0] - 1, surface.nodes.shape[1] - 1
-    every_h = Panels(jnp.concatenate([im.vertices for im in _images(hull)]), hull.draft)
+    every_h = mirrored(hull)
     every_f = Panels(jnp.concatenate([fp.vertices, (fp.vertices * jnp.array([1.0, -1.0, 1.0]))[:, ::-1]]),
                      hull.draft)
     fold = lambda v, images: jnp.sum(v.reshape(v.shape[0], images, -1, 3), axis=1)  # noqa: E731
-    v_hh = _velocities(hull)  # (nh, nh, 3) hull centres ← hull sources (with images)
+    v_hh = centre_velocities(hull)  # (nh, nh, 3) hull centres ← hull sources (with images)
     v_hf = fold(source_velocity(hull.centre, every_f), 2)  # hull centres ← free-surface sources
     v_fh = fold(source_velocity(fp.centre, every_h), 4)
     v_ff = fold(source_velocity(fp.centre, every_f, own=True), 2)

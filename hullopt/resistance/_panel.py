@@ -265,24 +265,24 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     return jnp.where(panels.real[None, :, None] > 0.0, v, 0.0)  # a collapsed panel induces nothing
 
 
-def _images(panels: Panels) -> list[Panels]:
-    """The port panels and their mirrors (starboard, above the waterplane, both), corners re-ordered so every
-    image's normal points out of its own image of the hull."""
+def mirrored(panels: Panels) -> Panels:
+    """The port panels and their mirrors (starboard, above the waterplane z = ``panels.draft``, both), stacked
+    in that order (4N panels), corners re-ordered so every image's normal points out of its own image of the
+    hull."""
     v = panels.vertices
     t = panels.draft
     ys = v * jnp.array([1.0, -1.0, 1.0])
     zs = v.at[..., 2].set(2.0 * t - v[..., 2])
     yzs = zs * jnp.array([1.0, -1.0, 1.0])
     flip = lambda w: w[:, ::-1]  # noqa: E731  a mirror turns the winding
-    return [panels, Panels(flip(ys), t), Panels(flip(zs), t), Panels(yzs, t)]
+    return Panels(jnp.concatenate([v, flip(ys), flip(zs), yzs]), t)
 
 
-def _velocities(panels: Panels) -> Float[Array, "N N 3"]:
+def centre_velocities(panels: Panels) -> Float[Array, "N N 3"]:
     """Velocity at each panel centroid from unit σ on each panel and its three images (N, N, 3): the images
     stacked into one panel set (one program, not four), the own panel first (its diagonal is the own limit)."""
     n = panels.vertices.shape[0]
-    every = Panels(jnp.concatenate([im.vertices for im in _images(panels)]), panels.draft)
-    v = source_velocity(panels.centre, every, own=True)
+    v = source_velocity(panels.centre, mirrored(panels), own=True)
     return jnp.sum(v.reshape(n, 4, n, 3), axis=1)
 
 
@@ -303,7 +303,7 @@ def double_body_flow(panels: Panels) -> tuple[Float[Array, " N"], Float[Array, "
         The total velocity at the centroids [per m/s of speed]: the stream plus the sources'.
     """
     real = panels.real > 0.0
-    v = _velocities(panels)
+    v = centre_velocities(panels)
     a = jnp.sum(v * panels.normal[:, None, :], axis=-1)
     a = jnp.where(real[:, None] & real[None, :], a, jnp.eye(a.shape[0], dtype=a.dtype))
     sigma = jnp.linalg.solve(a, jnp.where(real, panels.normal[:, 0], 0.0))

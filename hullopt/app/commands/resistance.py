@@ -150,7 +150,9 @@ def resistance(
             if m in out:
                 rec.update({f"sinkage_{m}": float(out[m].sinkage[i]), f"trim_{m}": float(out[m].trim[i])})
         records.append(rec)
-    invalid = outside_validity(particulars, max(r["fn"] for r in records))
+    invalid = outside_validity(particulars, max(r["fn"] for r in records), min(r["fn"] for r in records))
+    if "dawson" in methods and "dawson" in invalid:
+        warn(f"dawson is outside its validity ({invalid['dawson']})")
     for msg in disagreements(records, methods, invalid):
         warn(msg)
     if plot is not None:
