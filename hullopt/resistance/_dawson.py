@@ -131,7 +131,7 @@ def hull_surface(hull: Panels, stations: int, girth: int, columns: int, rows: in
 
 
 def _upstream_d(s: Array, points: int = 4) -> Array:
-    """Dawson's upstream operator on each grid line: weights (nx, points) so that ∂f/∂l at node i ≈
+    """The upstream difference on each grid line: weights (nx, points) so that ∂f/∂l at node i ≈
     Σ_k w_k f_{i−k} (k = 0..points−1, i − k upstream; missing upstream points are the undisturbed stream, f = 0),
     exact for polynomials of degree points − 1 on the (uneven) spacing ``s`` (nx,) [m] along the line."""
     n = s.shape[0]
