@@ -331,16 +331,16 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
 
 
 def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Path:
-    """The wave pattern ζ(x, y) [m] in plan view, port side up.
+    """The Kelvin wave pattern ζ(x, y) [m] in plan view, port side up.
 
     The hull's waterline length is marked and the 19.47° Kelvin wedge from the bow dashed.
 
     Parameters
     ----------
-    x : array_like, (nx,) or (nx, ny)
-        Longitudinal positions [m from the AP], the ship moving to +x (2-D: a body-fitted grid's).
-    y : array_like, (ny,) or (nx, ny)
-        Transverse positions [m] (port up); their least and greatest are the axis's limits.
+    x : array_like, (nx,)
+        Longitudinal positions [m from the AP], the ship moving to +x.
+    y : array_like, (ny,)
+        Transverse positions [m] (port up); ``y[0]`` and ``y[-1]`` are the axis's limits.
     zeta : array_like, (nx, ny)
         Wave elevation [m].
     lpp : float
@@ -357,17 +357,12 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Pa
     """
     fig, ax = _figure(figsize=(11, 4.5))
     m = float(np.percentile(np.abs(zeta), 99.5)) or 1.0
-    x, y = np.asarray(x), np.asarray(y)
-    if x.ndim == 2:
-        im = ax.pcolormesh(x, y, np.asarray(zeta), cmap="RdBu_r", vmin=-m, vmax=m, shading="gouraud")
-        x = x[:, 0]
-    else:
-        im = ax.pcolormesh(x, y, np.asarray(zeta).T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")
+    im = ax.pcolormesh(x, y, np.asarray(zeta).T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")
     ax.plot([0.0, lpp], [0.0, 0.0], color="k", lw=4, solid_capstyle="butt")
-    wedge = np.tan(np.radians(19.47)) * (lpp - x)
-    ax.plot(x, np.where(x <= lpp, wedge, np.nan), "k--", lw=0.7, label="Kelvin wedge 19.47°")
+    wedge = np.tan(np.radians(19.47)) * (lpp - np.asarray(x))
+    ax.plot(x, np.where(np.asarray(x) <= lpp, wedge, np.nan), "k--", lw=0.7, label="Kelvin wedge 19.47°")
     ax.set_aspect("equal")
-    ax.set_ylim(float(y.min()), float(y.max()))
+    ax.set_ylim(float(y[0]), float(y[-1]))
     ax.set_xlabel("x from the AP [m] (the ship moves to the right)")
     ax.set_ylabel("y [m]")
     ax.legend(loc="upper right", fontsize=8)

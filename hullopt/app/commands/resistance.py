@@ -18,7 +18,6 @@ from ...resistance import (
     DISAGREE,
     METHODS,
     calm_water,
-    dawson_wave_resistance,
     holtrop_hull,
     holtrop_mennen,
     outside_validity,
@@ -66,12 +65,10 @@ def parse_methods(text: str) -> tuple[str, ...]:
 
 
 @eqx.filter_jit
-def _evaluate(sections, draft, speeds, methods, n_levels, pattern=False):
-    """The calm-water parts by each method, Holtrop–Mennen's own parts, and with ``pattern`` Dawson's wave
-    pattern at the first speed (None otherwise; its solve is the calm-water one's, merged by XLA)."""
+def _evaluate(sections, draft, speeds, methods, n_levels):
+    """The calm-water parts by each method, and Holtrop–Mennen's own parts."""
     out = {m: calm_water(sections, draft, speeds, m, n_levels=n_levels, lambda_panels=256) for m in methods}
-    waves = dawson_wave_resistance(sections, draft, speeds[:1]) if pattern else None
-    return out, holtrop_mennen(holtrop_hull(sections, draft), speeds), waves
+    return out, holtrop_mennen(holtrop_hull(sections, draft), speeds)
 
 
 def disagreements(records: list[dict], methods, invalid: dict[str, str]) -> list[str]:
@@ -105,9 +102,8 @@ def resistance(
     levels: Annotated[int, typer.Option(help="Heights from the keel to the draft sampled by Michell's integral.")] = 33,
     plot: Annotated[Path | None, typer.Option(help="Draw R_T and P_E against speed and C_W against Fn, each "
                                                    "method's curve (.png, .svg, .pdf).")] = None,
-    pattern: Annotated[Path | None, typer.Option(help="Draw the wave pattern at the first speed (.png, .svg, .pdf): "
-                                                      "Dawson's where it is among the methods, else the panel "
-                                                      "method's far-field Kelvin waves.")] = None,
+    pattern: Annotated[Path | None, typer.Option(help="Draw the panel method's Kelvin wave pattern at the first "
+                                                      "speed (.png, .svg, .pdf).")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: a list with one record per speed (SI: N, W, m/s).")] = False,
 ) -> None:
     """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
@@ -130,8 +126,7 @@ def resistance(
         draft = h.design_draft
     t = h.check_draft(draft)
     u = knots * KNOT
-    out, hm, dawson = _evaluate(h.sections, t, jnp.asarray(u), methods, levels,
-                                pattern is not None and "dawson" in methods)
+    out, hm = _evaluate(h.sections, t, jnp.asarray(u), methods, levels)
     particulars = holtrop_hull(h.sections, t)
     s = float(particulars.S)
     records = []
@@ -163,15 +158,10 @@ def resistance(
         from ...report import plot_wave_pattern
 
         lpp = float(h.sections.lpp)
-        when = f"{knots[0]:g} kn (Fn {records[0]['fn']:.3f}), T {t:g} m"
-        if dawson is not None:
-            c = np.asarray(dawson.centres)
-            plot_wave_pattern(c[..., 0], c[..., 1], np.asarray(dawson.zeta[0]), lpp, pattern,
-                              title=f"{h.name} — waves by Dawson's method, {when}")
-        else:
-            x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
-            zeta = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y))
-            plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — Kelvin waves by the panel method, {when}")
+        x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
+        zeta = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y))
+        plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — Kelvin waves by the panel method, "
+                          f"{knots[0]:g} kn (Fn {records[0]['fn']:.3f}), T {t:g} m")
     if json:
         print_json(records)
         return
