@@ -19,6 +19,7 @@ from ._calm import CalmWater as CalmWater
 from ._calm import calm_water as calm_water
 from ._calm import check_method as check_method
 from ._calm import outside_validity as outside_validity
+from ._calm import transom_caveat as transom_caveat
 from ._calm import DISAGREE as DISAGREE
 from ._panel import wave_pattern as wave_pattern
 from ._dawson import DawsonFlow as DawsonFlow

@@ -137,6 +137,20 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
                      sinkage=None if panel is None else panel.sinkage, trim=None if panel is None else panel.trim)
 
 
+def transom_caveat(hull: HoltropHull) -> str | None:
+    """Why Dawson's R_W is low on ``hull`` (an immersed transom, A_T > 0), else None (numpy; for warnings).
+
+    Its panels close the transom wet, so the double-body flow stagnates behind it and the waves of the flow
+    leaving a dry transom's edge are missing (no dry-transom condition). Measured on the DTMB 5415: C_W 0.3× the
+    peer WARP's at Fn 0.28, 0.7× at 0.41; model C_T −15 % and −30 % of the tank. Its ranking of the hull's
+    variants still agrees with WARP's (Spearman 0.90, benchmarks/README.md), so changes stay comparable.
+    """
+    if float(hull.A_T) <= 0.0:
+        return None
+    return (f"immersed transom (A_T {float(hull.A_T):.3g} m²): dawson has no dry-transom condition, its R_W is low "
+            "(DTMB 5415: C_T −15 % of the tank at Fn 0.28, −30 % at 0.41); compare variants by it, not totals")
+
+
 def outside_validity(hull: HoltropHull, fn: float, fn_min: float | None = None) -> dict[str, str]:
     """Each method of :data:`METHODS` that is outside its validity on ``hull`` at Froude number ``fn``, with
     why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb:

@@ -9,9 +9,10 @@ sources' change δσ_h and the free-surface sources σ_f, satisfies
     hull:          ∂φ/∂n = 0,
     free surface:  Φ_l² ∂_l(φ_l) + 2 Φ_l Φ_ll φ_l + g φ_z = −Φ_l² Φ_ll                         (Dawson 1977)
 
-φ_l and φ_z from the panels' velocities at the free-surface panels' centres (the hull and its mirror induce no
-φ_z on z = T, coplanar panels none either: φ_z is a panel's own −σ_f/2), Φ_ll by central differences of the known
-Φ_l, and ∂_l by an upstream difference along each grid line, which carries the radiation condition (no waves
+Φ_l is the double body's speed |∇Φ| and φ_l the perturbation's velocity along ∇Φ, both from the panels'
+velocities at the free-surface panels' centres; φ_z too (the hull and its mirror induce none on z = T, coplanar
+panels none either: φ_z is a panel's own −σ_f/2). Φ_ll by central differences of Φ_l, and ∂_l by an upstream
+difference along each grid line, which carries the radiation condition (no waves
 ahead: the perturbation vanishes upstream of the grid). The difference is second order (three points): the
 four-point one exact for cubics lets the KCS's transverse waves grow downstream (they double over a ship
 length), the two-point one damps them out within a wavelength. A dense solve a speed; its VJP is one transposed
@@ -22,8 +23,12 @@ C_p = 1 − |∇φ_total|²/U² (the double body's integrates to zero; on flat p
 elevation ζ = (U² − |∇φ_total|²)/(2g) on z = T.
 
 Why this beside :mod:`._panel`: Kelvin's condition there (and Michell's) sees the full stream speed everywhere;
-Dawson's sees the slowed flow at a full hull's bow and run, whose waves the former overstate several-fold
-(KCS: C_W 4.8e-3 against ≈ 0.5e-3).
+Dawson's sees the slowed flow at a full hull's bow and run, whose waves the former overstate many-fold
+(KCS: C_W 4.8e-3 against Dawson's 0.17e-3).
+
+No dry-transom condition: an immersed transom is closed by panels, wet, and the double-body flow stagnates
+behind it, so the waves of the flow leaving a dry transom's edge are missing (DTMB 5415: C_W 0.3× the peer
+WARP's at Fn 0.28; :func:`._calm.transom_caveat`).
 
 References: Dawson, C.W. (1977) A practical computer method for solving ship-wave problems. Proc. 2nd Int. Conf.
 Numer. Ship Hydrodyn., Berkeley, 30–38. Raven, H.C. (1996) A solution method for the nonlinear ship wave
@@ -255,9 +260,8 @@ class DawsonResult(eqx.Module):
     trim : (k,) float
         Trim [rad], positive bow up.
     zeta : (k, nx − 1, ny − 1) float
-        Free-surface elevation ζ [m], up positive, at ``centres``. Near the hull only: away from it the
-        pattern is not Kelvin's (transverse waves across the grid's whole width, outside the 19.47° wedge,
-        ±4 m at 1 L behind the KCS at 24 kn; with 28 rows the same) — not validated, not drawn by the CLI.
+        Free-surface elevation ζ [m], up positive, at ``centres``: Kelvin's pattern, its waves within the
+        19.47° wedge (KCS, tests/test_dawson.py); not compared with measured wave cuts.
     centres : (nx − 1, ny − 1, 3) float
         The free-surface panels' centres [m] (port side; i along the stream from ahead of the bow).
     """
@@ -271,7 +275,8 @@ class DawsonResult(eqx.Module):
 
 def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rho: float = RHO_SEA,
                            g: float = G, stations: int = STATIONS, girth: int = GIRTH, columns: int = COLUMNS,
-                           rows: int = ROWS, points: int = POINTS) -> DawsonResult:
+                           rows: int = ROWS, points: int = POINTS, downstream: float = DOWNSTREAM,
+                           width: float = WIDTH) -> DawsonResult:
     """Wave resistance R_w [N] and the wave pattern by Dawson's method at ``speed`` U [m/s].
 
     Parameters
@@ -290,6 +295,8 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
         Free-surface grid nodes along the stream and outwards (:func:`hull_surface`).
     points : int
         Points of the upstream difference (:func:`_upstream_d`).
+    downstream, width : float
+        The free surface's extent behind the stern and beside the centreline [wet lengths L].
 
     Returns
     -------
@@ -298,7 +305,7 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
         ``centres``.
     """
     hull = hull_panels(sections, draft, stations, girth)
-    surface = hull_surface(hull, stations, girth, columns, rows)
+    surface = hull_surface(hull, stations, girth, columns, rows, downstream=downstream, width=width)
     u = jnp.asarray(speed, dtype=hull.vertices.dtype)
     flat = jnp.reshape(u, (-1,))
     ok = flat > 0.0

@@ -21,6 +21,7 @@ from ...resistance import (
     holtrop_hull,
     holtrop_mennen,
     outside_validity,
+    transom_caveat,
     wave_pattern,
 )
 from ...study import load_hull
@@ -148,6 +149,8 @@ def resistance(
     invalid = outside_validity(particulars, max(r["fn"] for r in records), min(r["fn"] for r in records))
     if "dawson" in methods and "dawson" in invalid:
         warn(f"dawson is outside its validity ({invalid['dawson']})")
+    if "dawson" in methods and (caveat := transom_caveat(particulars)):
+        warn(caveat)
     for msg in disagreements(records, methods, invalid):
         warn(msg)
     if plot is not None:
