@@ -337,10 +337,10 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Pa
 
     Parameters
     ----------
-    x : array_like, (nx,)
-        Longitudinal positions [m from the AP], the ship moving to +x.
-    y : array_like, (ny,)
-        Transverse positions [m] (port up); ``y[0]`` and ``y[-1]`` are the axis's limits.
+    x : array_like, (nx,) or (nx, ny)
+        Longitudinal positions [m from the AP], the ship moving to +x: a regular grid's, or each point's.
+    y : array_like, (ny,) or (nx, ny)
+        Transverse positions [m] (port up), likewise; the axis spans their range.
     zeta : array_like, (nx, ny)
         Wave elevation [m].
     lpp : float
@@ -357,12 +357,17 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Pa
     """
     fig, ax = _figure(figsize=(11, 4.5))
     m = float(np.percentile(np.abs(zeta), 99.5)) or 1.0
-    im = ax.pcolormesh(x, y, np.asarray(zeta).T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")
+    x, y, zeta = np.asarray(x), np.asarray(y), np.asarray(zeta)
+    if x.ndim == 2:  # a curvilinear grid (Dawson's, body-fitted)
+        im = ax.pcolormesh(x, y, zeta, cmap="RdBu_r", vmin=-m, vmax=m, shading="gouraud")
+    else:
+        im = ax.pcolormesh(x, y, zeta.T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")
     ax.plot([0.0, lpp], [0.0, 0.0], color="k", lw=4, solid_capstyle="butt")
-    wedge = np.tan(np.radians(19.47)) * (lpp - np.asarray(x))
-    ax.plot(x, np.where(np.asarray(x) <= lpp, wedge, np.nan), "k--", lw=0.7, label="Kelvin wedge 19.47°")
+    xs = np.linspace(x.min(), min(x.max(), lpp), 50)
+    ax.plot(xs, np.tan(np.radians(19.47)) * (lpp - xs), "k--", lw=0.7, label="Kelvin wedge 19.47°")
     ax.set_aspect("equal")
-    ax.set_ylim(float(y[0]), float(y[-1]))
+    ax.set_xlim(x.min(), x.max())
+    ax.set_ylim(min(0.0, float(y.min())), float(y.max()))
     ax.set_xlabel("x from the AP [m] (the ship moves to the right)")
     ax.set_ylabel("y [m]")
     ax.legend(loc="upper right", fontsize=8)

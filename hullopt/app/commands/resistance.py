@@ -18,6 +18,7 @@ from ...resistance import (
     DISAGREE,
     METHODS,
     calm_water,
+    dawson_wave_resistance,
     holtrop_hull,
     holtrop_mennen,
     outside_validity,
@@ -103,8 +104,9 @@ def resistance(
     levels: Annotated[int, typer.Option(help="Heights from the keel to the draft sampled by Michell's integral.")] = 33,
     plot: Annotated[Path | None, typer.Option(help="Draw R_T and P_E against speed and C_W against Fn, each "
                                                    "method's curve (.png, .svg, .pdf).")] = None,
-    pattern: Annotated[Path | None, typer.Option(help="Draw the panel method's Kelvin wave pattern at the first "
-                                                      "speed (.png, .svg, .pdf).")] = None,
+    pattern: Annotated[Path | None, typer.Option(help="Draw the wave pattern at the first speed: Dawson's when "
+                                                      "--method has dawson (all does), else the panel method's "
+                                                      "Kelvin waves (.png, .svg, .pdf).")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: a list with one record per speed (SI: N, W, m/s).")] = False,
 ) -> None:
     """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
@@ -161,10 +163,15 @@ def resistance(
         from ...report import plot_wave_pattern
 
         lpp = float(h.sections.lpp)
-        x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
-        zeta = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y))
-        plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — Kelvin waves by the panel method, "
-                          f"{knots[0]:g} kn (Fn {records[0]['fn']:.3f}), T {t:g} m")
+        if "dawson" in methods:  # on its own free-surface grid; the near field included
+            d = dawson_wave_resistance(h.sections, t, float(u[0]))
+            x, y, zeta, by = np.asarray(d.centres[..., 0]), np.asarray(d.centres[..., 1]), np.asarray(d.zeta), \
+                "Dawson's method"
+        else:  # the far field of the panel method's sources
+            x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
+            zeta, by = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y)), "Kelvin waves by the panel method"
+        plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — {by}, {knots[0]:g} kn "
+                          f"(Fn {records[0]['fn']:.3f}), T {t:g} m")
     if json:
         print_json(records)
         return
