@@ -60,7 +60,7 @@ def test_table_and_range(capsys):
 @pytest.mark.slow
 def test_all_methods_plot_and_warning(capsys, tmp_path):
     """Every method on one convention (the totals differ in R_W only), the panel methods' sinkage and trim,
-    the plots written (curves, Kelvin pattern), and the KCS's warning: Michell and the Kelvin panel
+    the plots written (curves, Dawson's wave pattern), and the KCS's warning: Michell and the Kelvin panel
     method several times Holtrop–Mennen on a full bulbous hull, named as outside their validity; Dawson's
     method a third of the Kelvin one's or less, and not named."""
     code, out, err = run(capsys, "examples/hulls/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230", "--draft",

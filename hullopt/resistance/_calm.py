@@ -144,6 +144,16 @@ def transom_caveat(hull: HoltropHull) -> str | None:
     leaving a dry transom's edge are missing (no dry-transom condition). Measured on the DTMB 5415: C_W 0.3× the
     peer WARP's at Fn 0.28, 0.7× at 0.41; model C_T −15 % and −30 % of the tank. Its ranking of the hull's
     variants still agrees with WARP's (Spearman 0.90, benchmarks/README.md), so changes stay comparable.
+
+    Parameters
+    ----------
+    hull : HoltropHull
+        The hull's particulars (concrete values); ``A_T`` the immersed transom area [m²].
+
+    Returns
+    -------
+    str or None
+        The caveat's text, or None without an immersed transom.
     """
     if float(hull.A_T) <= 0.0:
         return None
