@@ -210,7 +210,7 @@ def dawson_flow(hull: Panels, surface: FreeSurface, k0: Float[Array, " k"], poin
     # l: the double body's streamlines (towards downstream), differenced along the grid lines that stand for them.
     # Φ_l is the double body's speed, not its part along a grid line: a line that bends across the stream (the
     # waterline's offsets carried outwards) would make Φ_ll of its bends a forcing across the whole width —
-    # transverse waves outside Kelvin's wedge and an R_w that moved 20 % with the grid (KCS, 2.7× too large).
+    # transverse waves outside Kelvin's wedge, R_w 8–30 % with the grid's extent (KCS: 2.7× too large).
     c = fp.centre.reshape(ncol, nrow, 3)
     step = safe_norm(c[1:] - c[:-1])  # (ncol − 1, nrow)
     s = jnp.concatenate([jnp.zeros((1, nrow), c.dtype), jnp.cumsum(step, axis=0)], axis=0)
