@@ -12,6 +12,7 @@ import pytest
 from scipy.integrate import quad
 
 from hullopt.constants import G, RHO_SEA
+from hullopt.errors import HullError
 from hullopt.geometry import wetted_surface
 from hullopt.models import load_hull, wigley
 from hullopt.resistance import (Panels, calm_water, dawson_flow, dawson_wave_resistance, free_surface, holtrop_hull,
@@ -168,3 +169,10 @@ def test_an_immersed_transom_is_named():
     dtmb = holtrop_hull(load_hull(f"{HULLS}/dtmb5415_navaltoolbox_fullscale.stl.gz?lpp=142").sections, 6.15)
     kcs = holtrop_hull(load_hull(f"{HULLS}/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230").sections, 10.8)
     assert "immersed transom (A_T 4.6" in transom_caveat(dtmb) and transom_caveat(kcs) is None
+
+
+@pytest.mark.parametrize("kw", [{"columns": 4}, {"rows": 2}, {"width": 0.0}, {"downstream": -1.0}])
+def test_a_bad_grid_is_one_clear_error(kw):
+    h = wigley(100.0, 10.0, 6.25, 10.0, n=21, m=9)
+    with pytest.raises(HullError, match=f"dawson: .*{next(iter(kw))}"):
+        dawson_wave_resistance(h, 6.25, 9.0, **kw)

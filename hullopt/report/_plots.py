@@ -331,7 +331,7 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
 
 
 def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Path:
-    """The Kelvin wave pattern ζ(x, y) [m] in plan view, port side up.
+    """The wave pattern ζ(x, y) [m] in plan view, port side up.
 
     The hull's waterline length is marked and the 19.47° Kelvin wedge from the bow dashed.
 

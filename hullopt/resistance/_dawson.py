@@ -47,6 +47,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from .._types import Draft, Speeds
 from ..constants import G, RHO_SEA
+from ..errors import HullError
 from ..geometry import Sections, safe_norm
 from ._panel import (GIRTH, STATIONS, Panels, centre_velocities, double_body_flow, hull_panels, mirrored,
                      source_velocity, squat)
@@ -304,6 +305,10 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
         ``r_wave``, ``sinkage``, ``trim`` of ``speed``'s shape, ``zeta`` (speed's shape + the grid's),
         ``centres``.
     """
+    if not (isinstance(columns, int) and isinstance(rows, int) and columns >= 8 and rows >= 3
+            and downstream > 0 and width > 0):
+        raise HullError(f"dawson: columns {columns!r} ≥ 8 and rows {rows!r} ≥ 3 (integers), downstream "
+                        f"{downstream!r} > 0 and width {width!r} > 0 [L] expected")
     hull = hull_panels(sections, draft, stations, girth)
     surface = hull_surface(hull, stations, girth, columns, rows, downstream=downstream, width=width)
     u = jnp.asarray(speed, dtype=hull.vertices.dtype)

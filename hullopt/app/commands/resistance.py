@@ -67,10 +67,12 @@ def parse_methods(text: str) -> tuple[str, ...]:
 
 
 @eqx.filter_jit
-def _evaluate(sections, draft, speeds, methods, n_levels):
-    """The calm-water parts by each method, and Holtrop–Mennen's own parts."""
+def _evaluate(sections, draft, speeds, methods, n_levels, pattern=False):
+    """The calm-water parts by each method, Holtrop–Mennen's own parts, and with ``pattern`` Dawson's wave
+    pattern at the first speed (None otherwise; its solve is the calm-water one's, merged by XLA)."""
     out = {m: calm_water(sections, draft, speeds, m, n_levels=n_levels, lambda_panels=256) for m in methods}
-    return out, holtrop_mennen(holtrop_hull(sections, draft), speeds)
+    waves = dawson_wave_resistance(sections, draft, speeds[:1]) if pattern else None
+    return out, holtrop_mennen(holtrop_hull(sections, draft), speeds), waves
 
 
 def disagreements(records: list[dict], methods, invalid: dict[str, str]) -> list[str]:
@@ -129,7 +131,8 @@ def resistance(
         draft = h.design_draft
     t = h.check_draft(draft)
     u = knots * KNOT
-    out, hm = _evaluate(h.sections, t, jnp.asarray(u), methods, levels)
+    out, hm, dawson = _evaluate(h.sections, t, jnp.asarray(u), methods, levels,
+                                pattern is not None and "dawson" in methods)
     particulars = holtrop_hull(h.sections, t)
     s = float(particulars.S)
     records = []
@@ -163,10 +166,9 @@ def resistance(
         from ...report import plot_wave_pattern
 
         lpp = float(h.sections.lpp)
-        if "dawson" in methods:  # on its own free-surface grid; the near field included
-            d = dawson_wave_resistance(h.sections, t, float(u[0]))
-            x, y, zeta, by = np.asarray(d.centres[..., 0]), np.asarray(d.centres[..., 1]), np.asarray(d.zeta), \
-                "Dawson's method"
+        if dawson is not None:  # on its own free-surface grid; the near field included
+            c = np.asarray(dawson.centres)
+            x, y, zeta, by = c[..., 0], c[..., 1], np.asarray(dawson.zeta[0]), "Dawson's method"
         else:  # the far field of the panel method's sources
             x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
             zeta, by = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y)), "Kelvin waves by the panel method"
