@@ -330,7 +330,7 @@ def plot_resistance(records: list[dict], methods, path: Path, title: str = "") -
     return _save(fig, path)
 
 
-def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Path:
+def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "", wake=None) -> Path:
     """The wave pattern ζ(x, y) [m] in plan view, port side up.
 
     The hull's waterline length is marked and the 19.47° Kelvin wedge from the bow dashed.
@@ -349,6 +349,8 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Pa
         The image file (PNG; :func:`hullopt.drawing.save_figure`).
     title : str
         The title.
+    wake : tuple of three (nw, nr) array_like, optional
+        A second curvilinear grid's x, y, ζ [m] drawn alike (Dawson's wake grid behind a transom).
 
     Returns
     -------
@@ -360,6 +362,8 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "") -> Pa
     x, y, zeta = np.asarray(x), np.asarray(y), np.asarray(zeta)
     if x.ndim == 2:  # a curvilinear grid (Dawson's, body-fitted)
         im = ax.pcolormesh(x, y, zeta, cmap="RdBu_r", vmin=-m, vmax=m, shading="gouraud")
+        if wake is not None:
+            ax.pcolormesh(*(np.asarray(a) for a in wake), cmap="RdBu_r", vmin=-m, vmax=m, shading="gouraud")
     else:
         im = ax.pcolormesh(x, y, zeta.T, cmap="RdBu_r", vmin=-m, vmax=m, shading="auto")
     ax.plot([0.0, lpp], [0.0, 0.0], color="k", lw=4, solid_capstyle="butt")

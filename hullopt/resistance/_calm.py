@@ -16,7 +16,8 @@ R_W is the wave resistance by the chosen method:
   full hulls (no viscous wake, no double-body free-surface condition) — see ``benchmarks/README.md``.
 * ``"dawson"`` — Dawson's method (:mod:`._dawson`): the same hull panels plus free-surface panels, the free
   surface linearised about the double-body flow, so the waves of the slowed flow at a full hull's bow and run are
-  not overstated; the method for full and bulbous hulls (≈ 2× the panel method's time a speed).
+  not overstated; the method for full and bulbous hulls (≈ 2× the panel method's time a speed). An immersed
+  transom runs dry: its lost hydrostatic thrust is in R_W, as Holtrop & Mennen's R_TR is in theirs.
 
 With ``"holtrop"`` the total is Holtrop & Mennen's own; the totals differ in R_W only.
 """
@@ -138,12 +139,12 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
 
 
 def transom_caveat(hull: HoltropHull) -> str | None:
-    """Why Dawson's R_W is low on ``hull`` (an immersed transom, A_T > 0), else None (numpy; for warnings).
+    """What Dawson's method assumes of ``hull``'s immersed transom (A_T > 0), else None (numpy; for warnings).
 
-    Its panels close the transom wet, so the double-body flow stagnates behind it and the waves of the flow
-    leaving a dry transom's edge are missing (no dry-transom condition). Measured on the DTMB 5415: C_W 0.3× the
-    peer WARP's at Fn 0.28, 0.7× at 0.41; model C_T −15 % and −30 % of the tank. Its ranking of the hull's
-    variants still agrees with WARP's (Spearman 0.90, benchmarks/README.md), so changes stay comparable.
+    It takes the transom dry — the flow leaving its lower edge clean (from F_nT = U/√(g d_T) = 5; below, the
+    water behind it raised by WARP's dead-water rule) — and starts the wake's waves from there, but does not
+    pin the hollow behind it: the water rises at once. Measured on the DTMB 5415: C_W 0.6× the peer WARP's at
+    Fn 0.28, 0.85× at 0.41; model C_T −9 % and −26 % of the tank (WARP's −21 % at 0.41; benchmarks/README.md).
 
     Parameters
     ----------
@@ -157,8 +158,9 @@ def transom_caveat(hull: HoltropHull) -> str | None:
     """
     if float(hull.A_T) <= 0.0:
         return None
-    return (f"immersed transom (A_T {float(hull.A_T):.3g} m²): dawson has no dry-transom condition, its R_W is low "
-            "(DTMB 5415: C_T −15 % of the tank at Fn 0.28, −30 % at 0.41); compare variants by it, not totals")
+    return (f"immersed transom (A_T {float(hull.A_T):.3g} m²): dawson takes it dry (the flow leaving its edge clean; "
+            "partly wet below F_nT 5) without the hollow behind it — DTMB 5415: C_W 0.6× WARP's at Fn 0.28, "
+            "C_T −9 % of the tank; compare variants by it rather than totals")
 
 
 def outside_validity(hull: HoltropHull, fn: float, fn_min: float | None = None) -> dict[str, str]:

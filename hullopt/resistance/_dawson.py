@@ -26,14 +26,23 @@ Why this beside :mod:`._panel`: Kelvin's condition there (and Michell's) sees th
 Dawson's sees the slowed flow at a full hull's bow and run, whose waves the former overstate many-fold
 (KCS: C_W 4.8e-3 against Dawson's 0.17e-3).
 
-No dry-transom condition: an immersed transom is closed by panels, wet, and the double-body flow stagnates
-behind it, so the waves of the flow leaving a dry transom's edge are missing (DTMB 5415: C_W 0.3× the peer
-WARP's at Fn 0.28; :func:`._calm.transom_caveat`).
+A dry transom (where the hull has an immersed one, A_T > 0 as Holtrop–Mennen's; :class:`Transom`): the hull is
+open at its aft end section, so the double-body flow passes the transom's edge instead of stagnating on a closed
+face; the transom's hydrostatic thrust, lost when it runs dry, is added to R_w (as WARP does); and the free
+surface behind it is a wake grid of its own, whose lines start from the transom: their upstream difference takes
+the water at the edge's depth (and along the bottom's run) where the main grid's takes the undisturbed stream.
+Below a transom Froude number U/√(g d_T) of 5 the depth is scaled by (F_nT/5)², the dead water behind a partly
+wet transom (WARP's rule). Prescribing the elevation itself in the first wake columns, as WARP does, made the
+dense system singular here (a flat panel's own in-plane velocity is nil): ζ of −50 to −900 m there. The start
+does not pin the hollow behind the transom — the water rises at once — so C_W is 0.6× WARP's on the DTMB 5415
+at Fn 0.28 (0.3× without the condition), 0.85× at 0.41 (benchmarks/README.md).
 
 References: Dawson, C.W. (1977) A practical computer method for solving ship-wave problems. Proc. 2nd Int. Conf.
 Numer. Ship Hydrodyn., Berkeley, 30–38. Raven, H.C. (1996) A solution method for the nonlinear ship wave
-resistance problem, PhD thesis TU Delft (ch. 4, the linearised problem and its difference schemes). Havelock,
-T.H. (1932) Proc. R. Soc. A 138, 339–348 (the submerged sphere, the test).
+resistance problem, PhD thesis TU Delft (ch. 4, the linearised problem, its difference schemes and the transom
+flow). Nakos, D.E. & Sclavounos, P.D. (1994) Kelvin wakes and wave resistance of cruiser- and transom-stern
+ships, J. Ship Res. 38(1), 9–29. Havelock, T.H. (1932) Proc. R. Soc. A 138, 339–348 (the submerged sphere, the
+test).
 """
 
 from __future__ import annotations
@@ -48,7 +57,8 @@ from jaxtyping import Array, ArrayLike, Float
 from .._types import Draft, Speeds
 from ..constants import G, RHO_SEA
 from ..errors import HullError
-from ..geometry import Sections, safe_norm
+from ..geometry import Sections, safe_div, safe_norm
+from ..geometry._integrate import transom_area
 from ._panel import (GIRTH, STATIONS, Panels, centre_velocities, double_body_flow, hull_panels, mirrored,
                      source_velocity, squat)
 
@@ -57,7 +67,12 @@ DOWNSTREAM = 1.0  # behind the stern [L]
 WIDTH = 1.0  # beside the centreline [L]
 COLUMNS = 96  # free-surface grid nodes along the stream
 ROWS = 14  # and outwards
+WAKE = 3  # wake-grid panel rows across a transom's half-breadth
 POINTS = 3  # the upstream difference's points: second order
+FN_DRY = 5.0
+"""The transom Froude number U/√(g d_T) from which a transom runs dry (Holtrop 1984: its resistance R_TR vanishes
+there); below it the dry-transom condition's depth is scaled by (F_nT/FN_DRY)², the dead water behind a
+partly wet transom (as WARP's ``dryfr``)."""
 FN_MIN = (10.0 * (UPSTREAM + 1.0 + DOWNSTREAM) / (2.0 * math.pi * (COLUMNS - 1))) ** 0.5
 """The lowest Froude number at which the default grid has 10 columns a transverse wavelength 2πFn²L (≈ 0.205);
 below it the upstream difference's damping lowers C_W (Wigley at Fn 0.2: 0.28e-3, Michell's 0.89e-3)."""
@@ -84,10 +99,10 @@ class FreeSurface(eqx.Module):
 
 
 def free_surface(x: ArrayLike, width: ArrayLike, z: ArrayLike, rows: int,
-                 waterline: tuple[Array, Array] | None = None) -> FreeSurface:
+                 waterline: tuple[Array, Array] | None = None, inner: ArrayLike = 0.0) -> FreeSurface:
     """The port side's free surface z = ``z`` [m] on the columns ``x`` [m] (descending: along the stream) and
-    from the centreline — or the ``waterline`` (x ascending, half-breadth y) [m] beside the hull — to
-    y = ``width`` [m] (``rows`` nodes, finer inboard: η^1.5).
+    from the centreline — or the ``waterline`` (x ascending, half-breadth y) [m] beside the hull, and y =
+    ``inner`` [m] behind it — to y = ``width`` [m] (``rows`` nodes, finer inboard: η^1.5).
 
     Parameters
     ----------
@@ -101,6 +116,8 @@ def free_surface(x: ArrayLike, width: ArrayLike, z: ArrayLike, rows: int,
         Nodes from the inner edge to ``width``.
     waterline : tuple of (m,) Array, optional
         The hull's waterline (x ascending [m], half-breadth [m]): the inner edge beside the hull.
+    inner : float
+        The inner edge behind the hull [m] (a transom's half-breadth: the wake grid's, :func:`hull_surface`).
 
     Returns
     -------
@@ -112,28 +129,43 @@ def free_surface(x: ArrayLike, width: ArrayLike, z: ArrayLike, rows: int,
     if waterline is not None:
         xw, yw = waterline
         y_in = jnp.where((x >= xw[0]) & (x <= xw[-1]), jnp.interp(x, xw, yw), 0.0)
+        y_in = jnp.where(x < xw[0], inner, y_in)
     eta = jnp.linspace(0.0, 1.0, rows) ** 1.5
     y = y_in[:, None] + (width - y_in[:, None]) * eta[None, :]
     return FreeSurface(jnp.stack([jnp.broadcast_to(x[:, None], y.shape), y, jnp.full_like(y, z)], axis=-1))
 
 
+def waterline(hull: Panels, stations: int, girth: int) -> tuple[Array, Array]:
+    """The hull panels' (:func:`._panel.hull_panels`) waterline: x (stations,) [m], aft to fore, and the
+    half-breadth there [m]."""
+    wl = hull.vertices[: (stations - 1) * girth].reshape(stations - 1, girth, 4, 3)[:, -1]
+    return jnp.concatenate([wl[:, 0, 0], wl[-1:, 3, 0]]), jnp.concatenate([wl[:, 1, 1], wl[-1:, 2, 1]])
+
+
 def hull_surface(hull: Panels, stations: int, girth: int, columns: int, rows: int, upstream: float = UPSTREAM,
-                 downstream: float = DOWNSTREAM, width: float = WIDTH) -> FreeSurface:
+                 downstream: float = DOWNSTREAM, width: float = WIDTH,
+                 wake: int = WAKE, on: ArrayLike = True) -> tuple[FreeSurface, FreeSurface]:
     """:func:`free_surface` fitted to the hull panels' waterline (:func:`._panel.hull_panels`' top corners),
     ``upstream``, ``downstream`` and ``width`` in wet lengths L: ``columns`` nodes about evenly spaced, with
-    nodes on the hull's ends (so the waterline's ends, a transom's edge, do not move with the grid)."""
-    wl = hull.vertices[: (stations - 1) * girth].reshape(stations - 1, girth, 4, 3)[:, -1]
-    xw = jnp.concatenate([wl[:, 0, 0], wl[-1:, 3, 0]])  # aft to fore
-    yw = jnp.concatenate([wl[:, 1, 1], wl[-1:, 2, 1]])
+    nodes on the hull's ends (so the waterline's ends, a transom's edge, do not move with the grid); and the wake
+    grid: ``wake`` rows of panels evenly across the transom's half-breadth b_T behind it, on the same columns
+    (the main grid's inner edge there at b_T) where ``on`` (an immersed transom); else a strip 10⁻³ L wide,
+    left without sources (:func:`dawson_flow`)."""
+    xw, yw = waterline(hull, stations, girth)
     length = xw[-1] - xw[0]
     total = upstream + 1.0 + downstream
     n_up = max(1, round((columns - 1) * upstream / total))
     n_hull = max(2, round((columns - 1) / total))
     n_down = columns - 1 - n_up - n_hull
+    behind = xw[0] - downstream * length * jnp.arange(n_down + 1, dtype=xw.dtype) / n_down
     x = jnp.concatenate([xw[-1] + upstream * length * (1.0 - jnp.arange(n_up, dtype=xw.dtype) / n_up),
-                         xw[-1] - length * jnp.arange(n_hull, dtype=xw.dtype) / n_hull,
-                         xw[0] - downstream * length * jnp.arange(n_down + 1, dtype=xw.dtype) / n_down])
-    return free_surface(x, width * length, hull.draft, rows, (xw, yw))
+                         xw[-1] - length * jnp.arange(n_hull, dtype=xw.dtype) / n_hull, behind])
+    b_w = jnp.where(on, jnp.maximum(yw[0], 1e-3 * length), 1e-3 * length)
+    y = b_w * jnp.linspace(0.0, 1.0, wake + 1)
+    wake_nodes = jnp.stack([jnp.broadcast_to(behind[:, None], (n_down + 1, wake + 1)),
+                            jnp.broadcast_to(y[None, :], (n_down + 1, wake + 1)),
+                            jnp.full((n_down + 1, wake + 1), hull.draft)], axis=-1)
+    return free_surface(x, width * length, hull.draft, rows, (xw, yw), b_w), FreeSurface(wake_nodes)
 
 
 def _upstream_d(s: Array, points: int = 4) -> Array:
@@ -164,42 +196,107 @@ class DawsonFlow(eqx.Module):
     Attributes
     ----------
     drag : (k,) float
-        R_w/(½ρU²) [m²]: the perturbation pressure's x force over the wet hull, both sides.
+        R_w/(½ρU²) [m²]: the perturbation pressure's x force over the wet hull, both sides, and a dry transom's
+        lost hydrostatic thrust.
     cp : (k, N) float
         Hull pressure coefficient 1 − |v|²/U² at the hull panels' centres.
-    zeta : (k, nx − 1, ny − 1) float
-        Free-surface elevation × g/U² [−] (ζ·k₀) at the free-surface panels' centres, up positive.
+    zeta : (k, M) float
+        Free-surface elevation × g/U² [−] (ζ·k₀) at the free-surface panels' centres (each grid's, flattened and
+        in turn), up positive.
     """
 
     drag: Float[Array, " k"]
     cp: Float[Array, "k N"]
-    zeta: Float[Array, "k nx ny"]
+    zeta: Float[Array, "k M"]
 
 
-def dawson_flow(hull: Panels, surface: FreeSurface, k0: Float[Array, " k"], points: int = POINTS) -> DawsonFlow:
+class Transom(eqx.Module):
+    """A dry transom (Raven 1996 §4.6; Nakos & Sclavounos 1994): the flow leaves the transom's lower edge
+    clean, the transom itself is dry, and the water behind it starts at the edge's depth and along the bottom's
+    run. On the wake grid (:func:`hull_surface`) that is where each grid line's Dawson condition starts: its
+    upstream difference takes, in place of the undisturbed stream ahead, the perturbation velocity that puts
+    the water there (the dynamic condition, ζ known).
+
+    Attributes
+    ----------
+    on : () float
+        1 where the condition holds (an immersed transom, A_T > 0), 0 elsewhere (the wake grid then inert).
+    x : () float
+        The transom's x [m].
+    depth : (nw,) float
+        The edge's depth below z = T [m] at each wake-grid row.
+    slope : () float
+        The run's rise aft −dz/dx at the transom (the girth's mean, clipped to ±0.1 as WARP does).
+    greatest : () float
+        The transom's greatest depth d_T [m].
+    head : (girth,) float
+        The transom panels' mean depth T − z [m] (exact for plane panels).
+    area : (girth,) float
+        Their areas projected on x [m²] (port side): ρg·Σ head·area is the hydrostatic thrust a dry transom
+        loses.
+    """
+
+    on: Float[Array, ""]
+    x: Float[Array, ""]
+    depth: Float[Array, " nw"]
+    slope: Float[Array, ""]
+    greatest: Float[Array, ""]
+    head: Float[Array, " girth"]
+    area: Float[Array, " girth"]
+
+
+def transom(hull: Panels, wake: FreeSurface, stations: int, girth: int, on: ArrayLike) -> tuple[Panels, Transom]:
+    """The ``hull`` (:func:`._panel.hull_panels`) open at its aft end section where ``on`` (an immersed
+    transom), and the dry-transom condition on the ``wake`` grid (:func:`hull_surface`)."""
+    n = (stations - 1) * girth
+    cap = hull.vertices[n: n + girth]  # aft end, keel to waterline; corner 2 the lower, 1 the upper point
+    edge = jnp.concatenate([cap[:, 2], cap[-1:, 1]])  # (girth + 1, 3): the transom's edge, keel to waterline
+    t = hull.draft
+    on = jnp.asarray(on, dtype=t.dtype)
+    run = hull.vertices[:girth]  # the aft panel column: corners 0, 1 on the transom, 3, 2 one station ahead
+    slope = -(run[:, 3, 2] - run[:, 0, 2]) / jnp.maximum(run[:, 3, 0] - run[:, 0, 0], 1e-9)
+    y = 0.5 * (wake.nodes[0, 1:, 1] + wake.nodes[0, :-1, 1])
+    ramp = 1e-9 * jnp.arange(girth + 1, dtype=t.dtype)  # a collapsed (closed) end's edge: all y = 0, kept increasing for interp
+    tri = lambda a, b, d: 0.5 * jnp.cross(b - a, d - a)[:, 0] * (t - (a[:, 2] + b[:, 2] + d[:, 2]) / 3.0)  # noqa: E731
+    moment = tri(cap[:, 0], cap[:, 1], cap[:, 2]) + tri(cap[:, 0], cap[:, 2], cap[:, 3])  # ∫(T − z) dA_x, exact
+    area = hull.area_vector[n: n + girth, 0]
+    closed = jnp.broadcast_to(jnp.stack([edge[0, 0], 0.0 * t, t]), cap.shape)
+    open_hull = Panels(hull.vertices.at[n: n + girth].set(jnp.where(on > 0.0, closed, cap)), t)
+    return open_hull, Transom(on=on, x=edge[0, 0], depth=t - jnp.interp(y, edge[:, 1] + ramp, edge[:, 2]),
+                              slope=jnp.clip(jnp.mean(slope[:-1]), -0.1, 0.1), greatest=t - jnp.min(edge[:, 2]),
+                              head=safe_div(moment, area, jnp.abs(area) > 0.0), area=jnp.abs(area) * on)
+
+
+def dawson_flow(hull: Panels, surface: FreeSurface | tuple[FreeSurface, ...], k0: Float[Array, " k"],
+                points: int = POINTS, dry: Transom | None = None) -> DawsonFlow:
     """Solve Dawson's problem for the port ``hull`` panels (mirrored in y and in z = ``hull.draft``) and the
-    port ``surface`` (mirrored in y) at each k₀ = g/U² [1/m], per unit speed (the stream −x̂).
+    port free ``surface`` (one grid or several side by side; mirrored in y) at each k₀ = g/U² [1/m], per unit
+    speed (the stream −x̂).
 
     Parameters
     ----------
     hull : Panels
         The port side's wet panels (:func:`._panel.hull_panels`, or any closed body's, e.g. a submerged one).
-    surface : FreeSurface
-        The port side's free-surface grid on z = ``hull.draft`` (:func:`free_surface`).
+    surface : FreeSurface or tuple of FreeSurface
+        The port side's free-surface grids on z = ``hull.draft`` (:func:`free_surface`, :func:`hull_surface`):
+        each differenced along its own lines, the undisturbed stream ahead of its first column.
     k0 : (k,) Array
         g/U² [1/m] for each speed.
     points : int
         Points of the upstream difference (:func:`_upstream_d`; 3: second order).
+    dry : Transom, optional
+        A dry transom's condition (:func:`transom`) on the last grid of ``surface``, the wake behind it.
 
     Returns
     -------
     DawsonFlow
         ``drag`` R_w/(½ρU²) [m²], the hull's ``cp`` and the free surface's ``zeta``·k₀, one row per k₀.
     """
+    surfaces = (surface,) if isinstance(surface, FreeSurface) else tuple(surface)
     sigma_db, vel_db = double_body_flow(hull)
-    fp = surface.panels
+    fp = Panels(jnp.concatenate([s.panels.vertices for s in surfaces]), hull.draft)
     nh, nf = hull.vertices.shape[0], fp.vertices.shape[0]
-    ncol, nrow = surface.nodes.shape[0] - 1, surface.nodes.shape[1] - 1
+    dtype = fp.vertices.dtype
     every_h = mirrored(hull)
     every_f = Panels(jnp.concatenate([fp.vertices, (fp.vertices * jnp.array([1.0, -1.0, 1.0]))[:, ::-1]]),
                      hull.draft)
@@ -208,42 +305,76 @@ def dawson_flow(hull: Panels, surface: FreeSurface, k0: Float[Array, " k"], poin
     v_hf = fold(source_velocity(hull.centre, every_f), 2)  # hull centres ← free-surface sources
     v_fh = fold(source_velocity(fp.centre, every_h), 4)
     v_ff = fold(source_velocity(fp.centre, every_f, own=True), 2)
+    v_f = jnp.concatenate([v_fh, v_ff], axis=1)  # (nf, nh + nf, 3) free-surface centres ← every unknown
     # l: the double body's streamlines (towards downstream), differenced along the grid lines that stand for them.
     # Φ_l is the double body's speed, not its part along a grid line: a line that bends across the stream (the
     # waterline's offsets carried outwards) would make Φ_ll of its bends a forcing across the whole width —
     # transverse waves outside Kelvin's wedge, R_w 8–30 % with the grid's extent (KCS: 2.7× too large).
-    c = fp.centre.reshape(ncol, nrow, 3)
-    step = safe_norm(c[1:] - c[:-1])  # (ncol − 1, nrow)
-    s = jnp.concatenate([jnp.zeros((1, nrow), c.dtype), jnp.cumsum(step, axis=0)], axis=0)
-    base = (jnp.einsum("pnk,n->pk", v_fh, sigma_db) - jnp.array([1.0, 0.0, 0.0])).reshape(ncol, nrow, 3)
-    phi_l = safe_norm(base)  # Φ_l (ncol, nrow)
-    t = base / jnp.maximum(phi_l, 1e-9)[..., None]
-    phi_ll = jax.vmap(jnp.gradient, in_axes=(1, 1), out_axes=1)(phi_l, s)
-    w = jax.vmap(lambda q: _upstream_d(q, points), in_axes=1, out_axes=1)(s)  # (ncol, nrow, points)
-    # the perturbation's φ_l and φ_z at the free-surface centres from the unknowns [δσ_hull, σ_surface]
-    tl = t.reshape(nf, 3)
-    along = jnp.concatenate([jnp.einsum("pnk,pk->pn", v_fh, tl), jnp.einsum("pnk,pk->pn", v_ff, tl)], axis=1)
-    along = along.reshape(ncol, nrow, nh + nf)
+    base = jnp.einsum("pnk,n->pk", v_fh, sigma_db) - jnp.array([1.0, 0.0, 0.0])  # (nf, 3)
+    phi_l = safe_norm(base)
+    t = base / jnp.maximum(phi_l, 1e-9)[:, None]
+    along = jnp.einsum("pnk,pk->pn", v_f, t)  # the perturbation's φ_l from the unknowns [δσ_hull, σ_surface]
     m = points - 1
-    pad = jnp.concatenate([jnp.zeros((m, nrow, nh + nf), c.dtype), along], axis=0)  # undisturbed ahead
-    d_along = sum(w[:, :, k, None] * pad[m - k: m - k + ncol] for k in range(points))  # ∂_l φ_l
-    up = jnp.concatenate([v_fh[..., 2], v_ff[..., 2]], axis=1).reshape(ncol, nrow, nh + nf)
-    fs_rows = (phi_l**2)[..., None] * d_along + (2.0 * phi_l * phi_ll)[..., None] * along
+    rows, rhs_fs, lift_a, lift_b, start = [], [], [], [], 0
+    for i, s in enumerate(surfaces):
+        ncol, nrow = s.nodes.shape[0] - 1, s.nodes.shape[1] - 1
+        block = slice(start, start + ncol * nrow)
+        start += ncol * nrow
+        c = fp.centre[block].reshape(ncol, nrow, 3)
+        step = safe_norm(c[1:] - c[:-1])  # (ncol − 1, nrow)
+        arc = jnp.concatenate([jnp.zeros((1, nrow), dtype), jnp.cumsum(step, axis=0)], axis=0)
+        pl = phi_l[block].reshape(ncol, nrow)
+        pll = jax.vmap(jnp.gradient, in_axes=(1, 1), out_axes=1)(pl, arc)
+        w = jax.vmap(lambda q: _upstream_d(q, points), in_axes=1, out_axes=1)(arc)  # (ncol, nrow, points)
+        a = along[block].reshape(ncol, nrow, nh + nf)
+        pad = jnp.concatenate([jnp.zeros((m, nrow, nh + nf), dtype), a], axis=0)  # undisturbed ahead
+        d_along = sum(w[:, :, k, None] * pad[m - k: m - k + ncol] for k in range(points))  # ∂_l φ_l
+        rows.append(((pl**2)[..., None] * d_along + (2.0 * pl * pll)[..., None] * a).reshape(-1, nh + nf))
+        rhs_fs.append(-(pl**2 * pll).reshape(-1))
+        # behind a dry transom (the last grid) the lines' upstream difference starts from the transom instead
+        # of the undisturbed stream: m ghosts ahead of the first column, j·Δ ahead (j = m..1), whose φ_l puts
+        # the water at ζ = −depth + slope × distance behind the transom: φ_l = (½(1 − Φ_l²) − k₀ζ)/Φ_l with
+        # Φ_l the first column's. Known values, so the right-hand side: per k₀, a − k₀·b.
+        ghost = jnp.zeros((2, ncol, nrow), dtype)
+        if dry is not None and i == len(surfaces) - 1:
+            ahead = jnp.arange(m, 0, -1, dtype=dtype)[:, None] * (arc[1] - arc[0])[None, :]  # (m, nrow)
+            p0 = jnp.maximum(pl[0], 0.1)
+            g = jnp.stack([jnp.broadcast_to(0.5 * (1.0 - p0**2) / p0, ahead.shape),
+                           (-dry.depth + dry.slope * (dry.x - c[0, :, 0] - ahead)) / p0])  # (2, m, nrow)
+            first = jnp.stack([sum(w[j, :, k] * g[:, m - k + j] for k in range(j + 1, points))
+                               for j in range(min(m, ncol))], axis=1)  # (2, ≤ m, nrow)
+            ghost = ghost.at[:, : first.shape[1]].set((pl[: first.shape[1]] ** 2) * first)
+        lift_a.append(ghost[0].reshape(-1))
+        lift_b.append(ghost[1].reshape(-1))
+    fs_rows, rhs_fs = jnp.concatenate(rows), jnp.concatenate(rhs_fs)
+    lift_a, lift_b = jnp.concatenate(lift_a), jnp.concatenate(lift_b)
+    up = v_f[..., 2]  # φ_z
+    if dry is not None:  # no transom: no sources on the wake grid
+        inert = (jnp.arange(nf) >= nf - surfaces[-1].panels.vertices.shape[0]) & (dry.on <= 0.0)
+        fs_rows = jnp.where(inert[:, None], jnp.eye(nf, nh + nf, nh, dtype=dtype), fs_rows)
+        up = jnp.where(inert[:, None], 0.0, up)
+        rhs_fs = jnp.where(inert, 0.0, rhs_fs)
     real = hull.real > 0.0
     hull_rows = jnp.concatenate([jnp.einsum("pnk,pk->pn", v_hh, hull.normal),
                                  jnp.einsum("pnk,pk->pn", v_hf, hull.normal)], axis=1)
-    hull_rows = jnp.where(real[:, None], hull_rows, jnp.eye(nh, nh + nf, dtype=c.dtype))
-    rhs = jnp.concatenate([jnp.zeros(nh, c.dtype), -(phi_l**2 * phi_ll).reshape(nf)])
+    hull_rows = jnp.where(real[:, None], hull_rows, jnp.eye(nh, nh + nf, dtype=dtype))
     cp_db = 1.0 - jnp.sum(vel_db * vel_db, -1)
     ax = 2.0 * hull.area_vector[:, 0] * hull.real  # both sides
 
     def one(k):
-        a = jnp.concatenate([hull_rows, (fs_rows + k * up).reshape(nf, nh + nf)], axis=0)
-        x = jnp.linalg.solve(a, rhs)
+        a = jnp.concatenate([hull_rows, fs_rows + k * up], axis=0)
+        rhs, extra = rhs_fs, 0.0
+        if dry is not None:
+            # dry from F_nT = U/√(g d_T) = FN_DRY, below it the depth times (F_nT/FN_DRY)²: dead water
+            wet = jnp.minimum(1.0, 1.0 / jnp.maximum(k * dry.greatest * FN_DRY**2, 1e-12))
+            rhs = rhs_fs - dry.on * (lift_a - k * wet * lift_b)
+            # the hydrostatic thrust the transom loses, per ½ρU² (both sides), the water behind at −wet·d_T
+            extra = 4.0 * k * jnp.sum(jnp.minimum(dry.head, wet * dry.greatest) * dry.area)
+        x = jnp.linalg.solve(a, jnp.concatenate([jnp.zeros(nh, dtype), rhs]))
         vh = vel_db + jnp.einsum("pnk,n->pk", v_hh, x[:nh]) + jnp.einsum("pnk,n->pk", v_hf, x[nh:])
-        vf = base.reshape(nf, 3) + jnp.einsum("pnk,n->pk", v_fh, x[:nh]) + jnp.einsum("pnk,n->pk", v_ff, x[nh:])
+        vf = base + jnp.einsum("pnk,n->pk", v_f, x)
         cp = 1.0 - jnp.sum(vh * vh, -1)
-        return jnp.sum((cp - cp_db) * ax), cp, 0.5 * (1.0 - jnp.sum(vf * vf, -1)).reshape(ncol, nrow)
+        return jnp.sum((cp - cp_db) * ax) + extra, cp, 0.5 * (1.0 - jnp.sum(vf * vf, -1))
 
     drag, cp, zeta = jax.vmap(one)(jnp.reshape(k0, (-1,)))
     return DawsonFlow(drag=drag, cp=cp, zeta=zeta)
@@ -265,6 +396,10 @@ class DawsonResult(eqx.Module):
         19.47° wedge (KCS, tests/test_dawson.py); not compared with measured wave cuts.
     centres : (nx − 1, ny − 1, 3) float
         The free-surface panels' centres [m] (port side; i along the stream from ahead of the bow).
+    wake_zeta : (k, nw, WAKE) float
+        ζ [m] on the wake grid behind the transom (:func:`hull_surface`), at ``wake_centres``.
+    wake_centres : (nw, WAKE, 3) float
+        Its panels' centres [m].
     """
 
     r_wave: Float[Array, "*k"]
@@ -272,6 +407,8 @@ class DawsonResult(eqx.Module):
     trim: Float[Array, "*k"]
     zeta: Float[Array, "*k nx ny"]
     centres: Float[Array, "nx ny 3"]
+    wake_zeta: Float[Array, "*k nw nr"]
+    wake_centres: Float[Array, "nw nr 3"]
 
 
 def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rho: float = RHO_SEA,
@@ -310,16 +447,24 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
         raise HullError(f"dawson: columns {columns!r} ≥ 8 and rows {rows!r} ≥ 3 (integers), downstream "
                         f"{downstream!r} > 0 and width {width!r} > 0 [L] expected")
     hull = hull_panels(sections, draft, stations, girth)
-    surface = hull_surface(hull, stations, girth, columns, rows, downstream=downstream, width=width)
+    on = transom_area(sections.x, sections.yz, draft) > 0.0  # an immersed transom, as Holtrop–Mennen's A_T
+    surfaces = hull_surface(hull, stations, girth, columns, rows, downstream=downstream, width=width, on=on)
+    hull, dry = transom(hull, surfaces[1], stations, girth, on)
     u = jnp.asarray(speed, dtype=hull.vertices.dtype)
     flat = jnp.reshape(u, (-1,))
     ok = flat > 0.0
     u2 = jnp.where(ok, flat * flat, 1.0)
-    flow = dawson_flow(hull, surface, g / u2, points)
+    flow = dawson_flow(hull, surfaces, g / u2, points, dry)
     r = jnp.where(ok, 0.5 * rho * u2 * flow.drag, 0.0)
     sink, trim = jax.vmap(lambda cp, h: squat(hull, cp, h, stations, girth))(flow.cp, 0.5 * u2 / g)
-    zeta = jnp.where(ok[:, None, None], flow.zeta * (u2 / g)[:, None, None], 0.0)
+    zeta = jnp.where(ok[:, None], flow.zeta * (u2 / g)[:, None], 0.0)
     shape = jnp.shape(u)
+    grids = [s.nodes.shape[:2] for s in surfaces]
+    main, wake = [(n[0] - 1, n[1] - 1) for n in grids]
+    centres = jnp.concatenate([s.panels.centre for s in surfaces])
+    split = main[0] * main[1]
     return DawsonResult(r_wave=r.reshape(shape), sinkage=jnp.where(ok, sink, 0.0).reshape(shape),
-                        trim=jnp.where(ok, trim, 0.0).reshape(shape), zeta=zeta.reshape(shape + zeta.shape[1:]),
-                        centres=surface.panels.centre.reshape(zeta.shape[1:] + (3,)))
+                        trim=jnp.where(ok, trim, 0.0).reshape(shape),
+                        zeta=zeta[:, :split].reshape(shape + main), centres=centres[:split].reshape(main + (3,)),
+                        wake_zeta=zeta[:, split:].reshape(shape + wake),
+                        wake_centres=centres[split:].reshape(wake + (3,)))

@@ -165,15 +165,18 @@ def resistance(
     if pattern is not None:
         from ...report import plot_wave_pattern
 
-        lpp = float(h.sections.lpp)
+        lpp, wake = float(h.sections.lpp), None
         if dawson is not None:  # on its own free-surface grid; the near field included
             c = np.asarray(dawson.centres)
             x, y, zeta, by = c[..., 0], c[..., 1], np.asarray(dawson.zeta[0]), "Dawson's method"
+            if particulars.A_T > 0.0:  # the wake grid behind the transom carries the waves there
+                w = np.asarray(dawson.wake_centres)
+                wake = (w[..., 0], w[..., 1], np.asarray(dawson.wake_zeta[0]))
         else:  # the far field of the panel method's sources
             x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
             zeta, by = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y)), "Kelvin waves by the panel method"
         plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — {by}, {knots[0]:g} kn "
-                          f"(Fn {records[0]['fn']:.3f}), T {t:g} m")
+                          f"(Fn {records[0]['fn']:.3f}), T {t:g} m", wake=wake)
     if json:
         print_json(records)
         return
