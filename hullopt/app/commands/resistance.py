@@ -169,9 +169,11 @@ def resistance(
         if dawson is not None:  # on its own free-surface grid; the near field included
             c = np.asarray(dawson.centres)
             x, y, zeta, by = c[..., 0], c[..., 1], np.asarray(dawson.zeta[0]), "Dawson's method"
-            if particulars.A_T > 0.0:  # the wake grid behind the transom carries the waves there
-                w = np.asarray(dawson.wake_centres)
-                wake = (w[..., 0], w[..., 1], np.asarray(dawson.wake_zeta[0]))
+            if particulars.A_T > 0.0:  # the wake grid behind the transom, joined to the main grid's first row
+                nw = dawson.wake_centres.shape[0]
+                w = np.concatenate([np.asarray(dawson.wake_centres), c[-nw:, :1]], axis=1)
+                wz = np.concatenate([np.asarray(dawson.wake_zeta[0]), zeta[-nw:, :1]], axis=1)
+                wake = (w[..., 0], w[..., 1], wz)
         else:  # the far field of the panel method's sources
             x, y = np.linspace(-1.5 * lpp, 1.15 * lpp, 240), np.linspace(0.0, 0.75 * lpp, 80)
             zeta, by = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y)), "Kelvin waves by the panel method"
