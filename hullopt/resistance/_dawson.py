@@ -256,7 +256,7 @@ def transom(hull: Panels, wake: FreeSurface, stations: int, girth: int, on: Arra
     run = hull.vertices[:girth]  # the aft panel column: corners 0, 1 on the transom, 3, 2 one station ahead
     slope = -(run[:, 3, 2] - run[:, 0, 2]) / jnp.maximum(run[:, 3, 0] - run[:, 0, 0], 1e-9)
     y = 0.5 * (wake.nodes[0, 1:, 1] + wake.nodes[0, :-1, 1])
-    ramp = 1e-9 * jnp.arange(girth + 1, dtype=t.dtype)  # a collapsed (closed) end's edge: all y = 0, kept increasing for interp
+    ramp = 1e-9 * jnp.arange(girth + 1, dtype=t.dtype)  # a closed end's edge is all y = 0: kept increasing
     tri = lambda a, b, d: 0.5 * jnp.cross(b - a, d - a)[:, 0] * (t - (a[:, 2] + b[:, 2] + d[:, 2]) / 3.0)  # noqa: E731
     moment = tri(cap[:, 0], cap[:, 1], cap[:, 2]) + tri(cap[:, 0], cap[:, 2], cap[:, 3])  # ∫(T − z) dA_x, exact
     area = hull.area_vector[n: n + girth, 0]
@@ -350,7 +350,8 @@ def dawson_flow(hull: Panels, surface: FreeSurface | tuple[FreeSurface, ...], k0
     lift_a, lift_b = jnp.concatenate(lift_a), jnp.concatenate(lift_b)
     up = v_f[..., 2]  # φ_z
     if dry is not None:  # no transom: no sources on the wake grid
-        inert = (jnp.arange(nf) >= nf - surfaces[-1].panels.vertices.shape[0]) & (dry.on <= 0.0)
+        wake = jnp.arange(nf) >= nf - surfaces[-1].panels.vertices.shape[0]
+        inert = wake & (dry.on <= 0.0)
         fs_rows = jnp.where(inert[:, None], jnp.eye(nf, nh + nf, nh, dtype=dtype), fs_rows)
         up = jnp.where(inert[:, None], 0.0, up)
         rhs_fs = jnp.where(inert, 0.0, rhs_fs)
