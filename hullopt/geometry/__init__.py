@@ -8,6 +8,7 @@ from ._coons import spline_curvatures as spline_curvatures
 from ._integrate import LongitudinalIntegrals as LongitudinalIntegrals
 from ._integrate import longitudinal_integrals as longitudinal_integrals
 from ._integrate import simpson_weights as simpson_weights
+from ._integrate import transom_area as transom_area
 from ._integrate import volume_lcb as volume_lcb
 from ._mesh import EXPORT_FORMATS as EXPORT_FORMATS
 from ._mesh_files import atomic_write_bytes as atomic_write_bytes

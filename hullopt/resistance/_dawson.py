@@ -57,8 +57,7 @@ from jaxtyping import Array, ArrayLike, Float
 from .._types import Draft, Speeds
 from ..constants import G, RHO_SEA
 from ..errors import HullError
-from ..geometry import Sections, safe_div, safe_norm
-from ..geometry._integrate import transom_area
+from ..geometry import Sections, safe_div, safe_norm, transom_area
 from ._panel import (GIRTH, STATIONS, Panels, centre_velocities, double_body_flow, hull_panels, mirrored,
                      source_velocity, squat)
 
