@@ -210,11 +210,14 @@ def summary(started: str | None = None, failed: dict | None = None, run_machine:
         rows.append(f"| {name} | the script failed ({rc}): its row(s) above, if any, are from an earlier run "
                     f"| {' | '.join('—' for _ in devices)} | — | **failed** | — | — |")
     lines = []
+    ran_on = run_machine and ("CPU" if run_machine["device"]["platform"] == "cpu" else "GPU")
     for dev in devices:
         ms = [m for (_, d), m in machines.items() if d == dev]
-        m = run_machine if run_machine and dev == "CPU" else max(ms, key=lambda m: m.get("date", ""))
-        jaxes = sorted({x.get("jax", "?") for x in ms})
-        mixed = f" (its results mix jax {', '.join(jaxes)})" if len(jaxes) > 1 else ""
+        m = run_machine if dev == ran_on else max(ms, key=lambda m: m.get("date", ""))
+        mix = [f"{what} {', '.join(v)}" for what, v in (
+            ("jax", sorted({x.get("jax", "?") for x in ms})),
+            ("devices", sorted({x.get("device", {}).get("kind", "?") for x in ms}))) if len(v) > 1]
+        mixed = f" (its results mix {'; '.join(mix)})" if mix else ""
         lines.append(f"- {dev}: {_machine_line(m)}{mixed}.")
     lines.insert(0, f"Run {started or 'of the stored results'}; machines:")
     lines.append("")

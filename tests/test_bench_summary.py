@@ -49,3 +49,16 @@ def test_cpu_only_has_one_measured_column(run_module, tmp_path):
     text = run_module.summary(failed={"panel": "timed out after 60 s"})
     assert "| benchmark | goal | measured (CPU) | target | met (CPU) |" in text
     assert "the script failed (timed out after 60 s)" in text
+
+
+def test_a_gpu_run_names_its_own_machine_and_the_cards_it_mixes(run_module, tmp_path):
+    """Run on a GPU, the GPU line is that run's machine (not the CPU's), and results from two cards say so."""
+    _result(tmp_path / "hydro.json", "cpu", "cpu", [_goal("table, warm", 0.025, True)])
+    _result(tmp_path / "hydro-gpu.json", "gpu", "NVIDIA H100", [_goal("table, warm", 0.001, True)])
+    _result(tmp_path / "panel-gpu.json", "gpu", "NVIDIA H200", [_goal("a design in a batch", 0.015, True)])
+    here = {"python": "3.12", "jax": "0.11.2", "cores": 16, "cpu": "x86_64", "load_at_start": 0.1,
+            "device": {"backend": "gpu", "platform": "gpu", "kind": "NVIDIA H200", "count": 1}}
+    lines = run_module.summary("2026-11-27 06:00 UTC", run_machine=here).splitlines()
+    cpu, gpu = (next(x for x in lines if x.startswith(f"- {d}:")) for d in ("CPU", "GPU"))
+    assert "2 cores" in cpu and "device cpu" in cpu
+    assert "16 cores" in gpu and "mix devices NVIDIA H100, NVIDIA H200" in gpu
