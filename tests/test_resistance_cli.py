@@ -78,6 +78,18 @@ def test_all_methods_plot_and_warning(capsys, tmp_path):
     assert "dawson is outside" not in " ".join(err.split()) and "immersed transom" not in err
 
 
+@pytest.mark.slow
+def test_free_runs_dawson_free_to_sink_and_trim(capsys):
+    """``--free``: Dawson's method with the hull sunk and trimmed as its pressure finds (its own iterations, as
+    the API's ``attitude``); the record says so. On the Wigley at Fn 0.43 it sinks deeper and trims further bow
+    up than fixed (the tank's free model: tests/test_dawson.py), and its R_W grows."""
+    args = ("builtin:wigley?L=100&B=10&T=6.25&D=10&n=41&m=17", "--speed", "26.5", "--method", "dawson", "--json")
+    fixed, free = (json.loads(run(capsys, *args, *extra)[1])[0] for extra in ((), ("--free",)))
+    assert (fixed["dawson_free"], free["dawson_free"]) == (False, True)
+    assert free["sinkage_dawson"] > fixed["sinkage_dawson"] > 0 and free["trim_dawson"] > fixed["trim_dawson"] > 0
+    assert free["r_wave_dawson"] > 1.1 * fixed["r_wave_dawson"]
+
+
 @pytest.mark.parametrize("args,needle", [
     ([HULL, "--speed", "-3"], "--speed"),
     ([HULL, "--speed", "ten"], "--speed"),

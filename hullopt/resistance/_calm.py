@@ -94,7 +94,7 @@ def check_method(method: str, what: str = "method") -> str:
 
 
 def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "holtrop", *, n_levels: int = 33,
-               lambda_panels: int = 128, stations: int = STATIONS, girth: int = GIRTH) -> CalmWater:
+               lambda_panels: int = 128, stations: int = STATIONS, girth: int = GIRTH, attitude: int = 0) -> CalmWater:
     """Calm-water resistance R_T [N] and its parts at ``speed`` U [m/s] (any shape), R_W by ``method``.
 
     Parameters
@@ -109,6 +109,9 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
         The wave-resistance method.
     n_levels, lambda_panels, stations, girth : int
         Michell's heights, the λ rule's panels (Michell and panel), the panel method's panelling.
+    attitude : int
+        Dawson's sinkage-and-trim iterations (:func:`.dawson_wave_resistance`): 0, the hull fixed at its static
+        draft; 2, free to sink and trim (three solves a speed). Other methods ignore it.
 
     Returns
     -------
@@ -124,7 +127,7 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
     elif method == "michell":
         rw = michell_wave_resistance(sections, draft, u, n_levels=n_levels, panels=lambda_panels)
     elif method == "dawson":
-        panel = dawson_wave_resistance(sections, draft, u, stations=stations, girth=girth)
+        panel = dawson_wave_resistance(sections, draft, u, stations=stations, girth=girth, attitude=attitude)
         rw = panel.r_wave
     else:
         panel = panel_wave_resistance(sections, draft, u, stations=stations, girth=girth,

@@ -59,7 +59,7 @@ from ..constants import G, RHO_SEA
 from ..errors import HullError
 from ..geometry import Sections, safe_div, safe_norm, transom_area
 from ._panel import (GIRTH, STATIONS, Panels, centre_velocities, double_body_flow, hull_panels, mirrored,
-                     source_velocity, squat)
+                     source_velocity, squat, waterplane)
 
 UPSTREAM = 0.5  # free-surface grid ahead of the bow [L]
 DOWNSTREAM = 1.0  # behind the stern [L]
@@ -414,7 +414,7 @@ class DawsonResult(eqx.Module):
 def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, rho: float = RHO_SEA,
                            g: float = G, stations: int = STATIONS, girth: int = GIRTH, columns: int = COLUMNS,
                            rows: int = ROWS, points: int = POINTS, downstream: float = DOWNSTREAM,
-                           width: float = WIDTH) -> DawsonResult:
+                           width: float = WIDTH, attitude: int = 0) -> DawsonResult:
     """Wave resistance R_w [N] and the wave pattern by Dawson's method at ``speed`` U [m/s].
 
     Parameters
@@ -435,6 +435,11 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
         Points of the upstream difference (:func:`_upstream_d`).
     downstream, width : float
         The free surface's extent behind the stern and beside the centreline [wet lengths L].
+    attitude : int
+        Sinkage-and-trim iterations. 0 (the default): the hull at its static draft, its sinkage and trim
+        reported from its pressure, not applied (a model fixed in the tank). n > 0: n more solves per speed, each
+        with the hull sunk and trimmed as the solve before found (a model free to sink and trim): n + 1 times
+        the work; the free-surface grid stays the static hull's.
 
     Returns
     -------
@@ -446,17 +451,39 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
             and downstream > 0 and width > 0):
         raise HullError(f"dawson: columns {columns!r} ≥ 8 and rows {rows!r} ≥ 3 (integers), downstream "
                         f"{downstream!r} > 0 and width {width!r} > 0 [L] expected")
-    hull = hull_panels(sections, draft, stations, girth)
+    if not (isinstance(attitude, int) and attitude >= 0):
+        raise HullError(f"dawson: attitude {attitude!r}: a whole number of sinkage-and-trim iterations ≥ 0 expected")
+    level = hull_panels(sections, draft, stations, girth)
     on = transom_area(sections.x, sections.yz, draft) > 0.0  # an immersed transom, as Holtrop–Mennen's A_T
-    surfaces = hull_surface(hull, stations, girth, columns, rows, downstream=downstream, width=width, on=on)
-    hull, dry = transom(hull, surfaces[1], stations, girth, on)
-    u = jnp.asarray(speed, dtype=hull.vertices.dtype)
+    surfaces = hull_surface(level, stations, girth, columns, rows, downstream=downstream, width=width, on=on)
+    u = jnp.asarray(speed, dtype=level.vertices.dtype)
     flat = jnp.reshape(u, (-1,))
     ok = flat > 0.0
     u2 = jnp.where(ok, flat * flat, 1.0)
-    flow = dawson_flow(hull, surfaces, g / u2, points, dry)
+    xf = waterplane(level, stations, girth)[1]
+
+    def solve(k0, sink=0.0, trim=0.0):
+        """The flow at each k₀ with the hull sunk by ``sink`` [m] at x_F and trimmed by ``trim`` [rad, bow up]."""
+        z = sections.yz[..., 1] - sink + (sections.x - xf)[:, None] * trim  # the water's rise, in hull axes
+        moved = Sections(sections.x, jnp.stack([sections.yz[..., 0], z], axis=-1), sections.lpp)
+        hull = hull_panels(moved, draft, stations, girth) if attitude else level
+        wet = transom_area(moved.x, moved.yz, draft) > 0.0 if attitude else on
+        hull, dry = transom(hull, surfaces[1], stations, girth, wet)
+        flow = dawson_flow(hull, surfaces, k0, points, dry)
+        sink, trim = jax.vmap(lambda cp, k: squat(hull, cp, 0.5 / k, stations, girth))(flow.cp, k0)
+        return flow, sink, trim
+
+    if attitude:
+        def free(k0):  # one speed: the attitude iterated, then the flow there
+            step = lambda _, st: tuple(v[0] for v in solve(k0[None], *st)[1:])  # noqa: E731
+            st = jax.lax.fori_loop(0, attitude, step, (jnp.zeros((), u.dtype), jnp.zeros((), u.dtype)))
+            flow, sink, trim = solve(k0[None], *st)
+            return jax.tree.map(lambda a: a[0], flow), sink[0], trim[0]
+
+        flow, sink, trim = jax.vmap(free)(g / u2)
+    else:
+        flow, sink, trim = solve(g / u2)
     r = jnp.where(ok, 0.5 * rho * u2 * flow.drag, 0.0)
-    sink, trim = jax.vmap(lambda cp, h: squat(hull, cp, h, stations, girth))(flow.cp, 0.5 * u2 / g)
     zeta = jnp.where(ok[:, None], flow.zeta * (u2 / g)[:, None], 0.0)
     shape = jnp.shape(u)
     grids = [s.nodes.shape[:2] for s in surfaces]

@@ -393,7 +393,7 @@ class PanelResult(eqx.Module):
     trim: Float[Array, "*k"]
 
 
-def _waterplane(panels: Panels, stations: int, girth: int):
+def waterplane(panels: Panels, stations: int, girth: int):
     """Waterplane area [m²], centre x [m] and longitudinal moment of inertia about it [m⁴], from the hull
     panels' waterline corners (trapezoids between panel columns)."""
     top = panels.vertices[: (stations - 1) * girth].reshape(stations - 1, girth, 4, 3)[:, -1]
@@ -413,7 +413,7 @@ def squat(panels: Panels, cp: Float[Array, " N"], head: Float[ArrayLike, ""], st
     [per ½ρU²] at ``head`` = U²/(2g) [m], against the waterplane's area and longitudinal moment of inertia
     (``panels`` from :func:`hull_panels` with ``stations``, ``girth``; not iterated)."""
     w = panels.area_vector * panels.real[:, None]
-    awp, xf, ix = _waterplane(panels, stations, girth)
+    awp, xf, ix = waterplane(panels, stations, girth)
     fz = -2.0 * jnp.sum(cp * w[:, 2])  # both sides; per ½ρU², upward positive
     my = -2.0 * jnp.sum(cp * (w[:, 2] * (panels.centre[:, 0] - xf)))  # about the centre of flotation, bow up
     return -safe_div(head * fz, awp), safe_div(head * my, ix)

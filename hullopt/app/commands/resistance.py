@@ -30,6 +30,7 @@ from .._app import app
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP
 
+FREE_STEPS = 2  # Dawson's sinkage-and-trim iterations for --free: C_W within 0.3 % of 4 on the Wigley at Fn 0.45
 NAMES = {"holtrop": "H-M", "michell": "Michell", "panel": "panel", "dawson": "Dawson"}
 
 # JSON key → (table label, unit, display scale); forces in N and powers in W in the JSON
@@ -67,11 +68,13 @@ def parse_methods(text: str) -> tuple[str, ...]:
 
 
 @eqx.filter_jit
-def _evaluate(sections, draft, speeds, methods, n_levels, pattern=False):
+def _evaluate(sections, draft, speeds, methods, n_levels, pattern=False, attitude=0):
     """The calm-water parts by each method, Holtrop–Mennen's own parts, and with ``pattern`` Dawson's wave
-    pattern at the first speed (None otherwise; its solve is the calm-water one's, merged by XLA)."""
-    out = {m: calm_water(sections, draft, speeds, m, n_levels=n_levels, lambda_panels=256) for m in methods}
-    waves = dawson_wave_resistance(sections, draft, speeds[:1]) if pattern else None
+    pattern at the first speed (None otherwise; its solve is the calm-water one's, merged by XLA); ``attitude``:
+    Dawson's sinkage-and-trim iterations."""
+    out = {m: calm_water(sections, draft, speeds, m, n_levels=n_levels, lambda_panels=256, attitude=attitude)
+           for m in methods}
+    waves = dawson_wave_resistance(sections, draft, speeds[:1], attitude=attitude) if pattern else None
     return out, holtrop_mennen(holtrop_hull(sections, draft), speeds), waves
 
 
@@ -109,6 +112,8 @@ def resistance(
     pattern: Annotated[Path | None, typer.Option(help="Draw the wave pattern at the first speed: Dawson's when "
                                                       "--method has dawson (all does), else the panel method's "
                                                       "Kelvin waves (.png, .svg, .pdf).")] = None,
+    free: Annotated[bool, typer.Option("--free", help="Dawson's method with the hull free to sink and trim (two "
+                                                       "iterations: 3× its time); default: fixed at the draft.")] = False,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: a list with one record per speed (SI: N, W, m/s).")] = False,
 ) -> None:
     """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
@@ -132,7 +137,7 @@ def resistance(
     t = h.check_draft(draft)
     u = knots * KNOT
     out, hm, dawson = _evaluate(h.sections, t, jnp.asarray(u), methods, levels,
-                                pattern is not None and "dawson" in methods)
+                                pattern is not None and "dawson" in methods, FREE_STEPS if free else 0)
     particulars = holtrop_hull(h.sections, t)
     s = float(particulars.S)
     records = []
@@ -150,6 +155,8 @@ def resistance(
         for m in ("panel", "dawson"):
             if m in out:
                 rec.update({f"sinkage_{m}": float(out[m].sinkage[i]), f"trim_{m}": float(out[m].trim[i])})
+        if "dawson" in out:
+            rec["dawson_free"] = free  # its hull sunk and trimmed (--free), else fixed at the draft
         records.append(rec)
     invalid = outside_validity(particulars, max(r["fn"] for r in records), min(r["fn"] for r in records))
     if "dawson" in methods and "dawson" in invalid:
@@ -192,4 +199,5 @@ def resistance(
             scales.append(sc)
     rows = [[float(r[k]) * sc for k, sc in zip(keys, scales)] for r in records]
     table(f"Calm-water resistance — {h.name} (T {t:g} m, Lpp {float(h.sections.lpp):g} m); "
-          f"R_T = (1+k1)·R_F + R_APP + R_W + R_A", cols, rows)
+          f"R_T = (1+k1)·R_F + R_APP + R_W + R_A" + ("; Dawson free to sink and trim" if free and "dawson" in methods
+                                                    else ""), cols, rows)
