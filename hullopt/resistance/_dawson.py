@@ -464,10 +464,11 @@ def dawson_wave_resistance(sections: Sections, draft: Draft, speed: Speeds, *, r
 
     def solve(k0, sink=0.0, trim=0.0):
         """The flow at each k₀ with the hull sunk by ``sink`` [m] at x_F and trimmed by ``trim`` [rad, bow up]."""
-        z = sections.yz[..., 1] - sink + (sections.x - xf)[:, None] * trim  # the water's rise, in hull axes
-        moved = Sections(sections.x, jnp.stack([sections.yz[..., 0], z], axis=-1), sections.lpp)
-        hull = hull_panels(moved, draft, stations, girth) if attitude else level
-        wet = transom_area(moved.x, moved.yz, draft) > 0.0 if attitude else on
+        hull, wet = level, on
+        if attitude:  # the hull lowered by the water's rise at each station (sheared: trims are small)
+            z = sections.yz[..., 1] - sink + (sections.x - xf)[:, None] * trim
+            moved = Sections(sections.x, jnp.stack([sections.yz[..., 0], z], axis=-1), sections.lpp)
+            hull, wet = hull_panels(moved, draft, stations, girth), transom_area(moved.x, moved.yz, draft) > 0.0
         hull, dry = transom(hull, surfaces[1], stations, girth, wet)
         flow = dawson_flow(hull, surfaces, k0, points, dry)
         sink, trim = jax.vmap(lambda cp, k: squat(hull, cp, 0.5 / k, stations, girth))(flow.cp, k0)
