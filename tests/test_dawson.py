@@ -278,7 +278,8 @@ def test_dtmb_transom_converges_with_the_grid():
     assert rows == pytest.approx(cw[1], rel=0.02)
 
 
-@pytest.mark.parametrize("kw", [{"columns": 4}, {"rows": 2}, {"width": 0.0}, {"downstream": -1.0}])
+@pytest.mark.parametrize("kw", [{"columns": 4}, {"rows": 2}, {"width": 0.0}, {"downstream": -1.0},
+                                {"attitude": -1}])
 def test_a_bad_grid_is_one_clear_error(kw):
     h = wigley(100.0, 10.0, 6.25, 10.0, n=21, m=9)
     with pytest.raises(HullError, match=f"dawson: .*{next(iter(kw))}"):
