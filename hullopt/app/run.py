@@ -149,7 +149,8 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
     plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
     who = f"Design {out.name}" if out.parent.name == "designs" else "The design"
     plot_overlay(m.before, m.after, float(draft), out / OVERLAY_NAME,
-                 title=f"{who} against its parent at T = {float(draft):g} m (parent dashed)")
+                 title=f"{who} against its parent at T = {float(draft):g} m (parent dashed)",
+                 measures=(m.areas, m.levels, m.widths))
 
 
 def _write_designs(outcomes: list[Outcome], draft: float, out: Path) -> None:

@@ -38,6 +38,7 @@ from ._shape import entrance_angle as entrance_angle
 from ._shape import run_angle as run_angle
 from ._shape import sac_regions as sac_regions
 from ._shape import waterline_angles as waterline_angles
+from ._shape import waterlines as waterlines
 from ._shape import DWL_BAND as DWL_BAND
 from ._shape import INFLECTION_FLOOR as INFLECTION_FLOOR
 from ._shape import dwl_turns as dwl_turns

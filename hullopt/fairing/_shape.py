@@ -251,6 +251,29 @@ def _end_angles(x, y):
     return jnp.stack([entrance, run])
 
 
+def waterlines(hulls: list[Sections], draft: Draft) -> tuple[Float[Array, " h"], list[Float[Array, "n h"]]]:
+    """The waterlines of hulls at the heights :data:`WATERLINE_FRACTIONS` of the draft above the lowest keel
+    among them (one set of heights, so that a design and its parent compare line by line).
+
+    Parameters
+    ----------
+    hulls : list of Sections
+        The hulls: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m] each.
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    z : Array, (h,)
+        The heights [m above the baseline] (the keel's taken as fixed: no gradient through it).
+    y : list of Array, (n, h) each
+        Each hull's half-breadths [m] at its stations and those heights.
+    """
+    keel = jax.lax.stop_gradient(jnp.min(jnp.stack([jnp.min(s.yz[..., 1]) for s in hulls])))
+    z = keel + (draft - keel) * jnp.asarray(WATERLINE_FRACTIONS)
+    return z, [level_widths(closed_half_polygon(s.yz), z) for s in hulls]
+
+
 def waterline_angles(sections: Sections, draft: Draft) -> Float[Array, "2 h"]:
     """Half-angles [rad] of entrance (row 0, at the fore end) and of the run (row 1, at the aft end) of the
     waterlines at the heights :data:`WATERLINE_FRACTIONS` of the draft above the keel; the entrance at the DWL
@@ -270,9 +293,7 @@ def waterline_angles(sections: Sections, draft: Draft) -> Float[Array, "2 h"]:
     Array, (2, h)
         Entrance and run half-angles [rad] at each height.
     """
-    keel = jax.lax.stop_gradient(jnp.min(sections.yz[..., 1]))
-    z = keel + (draft - keel) * jnp.asarray(WATERLINE_FRACTIONS)
-    y = level_widths(closed_half_polygon(sections.yz), z)  # (n, h)
+    _, (y,) = waterlines([sections], draft)
     return jnp.maximum(jax.vmap(lambda col: _end_angles(sections.x, col), in_axes=1, out_axes=1)(y), ANGLE_FLOOR)
 
 

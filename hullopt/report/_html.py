@@ -235,28 +235,29 @@ def _wireframe(s: Sections, name: str, draft: float):
     import plotly.graph_objects as go
 
     x, yz = np.asarray(s.x), np.asarray(s.yz)
+    gap = np.full((1, 3), np.nan)  # a break in the line (float arrays: plotly takes them without converting)
     pts = []
     for xk, section in zip(*station_sections(s, per_station=2)[1:]):
         for side in (1.0, -1.0):
-            pts += [*((xk, side * y, z) for y, z in section), (None, None, None)]
-    wl = [_waterline_half_breadth(p, draft) for p in yz]
+            pts += [np.column_stack([np.full(len(section), xk), side * section[:, 0], section[:, 1]]), gap]
+    wl = np.array([_waterline_half_breadth(p, draft) for p in yz])
     for side in (1.0, -1.0):
-        pts += [*((xi, side * w, draft) for xi, w in zip(x, wl)), (None, None, None)]
-    a = np.array(pts, dtype=object)
+        pts += [np.column_stack([x, side * wl, np.full(len(x), draft)]), gap]
+    a = np.concatenate(pts)
     return go.Scatter3d(x=a[:, 0], y=a[:, 1], z=a[:, 2], mode="lines", name=name, hoverinfo="name",
                         line=dict(color="#444444", width=2))
 
 
-def _body_plan_lines(s: Sections) -> tuple[list, list, list]:
-    """The half-sections at the half stations (interpolated there) as one polyline with gaps: aft body to the
-    left (negative y), fore body to the right; hover names the station (0 at the AP, 10 at the FP) and x."""
+def _body_plan_lines(s: Sections) -> tuple[np.ndarray, np.ndarray, list]:
+    """The half-sections at the half stations (interpolated there) as one polyline with gaps (NaN): aft body to
+    the left (negative y), fore body to the right; hover names the station (0 at the AP, 10 at the FP) and x."""
     ys, zs, text = [], [], []
     for st, xk, section in zip(*station_sections(s, per_station=2)):
         sign = 1.0 if st >= 5.0 else -1.0
-        ys += [*(sign * section[:, 0]), None]
-        zs += [*section[:, 1], None]
+        ys += [sign * section[:, 0], [np.nan]]
+        zs += [section[:, 1], [np.nan]]
         text += [f"station {st:g}, x = {xk:.2f} m"] * len(section) + [None]
-    return ys, zs, text
+    return np.concatenate(ys), np.concatenate(zs), text
 
 
 def _station_labels(s: Sections) -> tuple[list, list, list]:

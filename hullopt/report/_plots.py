@@ -380,7 +380,7 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "", wake=
     return _save(fig, path)
 
 
-def plot_overlay(before, after, draft: float, path: Path, title: str = "") -> Path:
+def plot_overlay(before, after, draft: float, path: Path, title: str = "", measures=None) -> Path:
     """A design against its parent in one figure, as a naval architect checks it: the body plan (left), the
     waterlines' half-breadths at the heights of :data:`~hullopt.fairing.WATERLINE_FRACTIONS` of the draft
     (top right) and the sectional-area curve with the design's change (bottom right); the parent dashed.
@@ -395,16 +395,18 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "") -> Pa
         The image file (PNG).
     title : str
         The figure's title; empty: a default.
+    measures : tuple, optional
+        ``(areas, levels, widths)`` where the caller has them (a run's :class:`~hullopt.study.Outcome`): the
+        sectional areas ``(2, n)`` [m²] of parent and design at ``draft``, and their waterlines
+        (:func:`hullopt.fairing.waterlines`: heights ``(h,)`` [m], half-breadths ``(2, n, h)`` [m]); computed
+        here when not.
 
     Returns
     -------
     pathlib.Path
         ``path``.
     """
-    import jax.numpy as jnp
-
-    from ..fairing import WATERLINE_FRACTIONS
-    from ..geometry import closed_half_polygon, level_widths, section_integrals
+    import jax
 
     fig = _figure(figsize=(15, 6.5))[0]
     fig.clear()
@@ -413,15 +415,10 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "") -> Pa
     _draw_body_plan(ax_bp, before, after, None, draft)
     ax_bp.legend(loc="upper left", fontsize=8)
     ax_bp.set_title("Body plan", loc="left", fontsize=10)
-    keel = min(float(np.min(np.asarray(s.yz)[..., 1])) for s in (before, after))
-    z = keel + (float(draft) - keel) * np.asarray(WATERLINE_FRACTIONS)
-    areas = []
-    for s, style in ((before, dict(ls="--", lw=0.9)), (after, dict(lw=1.1))):
-        yz = jnp.asarray(s.yz)
-        y = np.asarray(level_widths(closed_half_polygon(yz), jnp.asarray(z)))  # (n, h)
+    areas, z, widths = jax.tree.map(np.asarray, measures or _overlay_measures(before, after, float(draft)))
+    for s, y, style in ((before, widths[0], dict(ls="--", lw=0.9)), (after, widths[1], dict(lw=1.1))):
         for k in range(len(z)):
             ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **style)
-        areas.append(2.0 * np.asarray(section_integrals(type(s)(jnp.asarray(s.x), yz, s.lpp), float(draft)).area))
     for k, zk in enumerate(z):
         ax_wl.plot([], [], color=f"C{k}", label=f"z = {zk:.2f} m")
     ax_wl.plot([], [], color="0.4", ls="--", label="parent (dashed)")
@@ -445,6 +442,19 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "") -> Pa
     ax_a.set_title("Sectional-area curve", loc="left", fontsize=10)
     fig.suptitle(title or "Design against its parent", x=0.02, ha="left", fontsize=11)
     return _save(fig, path)
+
+
+def _overlay_measures(before, after, draft: float) -> tuple:
+    """What :func:`plot_overlay` draws of two hulls, as a run's program measures it (one jitted program each,
+    not the ~30 eager operations, a second, they are op by op)."""
+    import jax
+
+    from ..fairing import waterlines
+    from ..hydro import sectional_areas
+
+    areas = [jax.jit(sectional_areas)(s, draft) for s in (before, after)]
+    z, widths = jax.jit(waterlines)([before, after], draft)
+    return areas, z, widths
 
 
 def _non_dominated(points: np.ndarray) -> np.ndarray:

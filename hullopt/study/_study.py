@@ -24,6 +24,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..geometry import Sections
+from ..fairing import waterlines
 from ..hydro import Hydrostatics, hydrostatics, sectional_areas
 from ..models import FeatureHull, FeatureParams
 from ..optimise import (
@@ -66,6 +67,8 @@ class Outcome(eqx.Module):
     achieved: Float[Array, " t"]  # the target particulars of the final design
     errors: Float[Array, " t"]  # ... their errors (optimise.target_errors: the solvers' residuals, normalised units)
     areas: Float[Array, "2 n"]  # sectional-area curves [m²]: parent, final
+    levels: Float[Array, " h"]  # the heights [m] of the waterlines below (fairing.waterlines)
+    widths: Float[Array, "2 n h"]  # the waterlines' half-breadths [m]: parent, final
     objective: Float[Array, ""] | None  # the objective of the final design (None without one)
     objective_parent: Float[Array, ""] | None  # ... and of the parent
 
@@ -75,9 +78,10 @@ def measure(d: Design, p0: FeatureParams, final: FeatureParams) -> Outcome:
     before, after = d.model(p0), d.model(final)
     h0, h1 = hydrostatics(before, d.draft), hydrostatics(after, d.draft)
     areas = jnp.stack([sectional_areas(before, d.draft), sectional_areas(after, d.draft)])
+    levels, widths = waterlines([before, after], d.draft)
     obj = (d.objective(after, d.draft), d.objective(before, d.draft)) if d.objective is not None else (None, None)
     a = achieved(h1, after, d.targets.names, d.targets.kg)
-    return Outcome(before, after, h0, h1, a, target_errors(a, d.targets), areas, *obj)
+    return Outcome(before, after, h0, h1, a, target_errors(a, d.targets), areas, levels, jnp.stack(widths), *obj)
 
 
 @dataclass
