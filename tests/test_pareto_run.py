@@ -33,9 +33,8 @@ def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
     for k in range(4):  # each design's hull
         assert (out / "designs" / str(k) / "hull.stl").stat().st_size > 0
         assert (out / "designs" / str(k) / "offsets.csv").stat().st_size > 0
-        assert (out / "designs" / str(k) / "body_plan.png").stat().st_size > 0
-        assert (out / "designs" / str(k) / "sectional_area.png").stat().st_size > 0
-    assert not (out / "hull.stl").exists() and not (out / "body_plan.png").exists()  # no parent posing as a design
+        assert (out / "designs" / str(k) / "overlay.png").stat().st_size > 0
+    assert not (out / "hull.stl").exists() and not (out / "overlay.png").exists()  # no parent posing as a design
     assert len(r["objectives"]["mean_added_resistance"]["designs"]) == 4
     assert "Pareto front" in (out / "report.html").read_text(encoding="utf-8")  # the designs rebuilt for the page
     code, stdout, err = cli("hydro", f"{out}?design=2", "--json")  # one design of the sweep as a hull

@@ -36,7 +36,7 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, mo
     assert abs(report["achieved"]["cb"] - 0.48) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.5) <= 0.01
     assert set(report["achieved"]) >= {"volume", "cb", "lcb_pct", "kb", "wetted_surface"}
     for f in ("report.json", "config.json", "parent.json", "hull.stl", "offsets.csv", "parent_offsets.csv",
-              "body_plan.png", "sectional_area.png", "convergence.png", "report.html"):
+              "overlay.png", "convergence.png", "report.html"):
         assert (out / f).stat().st_size > 0, f
     # every measure parent → design with its unit; a fit's bounds reached are warned of
     objectives = report["objectives"]

@@ -4,7 +4,8 @@
     parent.json   the parent it deformed        hull.stl      the final hull (closed mesh; Lpp, draft in its header)
     offsets.csv   its offset table (wide layout: machine data, read back to the run's ∇)
     offsets_table.csv  its table of offsets for a yard (stations 0–20 × round waterlines and the DWL)
-    body_plan.png, sectional_area.png, convergence.png, pareto.png (sweeps), chunks/ (sweeps)
+    overlay.png   the design against its parent (body plan, waterlines, sectional-area curve)
+    convergence.png, pareto.png (sweeps), chunks/ (sweeps)
     report.html   the run as one self-contained page (3D hulls, plots, tables: :mod:`hullopt.report`)
 """
 
@@ -34,12 +35,10 @@ from ..report import (
     OVERLAY_NAME,
     Hulls,
     label,
-    plot_body_plans,
     plot_convergence,
     plot_overlay,
     plot_pareto,
     plot_rescored_fronts,
-    plot_sectional_areas,
     write_json,
     write_report,
 )
@@ -140,13 +139,9 @@ class _Clock:
 def _write_hull(m: Outcome, draft, out: Path) -> None:
     """Write the final hull's files to ``out``: ``hull.stl`` [m] (refined along the length and welded for
     float32, checked as read back: closed, one body, no degenerate face), its offsets (:func:`write_offsets`), and
-    the body-plan, sectional-area and overlay (body plan, waterlines, SAC against the parent) plots at ``draft``
-    [m]."""
+    the overlay plot (body plan, waterlines, sectional-area curve against the parent) at ``draft`` [m]."""
     write_hull_file(m.after, out / "hull.stl", float(draft))
     write_offsets(m.after, float(draft), out, "the designed hull")
-    plot_body_plans(m.before, m.after, out / "body_plan.png", draft=float(draft),
-                    title=f"Body plan: parent (dashed) and design {out.name} (stations 0 AP … 10 FP)")
-    plot_sectional_areas(m.before.x, m.after.x, m.areas, draft, out / "sectional_area.png")
     who = f"Design {out.name}" if out.parent.name == "designs" else "The design"
     plot_overlay(m.before, m.after, float(draft), out / OVERLAY_NAME,
                  title=f"{who} against its parent at T = {float(draft):g} m (parent dashed)",

@@ -17,7 +17,6 @@ from ._plots import plot_convergence as plot_convergence
 from ._plots import plot_pareto as plot_pareto
 from ._plots import plot_rescored_fronts as plot_rescored_fronts
 from ._plots import plot_resistance as plot_resistance
-from ._plots import plot_sectional_areas as plot_sectional_areas
 from ._plots import plot_wave_pattern as plot_wave_pattern
 from ._units import JSON_UNITS as JSON_UNITS
 from ._units import NOISE as NOISE

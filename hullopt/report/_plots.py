@@ -112,38 +112,6 @@ def plot_body_plans(before, after, path: Path, every: int | None = None, title: 
     return _save(fig, path)
 
 
-def plot_sectional_areas(x_before, x_after, areas, draft, path: Path) -> Path:
-    """Sectional-area curves of the parent (dashed) and the design.
-
-    Parameters
-    ----------
-    x_before : array_like, (n,)
-        The parent's stations [m from the AP].
-    x_after : array_like, (n,)
-        The design's stations [m from the AP].
-    areas : array_like, (2, n)
-        Sectional areas [m²]: the parent's, the design's.
-    draft : float
-        The draft they are at [m], for the axis label.
-    path : pathlib.Path
-        The image file (PNG; :func:`hullopt.drawing.save_figure`).
-
-    Returns
-    -------
-    pathlib.Path
-        ``path``.
-    """
-    fig, ax = _figure(figsize=(8, 4))
-    for x, a, label, style in ((x_before, areas[0], "parent", dict(color="0.6", ls="--")),
-                               (x_after, areas[1], "design", dict(color="C0"))):
-        ax.plot(np.asarray(x), np.asarray(a), label=label, **style)
-    ax.set_xlabel("x from AP [m]")
-    ax.set_ylabel(f"sectional area at T = {float(draft):g} m [m²]")
-    ax.legend()
-    ax.grid(alpha=0.3)
-    return _save(fig, path)
-
-
 def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, title: str = "",
                      fit: bool = False) -> Path:
     """Solver convergence on log scales: above, what the solver minimises; below, ``violation``, the largest
