@@ -326,6 +326,29 @@ def test_waterline_angles_of_a_wigley_by_the_closed_form():
                np.array([0.1]), rtol=1e-6)
 
 
+def test_waterlines_of_two_wigleys_by_the_closed_form():
+    """The overlay's waterlines: heights k/6 of the draft above the lower keel of the two hulls, each hull's
+    half-breadths there y = B/2 (1 − ξ²)(1 − ζ²) (ζ = (z − its own Wigley draft)/T; wall-sided above that
+    draft; 0 below its keel)."""
+    from hullopt.fairing import WATERLINE_FRACTIONS, waterlines
+    from hullopt.geometry import Sections
+    from hullopt.models import wigley
+
+    a = wigley(100.0, 10.0, 6.25, 10.0, n=41, m=201)
+    b = wigley(100.0, 12.0, 6.25, 10.0, n=41, m=201)
+    b = Sections(b.x, b.yz.at[..., 1].add(-1.0), b.lpp)  # 1 m lower: keel at z = −1 m, wall-sided above 5.25 m
+    z, (ya, yb) = jax.jit(waterlines)([a, b], 6.25)
+    np.testing.assert_allclose(z, -1.0 + 7.25 * np.asarray(WATERLINE_FRACTIONS), rtol=1e-14)
+    xi = (2.0 * np.asarray(a.x) / 100.0 - 1.0)[:, None]
+    z = np.asarray(z)
+
+    def want(half, zeta):
+        return half * (1.0 - xi**2) * np.where(zeta < -1.0, 0.0, 1.0 - np.minimum(zeta, 0.0) ** 2)
+
+    np.testing.assert_allclose(ya, want(5.0, (z - 6.25) / 6.25), atol=1e-3)
+    np.testing.assert_allclose(yb, want(6.0, (z - 5.25) / 6.25), atol=1e-3)
+
+
 def test_sac_regions_add_up_and_place_a_shoulder():
     """Σ (A'')² Δx per region adds up to the whole curve's; a fuller fore shoulder shows in its region."""
     from hullopt.fairing import sac_regions, sac_roughness
