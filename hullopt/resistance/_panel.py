@@ -50,7 +50,7 @@ from jaxtyping import Array, ArrayLike, Float
 from .._types import Draft, Speed, Speeds, Values
 from ..constants import G, RHO_SEA
 from ..errors import HullError
-from ..geometry import Sections, safe_div, safe_norm
+from ..geometry import Sections, safe_div, safe_norm, safe_sqrt
 from ._michell import LAMBDA_MAX, lambda_nodes
 
 STATIONS = 48  # default panel columns along the length (cosine-clustered towards the ends)
@@ -227,41 +227,48 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
         Velocity [m/s per m/s of source density]; 0 from a collapsed panel.
     """
     c, n, e1, e2, local = _plane_frames(panels)
-    r = points[:, None, :] - c[None]  # (P, N, 3)
-    px, py, pz = (jnp.sum(r * e, -1) for e in (e1, e2, n))
-    a, b = local, jnp.roll(local, -1, axis=1)  # the edges' ends (N, 4, 2)
+    # Every quantity is a list of (P, N) arrays, one per corner or edge k (its successor k + 1 by index, not by
+    # rolling an axis): elementwise arithmetic XLA fuses, where stacked (P, N, 4, 3) arrays and their rolls made
+    # copies of ~1 GB each way (a KCS Dawson solve's gradient spent most of its time in them).
+    r = points[:, None, :] - c[None]  # (P, N, 3); exactly 0 at a panel's own centroid
+    px, py, pz = (jnp.sum(r * e, -1) for e in (e1, e2, n))  # the points in each panel's frame
+    ax, ay = [local[None, :, k, 0] for k in range(4)], [local[None, :, k, 1] for k in range(4)]
+    nxt = [1, 2, 3, 0]
+    ex, ey = [ax[nxt[k]] - ax[k] for k in range(4)], [ay[nxt[k]] - ay[k] for k in range(4)]
+    dk = [safe_sqrt(ex[k] ** 2 + ey[k] ** 2) for k in range(4)]
+    floor = 1e-13 * (jnp.max(jnp.stack(dk)) + 1.0)
 
-    def corners(px, py, pz):  # vectors from the point to the corners, in the panel's frame: (P, N, 4, 3)
-        return jnp.stack([a[None, :, :, 0] - px[..., None], a[None, :, :, 1] - py[..., None],
-                          jnp.broadcast_to(-pz[..., None], px.shape + (4,))], axis=-1)
+    def corners(px, py, pz):  # vectors from the point to the corners in the panel's frame, and their lengths
+        rx, ry = [a - px for a in ax], [a - py for a in ay]
+        return rx, ry, [safe_sqrt(rx[k] ** 2 + ry[k] ** 2 + pz**2) for k in range(4)]
 
-    R = corners(px, py, pz)
-    rk = safe_norm(R)
-    rk1 = jnp.roll(rk, -1, axis=-1)
-    edge = b - a
-    dk = safe_norm(edge)
-    nu = safe_div(jnp.stack([edge[..., 1], -edge[..., 0]], -1), dk[..., None], (dk > 0.0)[..., None])
-    den = jnp.maximum(rk + rk1 - dk[None], 1e-13 * (jnp.max(dk) + 1.0))
-    log = jnp.log(jnp.maximum(rk + rk1 + dk[None], 1e-13) / den)  # ∫ 1/r dl along each edge
-    vt = jnp.sum(nu[None] * log[..., None], axis=-2)  # (P, N, 2): (1/4π)·Σ ν_k ∫ 1/r dl, times 4π
+    rx, ry, rk = corners(px, py, pz)
+    vx = vy = 0.0  # (1/4π)·Σ ν_k ∫ 1/r dl along the edges, times 4π; ν_k the edge's outward normal
+    for k in range(4):
+        s, d = rk[k] + rk[nxt[k]], dk[k]
+        log = jnp.log(jnp.maximum(s + d, 1e-13) / jnp.maximum(s - d, floor))
+        ok = d > 0.0
+        vx = vx + safe_div(ey[k], d, ok) * log
+        vy = vy - safe_div(ex[k], d, ok) * log
     if own:  # the solid angle at a panel's own centroid is 2π: computed at a harmless point instead
         eye = jnp.eye(px.shape[0], px.shape[1], dtype=bool)
         px, py, pz = jnp.where(eye, 0.0, px), jnp.where(eye, 0.0, py), jnp.where(eye, 1.0, pz)
-        R = corners(px, py, pz)
-        rk = safe_norm(R)
-        rk1 = jnp.roll(rk, -1, axis=-1)
+        rx, ry, rk = corners(px, py, pz)
     # solid angle Ω: the fan of triangles (corner k, corner k+1, the frame's origin at the corners' mean)
-    R2 = jnp.roll(R, -1, axis=-2)
-    R3 = jnp.stack([-px, -py, -pz], axis=-1)[..., None, :]
-    r3 = safe_norm(R3)
-    num = jnp.sum(R * jnp.cross(R2, R3), -1)
-    den2 = rk * rk1 * r3 + jnp.sum(R * R2, -1) * r3 + jnp.sum(R * R3, -1) * rk1 + jnp.sum(R2 * R3, -1) * rk
-    ok = (num != 0.0) | (den2 != 0.0)  # both 0 only on a collapsed panel (its velocity is masked below)
-    atan = jnp.arctan2(jnp.where(ok, num, 0.0), jnp.where(ok, den2, 1.0))
-    wn = -jnp.sum(atan, axis=-1) / (2.0 * jnp.pi)  # Ω/(4π), tan(Ω_k/2) = num/den
+    r3 = safe_sqrt(px**2 + py**2 + pz**2)
+    z = -pz  # every corner's, and the origin's
+    wn = 0.0
+    for k in range(4):
+        j = nxt[k]
+        x1, y1, x2, y2 = rx[k], ry[k], rx[j], ry[j]
+        num = x1 * (y2 + py) * z - y1 * (px + x2) * z + z * (y2 * px - x2 * py)  # R·(R2 × R3)
+        den = (rk[k] * rk[j] * r3 + (x1 * x2 + y1 * y2 + z * z) * r3 - (x1 * px + y1 * py + z * pz) * rk[j]
+               - (x2 * px + y2 * py + z * pz) * rk[k])
+        ok = (num != 0.0) | (den != 0.0)  # both 0 only on a collapsed panel (its velocity is masked below)
+        wn = wn - jnp.arctan2(jnp.where(ok, num, 0.0), jnp.where(ok, den, 1.0)) / (2.0 * jnp.pi)  # Ω/(4π)
     if own:
         wn = jnp.where(eye, 0.5, wn)
-    v = (vt[..., :1] * e1[None] + vt[..., 1:] * e2[None]) / (4.0 * jnp.pi) + wn[..., None] * n[None]
+    v = (vx[..., None] * e1[None] + vy[..., None] * e2[None]) / (4.0 * jnp.pi) + wn[..., None] * n[None]
     return jnp.where(panels.real[None, :, None] > 0.0, v, 0.0)  # a collapsed panel induces nothing
 
 
