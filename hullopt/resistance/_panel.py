@@ -261,6 +261,7 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     for k in range(4):
         j = nxt[k]
         x1, y1, x2, y2 = rx[k], ry[k], rx[j], ry[j]
+        # corners R = (x1, y1, z), R2 = (x2, y2, z), the origin R3 = (−px, −py, z); tan(Ω_k/2) = num/den
         num = x1 * (y2 + py) * z - y1 * (px + x2) * z + z * (y2 * px - x2 * py)  # R·(R2 × R3)
         den = (rk[k] * rk[j] * r3 + (x1 * x2 + y1 * y2 + z * z) * r3 - (x1 * px + y1 * py + z * pz) * rk[j]
                - (x2 * px + y2 * py + z * pz) * rk[k])
