@@ -20,11 +20,12 @@ demo: $(STAMP)
 	$(VENV)/bin/hullopt run configs/fit_cb_lcb.toml --out runs/fit_cb_lcb
 
 # the default suite (minutes); the long validations (whole design runs, sweeps, grid studies) are marked slow
+# --max-worker-restart=0: a crashed worker fails the run at once (xdist's replacement worker hung under loadfile)
 test: $(STAMP)
-	$(VENV)/bin/python -m pytest -n 2 --dist loadfile -m "not slow"
+	$(VENV)/bin/python -m pytest -n 2 --dist loadfile --max-worker-restart=0 -m "not slow"
 
 test-slow: $(STAMP)
-	$(VENV)/bin/python -m pytest -n 2 --dist loadfile -m slow
+	$(VENV)/bin/python -m pytest -n 2 --dist loadfile --max-worker-restart=0 -m slow
 
 # ship-model-lib pins plotly ~=5.13 (ours >= 5.20) for a module the benchmarks don't use: no deps.
 # BENCH_ARGS=--quick: shorter runs where a script offers them (benchmarks/run.py).

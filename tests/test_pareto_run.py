@@ -13,14 +13,14 @@ pytestmark = pytest.mark.slow  # minutes of solving: `make test-slow` (CI runs b
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
 
-def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
+def test_pareto_sweep_is_non_dominated_and_resumes(cli_process, tmp_path):
     """configs/pareto_bow.toml's sweep (Michell + friction against R_AW, motion + reflection; the frames moved
     along the length) on the Wigley: the KCS's takes longer than a test may (tests/data/pareto_wigley.toml, the
     reduced copy). A design of the sweep, rebuilt from the run folder with its moved stations, reads back."""
     out = tmp_path / "p"
     args = ["run", str(CONFIGS.parent / "tests" / "data" / "pareto_wigley.toml"), "--set", "sweep.count=4",
             "--set", "sweep.chunk=2", "--out", str(out), "--json"]
-    code, stdout, err = cli(*args)
+    code, stdout, err = cli_process(*args)
     assert code == 0, err
     r = json.loads(stdout)
     designs = r["designs"]
@@ -37,10 +37,10 @@ def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
     assert not (out / "hull.stl").exists() and not (out / "overlay.png").exists()  # no parent posing as a design
     assert len(r["objectives"]["mean_added_resistance"]["designs"]) == 4
     assert "Pareto front" in (out / "report.html").read_text(encoding="utf-8")  # the designs rebuilt for the page
-    code, stdout, err = cli("hydro", f"{out}?design=2", "--json")  # one design of the sweep as a hull
+    code, stdout, err = cli_process("hydro", f"{out}?design=2", "--json")  # one design of the sweep as a hull
     assert code == 0, err
     assert json.loads(stdout)["cb"] == pytest.approx(designs[2]["particulars"]["cb"], rel=1e-9)
-    code, _, err = cli("hydro", str(out))
+    code, _, err = cli_process("hydro", str(out))
     assert code == 2 and "needs ?design=K with K in 0…3" in err
     # Kill simulation: chunk 1 lost, chunk 0 kept (marked, to see that it is not recomputed).
     c0, c1 = out / "chunks" / "chunk_0000.json", out / "chunks" / "chunk_0001.json"
@@ -48,7 +48,7 @@ def test_pareto_sweep_is_non_dominated_and_resumes(cli, tmp_path):
     data["designs"][0]["iterations"] = -12345
     c0.write_text(json.dumps(data))
     c1.unlink()
-    code, stdout, _ = cli(*args)
+    code, stdout, _ = cli_process(*args)
     again = json.loads(stdout)["designs"]
     assert code == 0 and again[0]["iterations"] == -12345 and c1.exists()
     assert again[3]["objective"] == pytest.approx(designs[3]["objective"], rel=1e-9)  # deterministic
