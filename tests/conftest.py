@@ -86,10 +86,11 @@ def cli_process():
     For the longest end-to-end runs: a fresh process holds none of the test worker's programs, and a crash in
     XLA fails one test instead of killing the worker (late in the slow suite, the Pareto sweep aborted twice in
     ``executable.serialize()`` inside a worker that had run ~90 tests, while it passes alone; pytest-xdist then
-    hung until CI's limit)."""
+    hung until CI's limit). A run past ``timeout`` seconds fails the test rather than hold CI."""
 
-    def run(*args):
-        p = subprocess.run([sys.executable, "-m", "hullopt", *map(str, args)], capture_output=True, text=True)
+    def run(*args, timeout=1800):
+        p = subprocess.run([sys.executable, "-m", "hullopt", *map(str, args)], capture_output=True, text=True,
+                           timeout=timeout)
         return p.returncode, p.stdout, p.stderr
 
     return run
