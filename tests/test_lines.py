@@ -348,6 +348,12 @@ def test_cli_stability_json_and_plot(capsys, tmp_path):
     assert [c["key"] for c in d["criteria"]] == ["area_0_30", "area_0_40", "area_30_40", "gz_30", "angle_gz_max", "gm0"]
     assert all(c["pass"] for c in d["criteria"])
     assert (tmp_path / "gz.png").stat().st_size > 10_000
+    # heels off the criteria's 1° grid are solved apart (the kept program is built for that way)
+    code, out, err = run(capsys, "stability", "builtin:box?L=100&B=20&D=10", "--displacement", "8200", "--kg", "6",
+                         "--heels", "0:25:3", "--json")
+    assert code == 0, err
+    phi = np.deg2rad(12.5)
+    assert json.loads(out)["gz"][1] == pytest.approx(np.sin(phi) * (d["gm0"] + 0.5 * bm * np.tan(phi) ** 2), rel=1e-9)
 
 
 @pytest.mark.parametrize("args, words", [

@@ -193,18 +193,21 @@ def test_sheer_heel_and_free_trim_against_a_mesh_cut():
 @pytest.mark.slow
 def test_stability_shares_the_criteria_grid_with_the_requested_heels():
     """The curve of :func:`stability` (its heels on the criteria's 1° grid: solved once, picked from the grid;
-    off it: solved apart) against :func:`gz_curve` solved at those heels alone, on a sheered box that trims."""
+    off it: solved apart) against :func:`gz_curve` solved at those heels alone, on a sheered box that trims;
+    the same with the way told by the caller (``on_grid``: one way compiled, as the CLI's kept program)."""
     s = with_sheer(box(60.0, 10.0, 5.0, n=21), icll_sheer(box(60.0, 10.0, 5.0, n=21)))
     vol, kg, lcg = 60 * 10 * 3.0, 4.0, 29.0
     run = jax.jit(lambda h: (stability(s, vol, kg, h, lcg), gz_curve(s, vol, kg, h, lcg)))
+    told = jax.jit(lambda h, on: stability(s, vol, kg, h, lcg, on_grid=on), static_argnums=1)
     ref_crit = None
-    for deg in ([0.0, 10.0, 60.0], [0.0, 12.5, 60.0]):  # on the grid, then not (one compiled program)
+    for deg, on in (([0.0, 10.0, 60.0], True), ([0.0, 12.5, 60.0], False)):  # on the grid, then not
         heels = jnp.deg2rad(jnp.asarray(deg))
         res, ref = run(heels)
         assert bool(jnp.all(res.curve.converged)) and float(jnp.max(jnp.abs(ref.trim))) > 1e-3
         np.testing.assert_array_equal(res.curve.heel, heels)
         for f in ("gz", "kn", "level", "trim"):
             np.testing.assert_allclose(getattr(res.curve, f), getattr(ref, f), rtol=0, atol=1e-10, err_msg=f)
+            np.testing.assert_allclose(getattr(told(heels, on).curve, f), getattr(ref, f), rtol=0, atol=1e-10)
         ref_crit = res.criteria.value if ref_crit is None else ref_crit  # the criteria do not depend on the heels
         np.testing.assert_allclose(res.criteria.value, ref_crit, rtol=1e-12)
 

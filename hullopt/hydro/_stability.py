@@ -418,7 +418,7 @@ class Stability(eqx.Module):
 
 def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg: Length | None = None,
               fsc: Length = 0.0, free_trim: bool = True, flooding_angle: Angle | None = None, n_grid: int = 91,
-              tau: float = 0.01) -> Stability:
+              tau: float = 0.01, on_grid: bool | None = None) -> Stability:
     """:func:`gz_curve` at ``heels`` [rad] and :func:`~hullopt.hydro.criteria_from_gz` (IS Code 2008
     §2.2), from one ``vmap`` over the requested heels and the criteria's heels. Requested heels that all lie on
     the criteria's uniform grid (within 1e-12 rad; e.g. 0…90° in 5° steps with the default grid) are not solved
@@ -447,6 +447,10 @@ def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg
         Uniform heels on [0, 90°] for the criteria's maximum (91 by default).
     tau : float
         Softmax temperature [m] of the smooth margins (0.01 by default).
+    on_grid : bool or None
+        Whether every requested heel lies on the uniform grid, for a caller that traces ``heels`` and knows
+        it (then one way is compiled; a wrong True returns the nearest grid heels' values); None (default):
+        read off ``heels``, by a ``lax.cond`` that compiles both ways when they are traced.
 
     Returns
     -------
@@ -460,7 +464,7 @@ def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg
     n_gauss = extra.shape[0] - n_grid
     step = 0.5 * jnp.pi / (n_grid - 1)
     idx = jnp.clip(jnp.round(heels / step), 0, n_grid - 1).astype(int)  # the nearest heel of the uniform grid
-    on_grid = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= ANGLE_TOL)
+    near = jnp.all(jnp.abs(heels - extra[n_gauss + idx]) <= ANGLE_TOL)
     fields = ("heel", "gz", "kn", "level", "trim", "converged")
 
     def solve(at: Array, take: Array) -> Stability:
@@ -477,7 +481,9 @@ def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg
     def apart() -> Stability:
         return solve(jnp.concatenate([heels, extra]), jnp.arange(k))
 
-    try:  # heels known while tracing: one branch compiled
-        return shared() if bool(on_grid) else apart()
-    except jax.errors.ConcretizationTypeError:  # heels traced (e.g. a kept program's argument): chosen when run
-        return jax.lax.cond(on_grid, shared, apart)
+    if on_grid is None:
+        try:  # heels known while tracing: one branch compiled
+            on_grid = bool(near)
+        except jax.errors.ConcretizationTypeError:  # heels traced and the caller silent: chosen when run
+            return jax.lax.cond(near, shared, apart)
+    return shared() if on_grid else apart()

@@ -61,14 +61,14 @@ def _volume(sections, displacement: str, rho: float, what: str = "--displacement
     return volume
 
 
-def _stability_program(sections, volume, kg, heels, lcg, fsc, flooding_angle, free_trim: bool):
+def _stability_program(sections, volume, kg, heels, lcg, fsc, flooding_angle, free_trim: bool, on_grid: bool):
     """:func:`~hullopt.hydro.stability`'s curve and criteria as dicts of their fields (a kept program's outputs
     then need no hydro class to be read back) and the volume the hull displaces at its deck [m³] (as
     :func:`_volume`)."""
     from ...hydro import heeled_integrals, stability
 
     full = heeled_integrals(sections, 0.0, jnp.max(sections.yz[..., 1]) + 1.0).volume
-    res = stability(sections, volume, kg, heels, lcg, fsc, free_trim, flooding_angle)
+    res = stability(sections, volume, kg, heels, lcg, fsc, free_trim, flooding_angle, on_grid=on_grid)
     return dict(vars(res.curve)), dict(vars(res.criteria)), full
 
 
@@ -84,7 +84,11 @@ def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: 
 
     args = (sections, arr(volume), arr(kg), arr(heels), arr(lcg), arr(fsc), arr(flooding_angle))
     key = {"lcg": lcg is not None, "flooding_angle": flooding_angle is not None, "v": 2}
-    return cached_call("stability", _stability_program, args, (free_trim,), key=key)
+    # heels on stability()'s 1° criteria grid (the default 0:90:19 is) take its equilibria: known here, so the
+    # program is built for one way, not both (half the cold trace and compile)
+    step = np.pi / 180.0
+    on_grid = bool(np.all(np.abs(heels - np.round(heels / step) * step) <= 1e-12))
+    return cached_call("stability", _stability_program, args, (free_trim, on_grid), key=key)
 
 
 @app.command("stability")
