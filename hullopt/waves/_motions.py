@@ -316,7 +316,10 @@ def motion_added_resistance(sections: Sections, draft: Draft, speed: Speed, omeg
 # 1.75–1.8× on the slender ones (heave at resonance within 10 %: GB's energy balance counts every radiated wave
 # as resistance, and strip theory's pitch at speed is off), at Fn 0.4 1.8–4.2×.
 # Against the tank's peaks interpolated linearly in Fn (I, III): 1.09/1.03 at Fn 0.22, 1.24/1.23 at 0.24,
-# 1.33/1.30 at 0.25, 1.37/1.43 at 0.26 — hence the limit.
+# 1.33/1.30 at 0.25, 1.37/1.43 at 0.26 — hence the limit. Salvesen's (1978) motion term ½k cos α Im Σ η̄_j F_j
+# (F_j Froude–Krylov + diffraction), tried on the same motions: 0.77/0.85 at Fn 0.2, 1.38/1.53 at 0.3, 1.8/1.5 at
+# 0.4 (I/III) — rising with Fn as GB does where the tank's peak falls (I: 31.8, 27.6, 14.9): the excess is in
+# strip theory's motions at speed, not in the energy formula, so GB stays.
 MOTION_FN_MAX = 0.25
 MOTION_L_OVER_B_MIN = 7.0
 
