@@ -103,6 +103,18 @@ def test_each_command_is_registered_by_the_module_the_registry_names():
     assert {c.name or c.callback.__name__ for c in app.registered_commands} == set(commands.COMMANDS)
 
 
+def test_a_command_that_reads_a_hull_loads_no_study():
+    """``hullopt hydro``/``stability`` import the app, their command and the hull reader: not the configs, the
+    studies, the optimiser or the report's page and plots (0.6 s of a warm call: hullopt.report and
+    hullopt.study load their names on first use)."""
+    code = ("import sys; from hullopt.app.cli import configure_jax; configure_jax(); import hullopt.app._app; "
+            "import hullopt.app.commands.hydro, hullopt.app.commands.stability; "
+            "print(*(m in sys.modules for m in ('hullopt.optimise', 'hullopt.study._config', "
+            "'hullopt.study._study', 'hullopt.report._html', 'hullopt.report._plots', 'pydantic')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False"] * 6
+
+
 def test_help_lists_every_command():
     out = subprocess.run([sys.executable, "-m", "hullopt", "--help"], capture_output=True, text=True, check=True)
     from hullopt.app.commands import COMMANDS

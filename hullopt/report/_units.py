@@ -19,7 +19,6 @@ from typing import Any
 import numpy as np
 
 from ..geometry import atomic_write_bytes
-from ..optimise import OBJECTIVES
 
 JSON_UNITS = ("JSON (--json, report.json) is in SI units: m, m², m³, kg, N, s, rad; a key ending in _deg is in "
               "degrees, _kn in knots, _pct in per cent (LCB, LCF: of Lpp from midship, forward positive); tpc "
@@ -81,6 +80,8 @@ def units_of(key: str) -> tuple[str, str, float]:
     known = {**PARTICULARS, **TARGET_UNITS, **OBJECTIVE_UNITS, **SHAPE_UNITS}
     if key in known:
         return known[key]
+    from ..optimise import OBJECTIVES  # here: the units of the known keys need no solver library
+
     unit = getattr(OBJECTIVES.get(key), "unit", "") if isinstance(OBJECTIVES, dict) else ""
     return {"N": (key, "kN", 1e-3), "-": (key, "", 1)}.get(unit, (key, unit or "", 1))
 

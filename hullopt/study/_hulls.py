@@ -22,6 +22,7 @@ import json
 import os
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
 from ..errors import HullError
@@ -39,8 +40,10 @@ from ..models import (
     take_param,
 )
 from ..models import load_hull as load_spec
-from ._config import RunConfig
-from ._study import STUDIES, Study
+
+if TYPE_CHECKING:  # the configs and studies load where a study is made: reading a hull needs neither
+    from ._config import RunConfig
+    from ._study import Study
 
 #: Bump to re-extract every kept parent (a change of what is stored, not of the code: that is in the key).
 EXTRACTION_VERSION = 1
@@ -121,6 +124,8 @@ def read_run_config(folder: Path, what: str = "") -> RunConfig:
     except (OSError, ValueError) as e:
         raise HullError(f"{what}{folder} is not a run folder (config.json: {type(e).__name__}: {e})") from None
     try:
+        from ._config import RunConfig
+
         return RunConfig.model_validate(raw)
     except ValidationError as e:
         err = e.errors()[0]
@@ -146,6 +151,8 @@ def load_study(cfg: RunConfig) -> Study:
     HullError
         A bad parent spec, a parent without a design draft when the config gives none, or a bad design.
     """
+    from ._study import STUDIES
+
     return STUDIES[cfg.kind](cfg, run_parent(cfg.hull.parent, cfg.hull.draft))
 
 
@@ -168,6 +175,8 @@ def folder_study(folder: Path, cfg: RunConfig) -> Study:
     """
     kept = folder / "parent.json"
     parent = read_features(kept) if kept.is_file() else run_parent(cfg.hull.parent, cfg.hull.draft)
+    from ._study import STUDIES
+
     return STUDIES[cfg.kind](cfg, parent)
 
 
