@@ -23,6 +23,11 @@ def test_mkdocs_build_strict(tmp_path):
     # the API reference shows every name a package exports (docs/griffe_reexports.py)
     html = (tmp_path / "site" / "api" / "hydro" / "index.html").read_text()
     assert 'id="hullopt.hydro.hydrostatics"' in html and 'id="hullopt.hydro.gz_curve"' in html
+    # also where the names load on first use (their ``__init__.pyi`` lists them)
+    html = (tmp_path / "site" / "api" / "study" / "index.html").read_text()
+    assert 'id="hullopt.study.load_hull"' in html and 'id="hullopt.study.RunConfig"' in html
+    html = (tmp_path / "site" / "api" / "report" / "index.html").read_text()
+    assert 'id="hullopt.report.fmt"' in html and 'id="hullopt.report.write_report"' in html
 
 
 def _env():

@@ -7,34 +7,7 @@ they extract, and so are run folders (a finished run's design hull, :func:`folde
 
 import lazy_loader
 
-# Names load from their modules on first use: a command that reads a hull (``load_hull``) or keeps a program
-# (``cached_call``) does not import the configs, the studies and their solvers.
-__getattr__, __dir__, __all__ = lazy_loader.attach(__name__, submod_attrs={
-    "_config": [
-        "FAIRNESS", "OPTIONS", "conditions_text", "ConstraintsConfig", "DeformConfig", "DesignConfig",
-        "ObjectiveConfig", "ObjectiveOptions", "RunConfig", "SolverConfig", "load_config", "load_design",
-        "objective_options", "DEFAULT_LIMITS", "Bound", "parse_bound", "resolve_spec",
-    ],
-    "_hulls": [
-        "cache_folder", "folder_study", "load_hull", "load_study", "parent_digest", "read_run_config", "run_parent",
-    ],
-    "_problem": [
-        "Problem", "design_params", "limits_from", "params_from_dict", "params_to_dict",
-    ],
-    "_programs": [
-        "cached_call",
-    ],
-    "_study": [
-        "STUDIES", "VIOLATION", "Fit", "Minimise", "Outcome", "Pareto", "Solution", "Study", "design_outcomes",
-        "structure",
-    ],
-    "_sweep": [
-        "collect_chunks", "parse_shard",
-    ],
-    "_wind_config": [
-        "DrawingsConfig", "config_parts", "read_wind_config",
-    ],
-    "_rescore": [
-        "rescore",
-    ],
-})
+# Names load from their modules on first use (listed in ``__init__.pyi``, which type checkers and the API
+# reference read): a command that reads a hull (``load_hull``) or keeps a program (``cached_call``) does not
+# import the configs, the studies and their solvers.
+__getattr__, __dir__, __all__ = lazy_loader.attach_stub(__name__, __file__)
