@@ -206,7 +206,8 @@ def _plane_frames(panels: Panels):
     return c, n, e1, e2, local
 
 
-def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = False) -> Float[Array, "P N 3"]:
+def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = False,
+                    flat: bool = False) -> Float[Array, "P N 3"]:
     """Velocity induced at ``points`` by each panel's unit source density (outflow 1 m³/s per m²),
     (1/4π) ∫ (p − q)/|p − q|³ dA, by Hess & Smith's closed forms: in-plane from the edges' logarithms, normal
     from the solid angle.
@@ -220,6 +221,9 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     own : bool
         The points are the first P panels' own centroids: a panel's velocity at its own centroid is the outside
         limit (normal part ½).
+    flat : bool
+        The points and the panels all lie in one plane (a flat free surface): the normal part is 0 there (½ at
+        an own centroid), so the solid angle is not computed.
 
     Returns
     -------
@@ -243,6 +247,9 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
         return rx, ry, [safe_sqrt(rx[k] ** 2 + ry[k] ** 2 + pz**2) for k in range(4)]
 
     rx, ry, rk = corners(px, py, pz)
+    # a panel's own centroid (p ≈ 0: the solid angle jumps there) is masked out of the solid angle below and
+    # takes the outside limit instead; the corners are shared with the edges' logarithms, not computed again
+    eye = jnp.eye(px.shape[0], px.shape[1], dtype=bool) if own else jnp.zeros((), dtype=bool)
     vx = vy = 0.0  # (1/4π)·Σ ν_k ∫ 1/r dl along the edges, times 4π; ν_k the edge's outward normal
     for k in range(4):
         s, d = rk[k] + rk[nxt[k]], dk[k]
@@ -250,22 +257,18 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
         ok = d > 0.0
         vx = vx + safe_div(ey[k], d, ok) * log
         vy = vy - safe_div(ex[k], d, ok) * log
-    if own:  # the solid angle at a panel's own centroid is 2π: computed at a harmless point instead
-        eye = jnp.eye(px.shape[0], px.shape[1], dtype=bool)
-        px, py, pz = jnp.where(eye, 0.0, px), jnp.where(eye, 0.0, py), jnp.where(eye, 1.0, pz)
-        rx, ry, rk = corners(px, py, pz)
     # solid angle Ω: the fan of triangles (corner k, corner k+1, the frame's origin at the corners' mean)
     r3 = safe_sqrt(px**2 + py**2 + pz**2)
     z = -pz  # every corner's, and the origin's
-    wn = 0.0
-    for k in range(4):
+    wn = jnp.zeros_like(pz)
+    for k in range(0 if flat else 4):
         j = nxt[k]
         x1, y1, x2, y2 = rx[k], ry[k], rx[j], ry[j]
         # corners R = (x1, y1, z), R2 = (x2, y2, z), the origin R3 = (−px, −py, z); tan(Ω_k/2) = num/den
         num = x1 * (y2 + py) * z - y1 * (px + x2) * z + z * (y2 * px - x2 * py)  # R·(R2 × R3)
         den = (rk[k] * rk[j] * r3 + (x1 * x2 + y1 * y2 + z * z) * r3 - (x1 * px + y1 * py + z * pz) * rk[j]
                - (x2 * px + y2 * py + z * pz) * rk[k])
-        ok = (num != 0.0) | (den != 0.0)  # both 0 only on a collapsed panel (its velocity is masked below)
+        ok = ((num != 0.0) | (den != 0.0)) & ~eye  # both 0 only on a collapsed panel (masked below) or at p = 0
         wn = wn - jnp.arctan2(jnp.where(ok, num, 0.0), jnp.where(ok, den, 1.0)) / (2.0 * jnp.pi)  # Ω/(4π)
     if own:
         wn = jnp.where(eye, 0.5, wn)
@@ -294,13 +297,17 @@ def centre_velocities(panels: Panels) -> Float[Array, "N N 3"]:
     return jnp.sum(v.reshape(n, 4, n, 3), axis=1)
 
 
-def double_body_flow(panels: Panels) -> tuple[Float[Array, " N"], Float[Array, "N 3"]]:
+def double_body_flow(panels: Panels, v: Float[Array, "N N 3"] | None = None
+                     ) -> tuple[Float[Array, " N"], Float[Array, "N 3"]]:
     """The double-body flow past the hull at unit speed (the stream −x̂: the ship moves ahead).
 
     Parameters
     ----------
     panels : Panels
         The port side's wet panels (their images complete the hull and its mirror in the waterplane).
+    v : (N, N, 3) Array, optional
+        :func:`centre_velocities` of ``panels``, when the caller has it (computed here otherwise): a caller
+        that uses it too shares one influence matrix, and one backward pass through it.
 
     Returns
     -------
@@ -311,7 +318,7 @@ def double_body_flow(panels: Panels) -> tuple[Float[Array, " N"], Float[Array, "
         The total velocity at the centroids [per m/s of speed]: the stream plus the sources'.
     """
     real = panels.real > 0.0
-    v = centre_velocities(panels)
+    v = centre_velocities(panels) if v is None else v
     a = jnp.sum(v * panels.normal[:, None, :], axis=-1)
     a = jnp.where(real[:, None] & real[None, :], a, jnp.eye(a.shape[0], dtype=a.dtype))
     sigma = jnp.linalg.solve(a, jnp.where(real, panels.normal[:, 0], 0.0))
