@@ -44,6 +44,30 @@ def test_panel_velocity_matches_quadrature():
         np.testing.assert_allclose(g, want, atol=2e-3 * np.abs(want).max())
 
 
+def test_panel_velocity_shortcuts_equal_the_whole_kernel():
+    """The shortcuts Dawson's system takes, against the kernel in full: a flat grid of panels at its own centroids
+    (``flat``: no solid angle, normal part ½ on the diagonal only), and panels below a waterplane and their images
+    above it seen from points on it (two images with the in-plane part doubled and no vertical one)."""
+    x, y = np.meshgrid(np.linspace(0.0, 4.0, 6), np.linspace(0.0, 2.0, 4), indexing="ij")
+    grid = np.stack([x, y, np.full_like(x, 1.5)], -1)
+    quads = np.stack([grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:]], 2).reshape(-1, 4, 3)
+    quads[..., :2] += 0.05 * np.sin(np.arange(quads[..., :2].size)).reshape(quads[..., :2].shape)  # not a lattice
+    flat = Panels(jnp.asarray(quads), jnp.array(1.5))
+    whole = source_velocity(flat.centre, flat, own=True)
+    np.testing.assert_allclose(source_velocity(flat.centre, flat, own=True, flat=True), whole, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(np.diagonal(np.asarray(whole[..., 2])), 0.5)
+    below = quads.copy()  # the same quads tilted down from the waterplane z = 1.5: a hull's side
+    below[..., 2] = 1.5 - 0.3 * below[..., 1] - 0.1 * below[..., 0]
+    above = below[:, ::-1].copy()  # the images above the waterplane, their winding turned
+    above[..., 2] = 3.0 - above[..., 2]
+    pts = jnp.asarray(grid.reshape(-1, 3) + np.array([0.13, 0.07, 0.0]))  # points on the waterplane
+    four = source_velocity(pts, Panels(jnp.asarray(np.concatenate([below, above])), jnp.array(1.5)))
+    four = np.asarray(four).reshape(len(pts), 2, -1, 3).sum(1)
+    two = 2.0 * np.asarray(source_velocity(pts, Panels(jnp.asarray(below), jnp.array(1.5)))) * [1.0, 1.0, 0.0]
+    np.testing.assert_allclose(two, four, rtol=0, atol=1e-14 * np.abs(four).max())
+    assert np.abs(four[..., :2]).max() > 1e-3 and np.abs(four[..., 2]).max() < 1e-15
+
+
 @pytest.fixture(scope="module")
 def sphere():
     """A unit sphere 60 m deep (its images in the waterplane 120 m away), 16 × 8 quads on the port side."""
