@@ -38,6 +38,7 @@ from .hydro import HULL_HELP, parse_displacement
 SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 WIND_PRESSURE = 504.0  # Pa: hullopt.hydro.WIND_PRESSURE (IS Code §2.3.2), here so that --help loads no hydro
+GRID = 91  # heels on [0, 90°] of the criteria's grid (1° steps), given to hullopt.hydro.stability
 
 
 def _sectioned(hull: LoadedHull, sheer: str):
@@ -68,7 +69,7 @@ def _stability_program(sections, volume, kg, heels, lcg, fsc, flooding_angle, fr
     from ...hydro import heeled_integrals, stability
 
     full = heeled_integrals(sections, 0.0, jnp.max(sections.yz[..., 1]) + 1.0).volume
-    res = stability(sections, volume, kg, heels, lcg, fsc, free_trim, flooding_angle, on_grid=on_grid)
+    res = stability(sections, volume, kg, heels, lcg, fsc, free_trim, flooding_angle, n_grid=GRID, on_grid=on_grid)
     return dict(vars(res.curve)), dict(vars(res.criteria)), full
 
 
@@ -84,9 +85,9 @@ def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: 
 
     args = (sections, arr(volume), arr(kg), arr(heels), arr(lcg), arr(fsc), arr(flooding_angle))
     key = {"lcg": lcg is not None, "flooding_angle": flooding_angle is not None, "v": 2}
-    # heels on stability()'s 1° criteria grid (the default 0:90:19 is) take its equilibria: known here, so the
-    # program is built for one way, not both (half the cold trace and compile)
-    step = np.pi / 180.0
+    # heels on the criteria's grid (the default 0:90:19 are) take its equilibria: known here, so the program is
+    # built for that way or the other, not both (a lax.cond traces and compiles both)
+    step = 0.5 * np.pi / (GRID - 1)
     on_grid = bool(np.all(np.abs(heels - np.round(heels / step) * step) <= 1e-12))
     return cached_call("stability", _stability_program, args, (free_trim, on_grid), key=key)
 
