@@ -242,11 +242,8 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     dk = [safe_sqrt(ex[k] ** 2 + ey[k] ** 2) for k in range(4)]
     floor = 1e-13 * (jnp.max(jnp.stack(dk)) + 1.0)
 
-    def corners(px, py, pz):  # vectors from the point to the corners in the panel's frame, and their lengths
-        rx, ry = [a - px for a in ax], [a - py for a in ay]
-        return rx, ry, [safe_sqrt(rx[k] ** 2 + ry[k] ** 2 + pz**2) for k in range(4)]
-
-    rx, ry, rk = corners(px, py, pz)
+    rx, ry = [a - px for a in ax], [a - py for a in ay]  # from the point to the corners, in the panel's frame
+    rk = [safe_sqrt(rx[k] ** 2 + ry[k] ** 2 + pz**2) for k in range(4)]
     # a panel's own centroid (p ≈ 0: the solid angle jumps there) is masked out of the solid angle below and
     # takes the outside limit instead; the corners are shared with the edges' logarithms, not computed again
     eye = jnp.eye(px.shape[0], px.shape[1], dtype=bool) if own else jnp.zeros((), dtype=bool)
