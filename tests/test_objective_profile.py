@@ -133,6 +133,47 @@ def test_head_sea_motion_part_gradient_matches_differences():
     check_grad(f, np.array([0.05]), rtol=1e-4)
 
 
+def test_points_at_one_speed_and_heading_share_what_those_alone_give():
+    """An operating profile's points grouped by speed and heading (first appearance first); ``vmap_grouped``
+    keeps a group's shared values unbatched, so what depends on them alone (here a sine; in a profile the strip
+    theory) is computed once a group, not once a point — and every point gets its own value back in order."""
+    from hullopt.optimise import point_groups, vmap_grouped
+
+    speed, heading, hs = [12.0, 15.0, 12.0, 15.0, 18.0], [0.0, 0.0, 0.0, 0.5, 0.0], [1.0, 2.0, 3.0, 4.0, 5.0]
+    groups = point_groups(speed, heading)
+    assert groups == ((0, 2), (1,), (3,), (4,))
+
+    def fn(u, a, h):
+        return jnp.sin(u) * jnp.cos(a) + h
+
+    args = (jnp.asarray(speed), jnp.asarray(heading)), (jnp.asarray(hs),)
+    np.testing.assert_array_equal(vmap_grouped(fn, groups, *args), fn(*args[0], *args[1]))
+    sines = [e for e in jax.make_jaxpr(lambda *a: vmap_grouped(fn, groups, a[:2], a[2:]))(*args[0], *args[1]).eqns
+             if e.primitive.name == "sin"]
+    assert [e.outvars[0].aval.shape for e in sines] == [(4,)]  # once a group; (4, 2) would be once a slot
+
+
+def test_a_profile_with_two_sea_states_a_speed_equals_its_points_alone(tmp_path):
+    """Two sea states at one speed (a group) and a speed alone: the grouped profile equals the same profile
+    evaluated point by point (``groups=None``) to rounding, and sees each point's own sea state."""
+    import dataclasses
+
+    from hullopt.study import load_config
+
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10)
+    path = tmp_path / "g.toml"
+    path.write_text(PROFILE.format(kind="profile_added_resistance", extra="motion = false").replace(
+        "speed_kn = 12\nweight = 2\n", "speed_kn = 18\nweight = 2\nhs = 4\ntp = 11\nheading_deg = 30\n"))
+    grouped = load_config(path)[0].objective.build()
+    assert grouped.groups == ((0, 2), (1,))
+    alone = dataclasses.replace(grouped, groups=None)
+    value, point_by_point = (float(jax.jit(o.__call__)(hull, 6.25)) for o in (grouped, alone))
+    assert value == pytest.approx(point_by_point, rel=1e-13)
+    swapped = dataclasses.replace(grouped, hs=np.asarray(grouped.hs)[[2, 1, 0]], tp=np.asarray(grouped.tp)[[2, 1, 0]],
+                                  weights=np.asarray(grouped.weights)[[2, 1, 0]])
+    assert float(jax.jit(swapped.__call__)(hull, 6.25)) == pytest.approx(value, rel=1e-13)
+
+
 def test_conditions_captions_say_where_an_objective_is_measured():
     """The Pareto plot's caption: the shipped configs' profiles, a speed list, one speed in one sea."""
     from conftest import REPO

@@ -113,3 +113,15 @@ def test_a_method_outside_its_validity_confirms_nothing():
     assert not held and "dawson +0.90 %" in warning and "not counted, outside their validity on the parent: panel -3.60 %" in warning
     methods["panel"]["outside_validity"] = None
     assert _confirmed(methods, "calm", 0, claimed=True) == (True, None)
+
+
+def test_conditions_at_one_speed_share_their_strip_theory():
+    """The rescoring's conditions (the profile, ±10 % speed, ±2 s T_p), laid out condition-major, grouped by speed
+    and heading: the T_p shifts at the profile's speeds fall in the profile's groups (one strip-theory solve for
+    the three), the speed factors each in their own."""
+    from hullopt.study._rescore import CONDITIONS, _groups
+
+    assert [c[0] for c in CONDITIONS] == [1.0, 0.9, 1.1, 1.0, 1.0]
+    assert _groups(np.array([10.0, 12.0]), np.zeros(2)) == ((0, 6, 8), (1, 7, 9), (2,), (3,), (4,), (5,))
+    assert _groups(np.array([10.0, 10.0]), np.array([0.0, 0.5])) == ((0, 6, 8), (1, 7, 9), (2,), (3,), (4,), (5,))
+    assert len(_groups(np.array([10.0, 10.0]), np.zeros(2))) == 3  # two sea states at one speed: one group a speed

@@ -18,6 +18,8 @@ from ._objectives import ProfileAddedResistance as ProfileAddedResistance
 from ._objectives import ProfilePower as ProfilePower
 from ._objectives import ProfileResistance as ProfileResistance
 from ._objectives import WindAddedResistance as WindAddedResistance
+from ._objectives import point_groups as point_groups
+from ._objectives import vmap_grouped as vmap_grouped
 from ._problems import TARGETS as TARGETS
 from ._problems import TARGET_KINDS as TARGET_KINDS
 from ._problems import BluntnessTarget as BluntnessTarget

@@ -20,7 +20,7 @@ name                         unit  value
 from __future__ import annotations
 
 import abc
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import equinox as eqx
@@ -210,11 +210,65 @@ class WindAddedResistance(Objective):
                    _scalar(np.radians(options.get("wind_angle_deg", 0.0))))
 
 
+def point_groups(speed: ArrayLike | Sequence[float],
+                 heading: ArrayLike | Sequence[float]) -> tuple[tuple[int, ...], ...]:
+    """The indices of an operating profile's points grouped by equal (speed, heading), in order of first
+    appearance (numpy; any units): ``point_groups([12, 12, 15], [0, 0, 0])`` is ``((0, 1), (2,))``.
+
+    Parameters
+    ----------
+    speed, heading : array_like, (k,)
+        Each point's speed and heading.
+
+    Returns
+    -------
+    tuple of tuple of int
+        The groups, each the points' indices in order.
+    """
+    out: dict[tuple[float, float], list[int]] = {}
+    for i, key in enumerate(zip(np.asarray(speed, float).tolist(), np.asarray(heading, float).tolist())):
+        out.setdefault(key, []).append(i)
+    return tuple(tuple(g) for g in out.values())
+
+
+def vmap_grouped(fn: Callable, groups: tuple[tuple[int, ...], ...], shared: tuple, each: tuple) -> Array:
+    """``fn(*shared[:, i], *each[:, i])`` for every point i, vmapped so that within a group (points whose
+    ``shared`` values are equal, :func:`point_groups`) those stay unbatched: what ``fn`` computes from them
+    alone runs once a group (an operating profile's strip theory at one speed and heading, whatever the sea
+    state).
+
+    Parameters
+    ----------
+    fn : callable
+        ``fn(*shared_i, *each_i)`` → Array (any shape).
+    groups : tuple of tuple of int
+        Every point index 0…k−1 exactly once, grouped.
+    shared, each : tuple of Array, each (k,)
+        The per-point arguments equal within a group, and the others.
+
+    Returns
+    -------
+    Array, (k, ...)
+        ``fn``'s value for each point, in the points' order.
+    """
+    q = max(len(g) for g in groups)
+    slots = np.array([[*g, *(g[0],) * (q - len(g))] for g in groups])  # (groups, q), padded with the first
+    inner = jax.vmap(fn, in_axes=(None,) * len(shared) + (0,) * len(each))
+    out = jax.vmap(inner)(*(jnp.asarray(a)[slots[:, 0]] for a in shared), *(jnp.asarray(a)[slots] for a in each))
+    where = {i: (n, j) for n, g in enumerate(groups) for j, i in enumerate(g)}
+    n, j = (np.array(v) for v in zip(*(where[i] for i in range(len(where)))))
+    return out[n, j]
+
+
 class ProfileResistance(Objective):
     """An operating profile's resistance [N]: the weighted mean over its points i of calm-water R_T(U_i) by
     ``method`` (:func:`~hullopt.resistance.calm_water`) plus, where the point has a sea state (``hs`` > 0), the
     mean added resistance in it (NMRI, long-crested, motion part when ``motion``): Σ wᵢ (R_T + R_AW)ᵢ / Σ wᵢ.
-    Points: ``speed`` [m/s], ``weights``, ``hs`` [m] (0: calm water), ``tp`` [s], ``heading`` [rad], each (k,)."""
+    Points: ``speed`` [m/s], ``weights``, ``hs`` [m] (0: calm water), ``tp`` [s], ``heading`` [rad], each (k,).
+
+    ``groups`` (static; :func:`point_groups`, which ``from_config`` applies) lists the points by their speed and
+    heading: the sea states of one group share its strip-theory solve, which does not depend on the sea state
+    (a profile of 3 speeds in 2 sea states solves 3 times, not 6). ``None``: each point alone."""
 
     name: ClassVar[str] = "profile_resistance"
     unit: ClassVar[str] = "N"
@@ -231,6 +285,7 @@ class ProfileResistance(Objective):
     method: str = eqx.field(static=True, default="holtrop")
     motion: bool = eqx.field(static=True, default=True)
     waves: bool = eqx.field(static=True, default=True)
+    groups: tuple[tuple[int, ...], ...] | None = eqx.field(static=True, default=None)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         u = jnp.asarray(self.speed, dtype=float)
@@ -238,11 +293,12 @@ class ProfileResistance(Objective):
         if self.waves:  # a point without a sea state adds nothing (its H_s replaced before, its R_AW after)
             wet = jnp.asarray(self.hs) > 0
 
-            def point(ui, h, t, a):
+            def point(ui, a, h, t):
                 return mean_added_resistance("nmri", sections, draft, ui, h, t, a, motion=self.motion).total
 
-            raw = jax.vmap(point)(u, jnp.where(wet, self.hs, 1.0), jnp.asarray(self.tp, dtype=float),
-                                  jnp.asarray(self.heading, dtype=float))
+            groups = self.groups or tuple((i,) for i in range(u.shape[0]))
+            raw = vmap_grouped(point, groups, (u, jnp.asarray(self.heading, dtype=float)),
+                               (jnp.where(wet, self.hs, 1.0), jnp.asarray(self.tp, dtype=float)))
             r = r + jnp.where(wet, raw, 0.0)
         w = jnp.asarray(self.weights, dtype=r.dtype)
         return jnp.sum(w * r * (u if self.power else 1.0)) / jnp.sum(w)
@@ -262,7 +318,7 @@ class ProfileResistance(Objective):
                              "point")
         return cls(col["speed_kn"] * KNOT, col["weight"], col["hs"], col["tp"], np.radians(col["heading_deg"]),
                    method=options.get("method") or "holtrop", motion=bool(options.get("motion", True)),
-                   waves=bool(np.any(col["hs"] > 0)))
+                   waves=bool(np.any(col["hs"] > 0)), groups=point_groups(col["speed_kn"], col["heading_deg"]))
 
 
 class ProfilePower(ProfileResistance):

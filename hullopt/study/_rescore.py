@@ -25,6 +25,7 @@ from .._types import Draft
 from ..constants import G, KNOT
 from ..geometry import Sections
 from ..models import FeatureParams
+from ..optimise import point_groups, vmap_grouped
 from ..resistance import calm_water, holtrop_hull, outside_validity
 from ..waves import mean_added_resistance
 from ._config import RunConfig
@@ -144,15 +145,20 @@ def calm_methods(sections: Sections, draft: Draft, fn: float) -> tuple[tuple[str
     return ("holtrop", "michell", "panel") + (("dawson",) if "panel" in invalid else ()), invalid
 
 
-def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool, calm: tuple[str, ...]):
+def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool, calm: tuple[str, ...],
+             groups: tuple[tuple[int, ...], ...]):
     """Every method's value [N] of the parent and each design (stacked on a leading axis) in each condition of
     :data:`CONDITIONS` ``(1 + k, 5)``: calm-water R_T and, when ``waves``, the mean R_AW, each the profile's
-    weighted mean (the points without a sea state, ``hs`` 0, add no R_AW)."""
+    weighted mean (the points without a sea state, ``hs`` 0, add no R_AW). ``groups``: the conditions' points
+    (condition-major) by speed and heading (:func:`_groups`), which share a strip-theory solve."""
     params = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), p0, stacked)
     factors = jnp.asarray([c[0] for c in CONDITIONS])
     shifts = jnp.asarray([c[1] for c in CONDITIONS])
-    wet = hs > 0
     w = weights / jnp.sum(weights)
+    n = len(CONDITIONS)
+    # every condition's points in one flat list: speed, heading (shared within a group), H_s, T_p
+    shared = ((factors[:, None] * speeds).ravel(), jnp.tile(heading, n))
+    each = (jnp.tile(hs, n), (tp + shifts[:, None]).ravel())
 
     def one(p):
         s = model(p)
@@ -160,15 +166,22 @@ def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves:
                for m in calm}
         if waves:
             for m in RESCORE_WAVES:
-                def point(f, dt, u, h, t, a, m=m):
-                    r = mean_added_resistance(m, s, draft, f * u, jnp.where(h > 0, h, 1.0), t + dt, a).total
+                def point(u, a, h, t, m=m):
+                    r = mean_added_resistance(m, s, draft, u, jnp.where(h > 0, h, 1.0), t, a).total
                     return jnp.where(h > 0, r, 0.0)
 
-                per = jax.vmap(lambda f, dt: jax.vmap(lambda *x: point(f, dt, *x))(speeds, hs, tp, heading))
-                out[f"waves_{m}"] = per(factors, shifts) @ w
+                out[f"waves_{m}"] = vmap_grouped(point, groups, shared, each).reshape(n, -1) @ w
         return out
 
     return jax.lax.map(one, params)
+
+
+def _groups(speeds: np.ndarray, heading: np.ndarray) -> tuple[tuple[int, ...], ...]:
+    """The points of every condition of :data:`CONDITIONS` (condition-major, as :func:`_program` lays them out)
+    grouped by speed and heading (:func:`~hullopt.optimise.point_groups`): ±2 s of T_p and the profile's sea
+    states at one speed share a strip-theory solve."""
+    factors = np.asarray([c[0] for c in CONDITIONS])
+    return point_groups((factors[:, None] * speeds).ravel(), np.tile(heading, len(CONDITIONS)))
 
 
 def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> tuple[dict, list[str]]:
@@ -207,7 +220,8 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
     parent = d.model(prob.p0)
     fn = max(SPEED_FACTORS) * float(np.max(args[4])) / float(np.sqrt(G * float(holtrop_hull(parent, d.draft).L)))
     calm, invalid = calm_methods(parent, d.draft, fn)
-    values = jax.device_get(cached_call("rescore", _program, args, (waves, calm), key=[key, "rescore"]))
+    values = jax.device_get(cached_call("rescore", _program, args, (waves, calm, _groups(args[4], args[8])),
+                                        key=[key, "rescore"]))
     own = _own_method(cfg)
     methods = {}
     for name, v in values.items():
