@@ -3,6 +3,7 @@
 from ._html import MAX_SWEEP_HULLS as MAX_SWEEP_HULLS
 from ._html import FRONTS_NAME as FRONTS_NAME
 from ._html import OVERLAY_NAME as OVERLAY_NAME
+from ._html import PAGE_TEMPLATE as PAGE_TEMPLATE
 from ._html import REPORT_NAME as REPORT_NAME
 from ._html import Hulls as Hulls
 from ._html import read_run as read_run

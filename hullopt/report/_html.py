@@ -45,6 +45,7 @@ from ..study import (
 from ._units import displayed, fmt, label, quantity, to_builtin, unit_scale
 
 REPORT_NAME = "report.html"
+PAGE_TEMPLATE = "plotly_white"  # plotly's template of every figure on the page
 MAX_SWEEP_HULLS = 8  # a sweep's page draws at most this many designs in 3D (evenly picked along the front)
 PARENT_COLOUR, DESIGN_COLOURS = "#7f7f7f", ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
                                             "#e377c2", "#17becf")
@@ -165,7 +166,7 @@ def _figure(title: str, **layout):
     import plotly.graph_objects as go
 
     fig = go.Figure()
-    fig.update_layout(title=dict(text=title, x=0.02), template="plotly_white", margin=dict(l=60, r=20, t=50, b=50),
+    fig.update_layout(title=dict(text=title, x=0.02), template=PAGE_TEMPLATE, margin=dict(l=60, r=20, t=50, b=50),
                       legend=dict(orientation="h", yanchor="bottom", y=1.0, xanchor="right", x=1.0), **layout)
     return fig
 
@@ -337,7 +338,7 @@ def fig_convergence(report: dict):
         return None
     n = len(series)
     fig = make_subplots(rows=n, cols=1, shared_xaxes=True, vertical_spacing=0.08)
-    fig.update_layout(title=dict(text="Convergence (log scale)", x=0.02), template="plotly_white",
+    fig.update_layout(title=dict(text="Convergence (log scale)", x=0.02), template=PAGE_TEMPLATE,
                       height=200 + 180 * n, margin=dict(l=70, r=20, t=50, b=50), showlegend=False)
     for i, (name, v) in enumerate(series.items()):
         it = np.flatnonzero(np.isfinite(v))
