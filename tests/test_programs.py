@@ -121,3 +121,31 @@ def test_a_configs_structure_blanks_its_numbers_but_not_its_design_solver_or_cou
     for other in ("sweep.count=7", "solver.max_steps=81", "solver.fairness=0.2"):  # counts, what programs close over
         c, _ = load_config(REPO / "configs/pareto_bow.toml", ['constraints.sac_regions="<= 2 * parent"', other])
         assert structure(c) != structure(a), other
+
+
+def test_the_assessment_traces_each_measure_once_with_the_parent_first_in_the_batch():
+    """The parent is measured in the designs' batch, so each measure is traced (and compiled) once: traced apart,
+    the parent doubled the assessment's program (the KCS sweep's first assessment 78 -> 54 s)."""
+    from conftest import REPO
+
+    from hullopt.study import load_study
+    from hullopt.study._assess import _assess_program
+    from hullopt.study._config import load_config
+
+    cfg, _ = load_config(REPO / "tests/data/pareto_wigley.toml")
+    prob = load_study(cfg).problem
+    d, p0 = prob.design, prob.p0
+    traced = []
+
+    def volume_like(s, draft):
+        traced.append(1)
+        return jnp.sum(s.yz[..., 0]) * draft
+
+    designs = jax.tree.map(lambda a: jnp.stack([a, a * 1.01]), p0)
+    p, g_p, vals, groups, parent = jax.jit(lambda p, ds: _assess_program({"v": volume_like}, d, p, ds))(p0, designs)
+    assert len(traced) == 1
+    assert float(p["v"]) == pytest.approx(float(volume_like(d.model(p0), d.draft)), rel=1e-12)
+    assert vals["v"].shape == (2,) and float(vals["v"][0]) == pytest.approx(float(p["v"]), rel=1e-12)
+    assert set(groups) == set(g_p) and all(np.shape(v) == (2,) for v in groups.values())
+    assert all(float(g_p[k]) == pytest.approx(float(groups[k][0]), abs=1e-12) for k in g_p)
+    np.testing.assert_allclose(np.asarray(parent.yz), np.asarray(d.model(p0).yz), rtol=1e-12)

@@ -5,7 +5,9 @@ parent's, calm-water methods that disagree)."""
 
 from __future__ import annotations
 
+import equinox as eqx
 import jax
+import jax.numpy as jnp
 import numpy as np
 from pydantic import ValidationError
 
@@ -13,7 +15,7 @@ from ..constants import KNOT, G
 from ..fairing import ARRAY_MEASURES, SHAPE_MEASURES, SHAPE_UNITS
 from ..geometry import Sections
 from ..models import FeatureParams
-from ..optimise import OBJECTIVES, Design, Particular, with_objective_scale
+from ..optimise import OBJECTIVES, Design, Particular
 from ..resistance import DISAGREE, holtrop_hull, outside_validity
 from ._config import RunConfig, options_as
 from ._problem import Problem, constraint_measure
@@ -62,17 +64,22 @@ def report_measures(cfg: RunConfig, d: Design) -> dict:
 
 def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
     """The measures of the parent and of each design (params stacked on a leading axis), each limit group's
-    largest normalised value of the parent and per design, and the parent."""
+    largest normalised value of the parent and per design, and the parent. The parent is mapped with the
+    designs, as the first of the batch: traced once, the measures compile once (traced apart, the parent
+    doubled the program and its compile)."""
     parent = d.model(p0)
-    d = with_objective_scale(d, p0)
+    if d.limits is not None:  # the limits measured against the parent's shape
+        d = eqx.tree_at(lambda d: d.limits, d, d.limits.at_parent(parent, d.draft))
 
-    def one(s):
-        g = {} if d.limits is None else {k: jax.numpy.max(v) for k, v in d.limits.groups(s, d.draft).items()}
+    def one(params):
+        s = d.model(params)
+        g = {} if d.limits is None else {k: jnp.max(v) for k, v in d.limits.groups(s, d.draft).items()}
         return {k: m(s, d.draft) for k, m in measures.items()}, g
 
-    out_p, g_p = one(parent)
-    vals, groups = jax.vmap(lambda params: one(d.model(params)))(designs)
-    return out_p, g_p, vals, groups, parent
+    both = jax.tree.map(lambda a, b: jnp.concatenate([jnp.asarray(a)[None], b]), p0, designs)
+    vals, groups = jax.vmap(one)(both)
+    first, rest = (lambda t: jax.tree.map(lambda a: a[0], t)), (lambda t: jax.tree.map(lambda a: a[1:], t))
+    return first(vals), first(groups), rest(vals), rest(groups), parent
 
 
 LIMIT_NAMES = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline",
