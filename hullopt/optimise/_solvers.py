@@ -186,9 +186,10 @@ def minimise_constrained(
         ``merit_history`` (outer,).
     """
     u0 = to_unbounded(p0, lower, upper)
-    n_c = jnp.shape(constraints(p0, args))[0]
+    c0 = constraints(p0, args)
     ineq = inequalities if inequalities is not None else (lambda p, args: jnp.zeros(0))
-    n_g = jnp.shape(ineq(p0, args))[0]
+    g0 = ineq(p0, args)
+    n_c, n_g = jnp.shape(c0)[0], jnp.shape(g0)[0]
 
     def violation(p, c):
         v = jnp.max(jnp.abs(c) / tol) if n_c else jnp.zeros((), c.dtype)
@@ -215,8 +216,13 @@ def minimise_constrained(
              objective(p, args) if record is None else record(p, args), viol)
 
     dtype = ravel_pytree(u0)[0].dtype
-    init = (u0, jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype), jnp.asarray(mu0, dtype), jnp.asarray(0),
-            jnp.asarray(True))
+    # Under vmap over what the constraints depend on (a sweep's targets) the rounds make the carry batched (all
+    # but μ). Started so, by a select on a flag that is always true but computed from them, the scan is batched
+    # in one pass over its body instead of two, each of which batches the BFGS loop inside it again.
+    start = jnp.isnan(jnp.sum(c0) + jnp.sum(g0)) | True
+    u0, lam0, nu0, steps0, ok0 = jax.tree.map(lambda a: jnp.where(start, a, a), (
+        u0, jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype), jnp.asarray(0), jnp.asarray(True)))
+    init = (u0, lam0, nu0, jnp.asarray(mu0, dtype), steps0, ok0)
     (u, _, _, _, steps, ok), (history, merit, f_history, v_history) = jax.lax.scan(round_, init, None,
                                                                                    length=outer)
     p = from_unbounded(u, lower, upper)
