@@ -1,5 +1,7 @@
 """Kept programs (jax.export) of the app layer: a warm run reuses the traced program, never a stale one."""
 
+import threading
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -149,3 +151,63 @@ def test_the_assessment_traces_each_measure_once_with_the_parent_first_in_the_ba
     assert set(groups) == set(g_p) and all(np.shape(v) == (2,) for v in groups.values())
     assert all(float(g_p[k]) == pytest.approx(float(groups[k][0]), abs=1e-12) for k in g_p)
     np.testing.assert_allclose(np.asarray(parent.yz), np.asarray(d.model(p0).yz), rtol=1e-12)
+
+
+def _shapes(tree):
+    return jax.tree.map(lambda a: jax.ShapeDtypeStruct(a.shape, a.dtype), tree)
+
+
+def test_a_program_prepared_from_shapes_is_the_one_the_call_runs(folder, monkeypatch):
+    built = []
+    real = programs._program
+    monkeypatch.setattr(programs, "_program", lambda path, *a: built.append(path) or real(path, *a))
+    programs.prepare_call("t", model, _shapes(args()), (3,), key="k")  # the inputs' shapes only
+    out = programs.cached_call("t", model, args(), (3,), key="k")
+    assert len(built) == 1 and not programs._PENDING  # built once, on the preparing thread, and taken
+    assert float(out.total) == pytest.approx(3 * 66.0) and out.name == "k=3"
+    np.testing.assert_allclose(out.scaled["r"], jnp.linalg.qr(args()[0]["a"])[1])
+
+
+def test_a_program_prepared_for_other_shapes_is_not_used(folder):
+    programs.prepare_call("t", model, _shapes(({"a": jnp.ones((5, 3)), "b": jnp.ones(2)},)), (3,), key="k")
+    ((path, pending),) = programs._PENDING.items()
+    try:
+        assert float(programs.cached_call("t", model, args(), (3,), key="k").total) == pytest.approx(3 * 66.0)
+        assert pending.result() is not None  # the guess was built all the same, and kept for its shapes
+        assert len(list(folder.glob("t-*.bin"))) == 2
+    finally:
+        programs._PENDING.pop(path, None)
+
+
+def test_a_prepared_program_that_fails_raises_in_the_call(folder):
+    def broken(p, k):
+        raise ValueError(f"no model for k={k}")
+
+    programs.prepare_call("bad", broken, _shapes(args()), (3,), key="k")
+    with pytest.raises(ValueError, match="no model for k=3"):
+        programs.cached_call("bad", broken, args(), (3,), key="k")
+    assert not programs._PENDING
+
+
+@pytest.mark.parametrize("command", ["hydro", "stability"])
+def test_the_commands_build_their_program_while_a_mesh_is_read(command, cli, hulls, tmp_path, monkeypatch):
+    from hullopt.study import load_hull, sections_like
+
+    spec = f"{hulls / 'wigley_openfoam.stl.gz'}?n=31&m=24"
+    like = sections_like(spec)
+    assert sections_like("builtin:wigley?L=100&B=10&T=6.25&D=10") is None  # quick to load: nothing to overlap
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path))  # nothing kept yet: the sections and programs
+    hull = load_hull(spec)
+    assert jax.tree.structure(like) == jax.tree.structure(hull.sections)
+    assert _shapes(jax.tree.map(jnp.asarray, hull.sections)) == like
+    built = []
+    real = programs._program
+    monkeypatch.setattr(programs, "_program", lambda *a: built.append(threading.current_thread().name) or real(*a))
+    draft = float(np.asarray(hull.sections.yz[..., 1]).max()) / 2
+    args = (["--drafts", f"{draft / 2}:{draft}:3"] if command == "hydro" else
+            ["--displacement", "0.002", "--kg", f"{draft}", "--heels", "0:60:4"])
+    code, out, err = cli(command, spec, *args, "--json")
+    assert code in (0, 4), err
+    # one program, built on the thread that prepared it while the mesh was read, and taken by the call
+    assert built == [f"prepare-{'hydrostatic_table' if command == 'hydro' else 'stability'}"]
+    assert not programs._PENDING

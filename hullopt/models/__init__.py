@@ -8,6 +8,7 @@ from ._lackenby import lackenby as lackenby
 from ._specs import LoadedHull as LoadedHull
 from ._specs import check_params_used as check_params_used
 from ._specs import load_hull as load_hull
+from ._specs import mesh_sections_shape as mesh_sections_shape
 from ._specs import split_spec as split_spec
 from ._specs import take_param as take_param
 from ._modifications import blunt_bow as blunt_bow

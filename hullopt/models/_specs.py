@@ -214,6 +214,35 @@ def load_hull(spec: str, cache: str | Path | None = None) -> LoadedHull:
     return _mesh(path, params, spec, cache)
 
 
+MESH_STATIONS, MESH_POINTS = 201, 96  # a mesh's slicing by default: stations, points a half-section
+
+
+def mesh_sections_shape(spec: str) -> tuple[int, int] | None:
+    """The shape of the sections :func:`load_hull` slices from the mesh or CAD file of ``spec``, known before
+    the file is read.
+
+    Parameters
+    ----------
+    spec : str
+        A hull spec, as :func:`load_hull` takes it.
+
+    Returns
+    -------
+    tuple of (int, int) or None
+        ``(n, m)``: the stations and the points a half-section (the spec's ``n`` and ``m``, 201 and 96 by
+        default); None for any other spec (quick to load) or one whose parameters do not read
+        (:func:`load_hull` says why).
+    """
+    try:
+        base, params = split_spec(spec)
+        path = Path(base)
+        if base.startswith(("parent:", "builtin:")) or path.suffix.lower() == ".csv" or not path.is_file():
+            return None
+        return take_param(params, "n", spec, int, MESH_STATIONS), take_param(params, "m", spec, int, MESH_POINTS)
+    except HullError:
+        return None
+
+
 def _builtin(name: str, params: dict[str, str], spec: str) -> LoadedHull:
     """An analytic hull (:data:`~hullopt.models.BUILTINS`) from its dimensions [m]."""
     if name not in BUILTINS:
@@ -247,8 +276,8 @@ def _mesh(path: Path, params: dict[str, str], spec: str, cache: str | Path | Non
         shift=shift_xyz,
     )
     lpp = take_param(params, "lpp", spec, float, 0.0) or None
-    n = take_param(params, "n", spec, int, 201)
-    m = take_param(params, "m", spec, int, 96)
+    n = take_param(params, "n", spec, int, MESH_STATIONS)
+    m = take_param(params, "m", spec, int, MESH_POINTS)
     tol = take_param(params, "tol", spec, float, 0.0) or None  # IGES/STEP tessellation size [m, file's scale]
     if tol is not None and not is_cad(path):
         raise HullError(f"hull {spec!r}: tol applies to IGES/STEP surfaces, not to a {path.suffix} mesh")

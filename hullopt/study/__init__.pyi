@@ -24,12 +24,14 @@ from ._hulls import load_study as load_study
 from ._hulls import parent_digest as parent_digest
 from ._hulls import read_run_config as read_run_config
 from ._hulls import run_parent as run_parent
+from ._hulls import sections_like as sections_like
 from ._problem import Problem as Problem
 from ._problem import design_params as design_params
 from ._problem import limits_from as limits_from
 from ._problem import params_from_dict as params_from_dict
 from ._problem import params_to_dict as params_to_dict
 from ._programs import cached_call as cached_call
+from ._programs import prepare_call as prepare_call
 from ._study import STUDIES as STUDIES
 from ._study import VIOLATION as VIOLATION
 from ._study import Fit as Fit

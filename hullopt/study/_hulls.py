@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
 from ..errors import HullError
-from ..geometry import atomic_write_bytes
+from ..geometry import Sections, atomic_write_bytes
 from ..models import (
     FAITHFUL,
     FeatureHull,
@@ -34,6 +34,7 @@ from ..models import (
     check_params_used,
     extract_faithful,
     load_parent,
+    mesh_sections_shape,
     parent_names,
     read_features,
     split_spec,
@@ -94,6 +95,33 @@ def load_hull(spec: str) -> LoadedHull:
     if not base.startswith(("parent:", "builtin:")) and Path(base).is_dir():
         return _run_folder(Path(base), params, spec)
     return load_spec(spec, cache=cache_folder("sections"))
+
+
+def sections_like(spec: str) -> Sections | None:
+    """The sections :func:`load_hull` will give for ``spec``, as shapes, where the spec alone tells them and
+    loading is slow: for :func:`~hullopt.study.prepare_call`, to build a command's program while the file is
+    read.
+
+    Parameters
+    ----------
+    spec : str
+        A hull spec.
+
+    Returns
+    -------
+    Sections or None
+        :class:`jax.ShapeDtypeStruct` leaves (float64): ``x (n,)``, ``yz (n, m, 2)``, ``lpp ()``, for a mesh or
+        CAD file (read and sliced); None for any other spec.
+    """
+    shape = mesh_sections_shape(spec)
+    if shape is None:
+        return None
+    import jax
+    import numpy as np
+
+    n, m = shape
+    like = Sections(x=np.zeros(n), yz=np.zeros((n, m, 2)), lpp=np.float64(0.0))
+    return jax.tree.map(lambda a: jax.ShapeDtypeStruct(np.shape(a), np.result_type(a)), like)
 
 
 def read_run_config(folder: Path, what: str = "") -> RunConfig:

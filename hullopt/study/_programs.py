@@ -10,6 +10,10 @@ with no tracing, lowering or compiling at all (lowering the exported module alon
 ``hullopt hydro``); when the executable cannot be loaded, the exported program is called and its compile
 comes from the compilation cache. Array inputs stay arguments (not constants), so the program file is small.
 
+A command whose input is slow to read (a mesh, sliced) can :func:`prepare_call` its program from the shapes
+it will have, on a background thread, and read the input meanwhile: a cold ``hullopt hydro`` of a mesh traces
+and compiles while the file is parsed and sliced.
+
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
 unused for 30 days are deleted when a new one is written.
@@ -24,8 +28,10 @@ import json
 import os
 import pickle
 import re
+import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import Future
 from importlib import metadata
 from pathlib import Path
 
@@ -91,17 +97,76 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     object
         What ``fn(*args, *static)`` returns (the same pytree structure), computed by the compiled program.
     """
-    folder = programs_dir()
-    if folder is None:
+    if programs_dir() is None:
         return eqx.filter_jit(fn)(*args, *static)
-    dynamic, fixed = eqx.partition(args, eqx.is_array)
+    path, leaves, in_tree, fixed = _locate(name, args, static, key)
+    pending = _PENDING.pop(path, None)
+    program = pending.result() if pending is not None else None
+    if program is None:  # not prepared, or preparing it failed: build it here, where an error is raised
+        program = _program(path, fn, leaves, in_tree, fixed, static)
+    compiled, skeleton = program
+    return jax.tree.unflatten(jax.tree.structure(skeleton), compiled(*leaves))
+
+
+def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object) -> None:
+    """Start loading, or tracing and compiling, the program of a later :func:`cached_call` on a background
+    thread, before its inputs are known: ``args`` may hold :class:`jax.ShapeDtypeStruct` leaves where the
+    arrays will be (e.g. a mesh's sections while the file is read and sliced; XLA compiles without the GIL).
+
+    The :func:`cached_call` with the same name, key, static values and shapes then waits for this program
+    instead of building its own; a call with other shapes builds its own, and the prepared one is wasted work.
+    Without a programs folder this does nothing.
+
+    Parameters
+    ----------
+    name, fn, static, key
+        As :func:`cached_call`'s.
+    args : tuple
+        As :func:`cached_call`'s, with :class:`jax.ShapeDtypeStruct` leaves allowed in place of arrays.
+
+    Returns
+    -------
+    None
+        An error in building the program is raised by the call, not here.
+    """
+    if programs_dir() is None:
+        return
+    path, leaves, in_tree, fixed = _locate(name, args, static, key)
+    if path in _PENDING:
+        return
+    pending = _PENDING[path] = Future()
+
+    def build():
+        try:
+            pending.set_result(_program(path, fn, leaves, in_tree, fixed, static))
+        except BaseException:  # the call builds it again and raises there
+            pending.set_result(None)
+
+    threading.Thread(target=build, name=f"prepare-{name}", daemon=True).start()
+
+
+_PENDING: dict[Path, Future] = {}  # programs being prepared (prepare_call), by their file
+
+
+def _is_input(x) -> bool:
+    return eqx.is_array(x) or isinstance(x, jax.ShapeDtypeStruct)
+
+
+def _locate(name: str, args: tuple, static: tuple, key: object) -> tuple:
+    """The kept program's file for these inputs, and ``args`` split as :func:`_program` takes them."""
+    dynamic, fixed = eqx.partition(args, _is_input)
     leaves, in_tree = jax.tree.flatten(dynamic)
     # the executable is built for these devices and XLA's flags
     devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
     signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
                  devices, _baked(in_tree, fixed)]
     digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]
-    path = folder / f"{name}-{digest}.bin"
+    return programs_dir() / f"{name}-{digest}.bin", leaves, in_tree, fixed
+
+
+def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tuple) -> tuple:
+    """``(compiled, skeleton)``: the kept program at ``path`` loaded, or ``fn`` exported, compiled and kept
+    there (``leaves`` may be :class:`jax.ShapeDtypeStruct`)."""
     try:
         kept = pickle.loads(path.read_bytes())
         program, skeleton = kept["program"], kept["outputs"]
@@ -116,19 +181,18 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         kept = {"program": exported.serialize(), "outputs": skeleton, "targets": targets,
                 "executable": _serialize(compiled) if fresh else None}
         try:
-            folder.mkdir(parents=True, exist_ok=True)
+            path.parent.mkdir(parents=True, exist_ok=True)
             atomic_write_bytes(path, pickle.dumps(kept))
-            _prune(folder)
+            _prune(path.parent)
         except OSError:
             pass  # a read-only cache: run without keeping the program
-    else:
-        with contextlib.suppress(OSError):
-            path.touch()  # in use: keep it (see _prune)
-        compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
-        if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
-            compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile()
-    out_leaves = compiled(*leaves)
-    return jax.tree.unflatten(jax.tree.structure(skeleton), out_leaves)
+        return compiled, skeleton
+    with contextlib.suppress(OSError):
+        path.touch()  # in use: keep it (see _prune)
+    compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
+    if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
+        compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile()
+    return compiled, skeleton
 
 
 def _compile_fresh(lowered) -> tuple:

@@ -8,6 +8,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 import typer
 
@@ -15,7 +17,7 @@ from ...constants import RHO_SEA
 from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
 from ...report import PARTICULARS, unit_places
-from ...study import load_hull
+from ...study import cached_call, load_hull, prepare_call, sections_like
 from .._app import app
 from ..output import parse_range, print_json, say, table, write_hull_file
 
@@ -72,6 +74,10 @@ def hydro(
     """Upright hydrostatics at a draft, at a displacement, or as a table over drafts."""
     if not (np.isfinite(rho) and rho > 0):
         raise HullError(f"--rho {rho}: must be a positive density in kg/m³")
+    like = sections_like(hull)
+    if like is not None and displacement is None:  # a mesh: its table's program is built while it is read
+        count = 1 if drafts is None else len(parse_range(drafts, "--drafts"))
+        prepare_call(*_table_program(like, jax.ShapeDtypeStruct((count,), np.float64), rho))
     h = load_hull(hull)
     ts = resolve_drafts(h, draft, displacement, drafts, rho)
     res = hydro_table(h.sections, ts, rho)
@@ -92,16 +98,17 @@ def _table(sections, drafts, rho) -> dict:
     return dict(vars(hydrostatic_table(sections, drafts, rho)))
 
 
+def _table_program(sections, drafts, rho: float) -> tuple:
+    """The arguments of :func:`~hullopt.study.cached_call` (and ``prepare_call``) for the table's program;
+    ``sections`` and ``drafts`` may be their shapes. ρ is a Python float in the program (as
+    hydrostatic_table declares it): one program per density."""
+    return "hydrostatic_table", _table, (sections, drafts), (float(rho),), "hydro v1"
+
+
 def hydro_table(sections, drafts: np.ndarray, rho: float) -> dict[str, list[float]]:
     """:func:`~hullopt.hydro.hydrostatic_table` as ``Hydrostatics.to_dict`` gives it, through a kept program
     (the hydrostatics are imported only when the program is built)."""
-    import jax.numpy as jnp
-
-    from ...study import cached_call
-
-    # ρ is a Python float in the program (as hydrostatic_table declares it): one program per density
-    res = cached_call("hydrostatic_table", _table, (sections, jnp.asarray(drafts, dtype=float)), (float(rho),),
-                      key="hydro v1")
+    res = cached_call(*_table_program(sections, jnp.asarray(drafts, dtype=float), rho))
     # the fields in Hydrostatics' order (PARTICULARS lists them so; a kept dict comes back sorted by key)
     order = [*(k for k in PARTICULARS if k in res), *(k for k in res if k not in PARTICULARS)]
     return {k: np.asarray(res[k]).tolist() for k in order}

@@ -20,7 +20,7 @@ from ...errors import HullError
 from ...geometry import export_mesh, split_for_print, to_trimesh
 from ...models import LoadedHull
 from ...report import fmt, quantity, unit_places
-from ...study import load_hull
+from ...study import cached_call, load_hull, prepare_call, sections_like
 from .._app import app
 from ..output import (
     EXIT_CRITERIA,
@@ -74,11 +74,11 @@ def _stability_program(sections, volume, kg, heels, lcg, fsc, flooding_angle, fr
 
 
 def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: float | None, fsc: float,
-                    free_trim: bool, flooding_angle: float | None):
+                    free_trim: bool, flooding_angle: float | None, call=cached_call):
     """Dispatch :func:`_stability_program` through a kept program (no tracing or compiling when warm; angles in
     radians, lengths in m) and return at once: ``(curve fields, criteria fields, volume at the deck)``, arrays
-    still being computed."""
-    from ...study import cached_call
+    still being computed. With ``call=prepare_call`` (``sections`` may be their shapes) only start building
+    the program."""
 
     def arr(v):  # arrays, not Python floats: a float would be baked into the program
         return None if v is None else jnp.asarray(v, dtype=float)
@@ -89,7 +89,7 @@ def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: 
     # built for that way or the other, not both (a lax.cond traces and compiles both)
     step = 0.5 * np.pi / (GRID - 1)
     on_grid = bool(np.all(np.abs(heels - np.round(heels / step) * step) <= 1e-12))
-    return cached_call("stability", _stability_program, args, (free_trim, on_grid), key=key)
+    return call("stability", _stability_program, args, (free_trim, on_grid), key=key)
 
 
 @app.command("stability")
@@ -147,15 +147,18 @@ def stability_cmd(
         check_out(kn_plot, PLOT_FORMATS, "--kn-plot")
         if cross is None:
             raise HullError("--kn-plot needs --cross START:STOP:COUNT (displacements in t)")
+    volume = parse_displacement(displacement) / rho
+    theta_f = None if flooding_angle is None else np.deg2rad(flooding_angle)
     with busy("reading the hull", quiet=json) as stage:
+        like = sections_like(hull) if sheer.strip().lower() == "none" else None
+        if like is not None:  # a mesh: the GZ program is built while it is read
+            _stability_call(like, volume, kg, np.deg2rad(solve_deg), lcg, fsc, not fixed_trim, theta_f, prepare_call)
         h = load_hull(hull)
         sections = _sectioned(h, sheer)
         x = np.asarray(sections.x)
         if lcg is not None and not (float(x[0]) <= lcg <= float(x[-1])):
             raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(x[0]):g} … {float(x[-1]):g} m)")
-        volume = parse_displacement(displacement) / rho
         stage(f"GZ curve: equilibrium at {len(solve_deg)} heels")
-        theta_f = None if flooding_angle is None else np.deg2rad(flooding_angle)
         curve, criteria, full = _stability_call(sections, volume, kg, np.deg2rad(solve_deg), lcg, fsc,
                                                 not fixed_trim, theta_f)
         from ...hydro import (  # imported while the program computes
@@ -279,7 +282,6 @@ def _weather(sections, curve, displacement: float, kg: float, rho: float, theta_
     solved at every degree; returns the :class:`~hullopt.hydro.Weather` and its JSON record (angles in
     degrees)."""
     from ...hydro import Weather
-    from ...study import cached_call
 
     def arr(v):
         return jnp.asarray(v, dtype=float)
