@@ -23,6 +23,7 @@ from hullopt.optimise import (
     Objective,
     WindAddedResistance,
     fit,
+    fit_traced,
     make_targets,
     minimise_constrained,
     minimise_lbfgsb,
@@ -97,8 +98,45 @@ def test_traced_fit_records_its_history_and_agrees_with_the_optimistix_solve(wig
     assert np.isfinite(costs[: n + 1]).all() and np.isnan(costs[n + 1:]).all()
     assert costs[n] < 1e-3 * costs[0] and np.all(np.diff(costs[: n + 1]) <= 1e-12 * costs[0])  # LM never climbs
     assert costs[n] == pytest.approx(float(traced.objective), rel=1e-9)
+    # the costs and residuals are the solver's own (its linearisation's values, not a second evaluation of the
+    # model): the same as evaluated afresh, at the start and at the solution
+    r0, r = eqx.filter_jit(lambda a, b: (d.residuals(a), d.residuals(b)))(p0, traced.params)
+    assert costs[0] == pytest.approx(float(r0 @ r0), rel=1e-12)
+    np.testing.assert_allclose(np.asarray(traced.residuals), np.asarray(r), rtol=1e-10, atol=1e-12)
+    with pytest.raises(ValueError, match="max_steps=0"):
+        solve_fit(d, p0, lo, hi, traced=True, max_steps=0)
     # the same solution as optimistix's own loop (which polishes longer: same targets, close parameters)
     np.testing.assert_allclose(np.asarray(traced.residuals[:2]), np.asarray(plain.residuals[:2]), atol=1e-3)
+
+
+def _count(jaxpr, primitive: str) -> int:
+    """How many times ``primitive`` appears in ``jaxpr`` and the jaxprs inside it (loops, conds, calls)."""
+    n = 0
+    for e in jaxpr.eqns:
+        n += e.primitive.name == primitive
+        for v in e.params.values():
+            for inner in v if isinstance(v, (list, tuple)) else [v]:
+                inner = getattr(inner, "jaxpr", None)
+                if inner is not None:
+                    n += _count(inner if hasattr(inner, "eqns") else inner.jaxpr, primitive)
+    return n
+
+
+def test_the_traced_fit_holds_one_copy_of_the_model():
+    """The model is evaluated once a step (the solver's linearisation); the history and the final residuals
+    take its values, so the compiled program holds one copy of the model (it held four: the start's cost, the
+    step, the cost after it and the final residuals), and XLA compiles a quarter of it."""
+
+    def residuals(p, args):
+        return jnp.stack([jnp.sinh(p["a"]) - 2.0, p["a"] + p["b"] - 1.0])  # sinh: the model's marker
+
+    p0 = {"a": jnp.asarray(1.0), "b": jnp.asarray(0.5)}
+    lo, hi = {"a": jnp.asarray(0.0), "b": jnp.asarray(-5.0)}, {"a": jnp.asarray(5.0), "b": jnp.asarray(5.0)}
+    assert _count(jax.make_jaxpr(lambda: fit_traced(residuals, p0, lo, hi))().jaxpr, "sinh") == 1
+    res = fit_traced(residuals, p0, lo, hi)
+    assert float(res.params["a"]) == pytest.approx(np.arcsinh(2.0), rel=1e-10) and bool(res.met)
+    np.testing.assert_allclose(np.asarray(res.residuals), np.asarray(residuals(res.params, None)), atol=1e-14)
+    assert float(res.history[0]) == pytest.approx((np.sinh(1.0) - 2.0) ** 2 + 0.5**2, rel=1e-12)  # the start's
 
 
 @pytest.mark.slow

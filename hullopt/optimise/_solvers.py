@@ -267,15 +267,13 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
         ``violation_history`` (max_steps + 1,) the largest ``|r| / tol`` (≤ 1: met; what converges when a
         smoothness term keeps the cost above zero).
     """
+    if max_steps < 1:
+        raise ValueError(f"max_steps={max_steps}: at least one step (the first evaluates the start)")
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
     tags = frozenset()
 
     def fn(u, args):
         return residuals(from_unbounded(u, lower, upper), args), None
-
-    def cost(u):
-        r = fn(u, args)[0]
-        return jnp.sum(r**2), jnp.max(jnp.abs(r) / tol)
 
     u0 = to_unbounded(p0, lower, upper)
     fn = eqx.filter_closure_convert(fn, u0, args)  # so the solver state's static part is the same each step
@@ -283,8 +281,8 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
     state0 = solver.init(fn, u0, args, {}, f_struct, aux_struct, tags)
     done0, result0 = solver.terminate(fn, u0, args, {}, state0, tags)
     dynamic0, static = eqx.partition(state0, eqx.is_array)
-    c0, v0 = cost(u0)
-    history0 = jnp.full((2, max_steps + 1), jnp.nan, c0.dtype).at[:, 0].set(jnp.stack([c0, v0]))
+    nan = jnp.full((), jnp.nan, f_struct.dtype)
+    history0 = jnp.full((2, max_steps + 1), nan)
 
     def cond(carry):
         _, _, n, _, still, _, done, result = carry
@@ -293,17 +291,23 @@ def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rto
     def body(carry):
         u_old, dynamic, n, best, still, history, _, _ = carry
         u, state, _ = solver.step(fn, u_old, args, {}, eqx.combine(static, dynamic), tags)
-        c, v = cost(u)
+        # the residuals at u are the solver's own (its linearisation's value): the model is evaluated once a
+        # step, which keeps one copy of it in the compiled loop. The first step evaluates the start and accepts
+        # it as it is: its cost is the start's, the stall test's first reference
+        r = state.f_info.residual
+        c, v = jnp.sum(r**2), jnp.max(jnp.abs(r) / tol)
+        best = jnp.where(n == 0, c, best)
         still = jnp.where(c >= best * (1.0 - 1e-4), still + 1, 0)
         done, result = solver.terminate(fn, u_old, args, {}, state, tags)  # as optimistix: old y, new state
         dynamic = eqx.partition(state, eqx.is_array)[0]
         history = history.at[:, n + 1].set(jnp.stack([c, v]))
         return u, dynamic, n + 1, jnp.minimum(best, c), still, history, done, result
 
-    init = (u0, dynamic0, jnp.asarray(0), c0, jnp.asarray(0), history0, done0, result0)
-    u, _, n, _, still, history, done, result = jax.lax.while_loop(cond, body, init)
+    init = (u0, dynamic0, jnp.asarray(0), nan, jnp.asarray(0), history0, done0, result0)
+    u, dynamic, n, _, still, history, done, result = jax.lax.while_loop(cond, body, init)
+    history = history.at[:, 0].set(history[:, 1])  # the start's (see the body)
     p = from_unbounded(u, lower, upper)
-    r = residuals(p, args)
+    r = eqx.combine(static, dynamic).f_info.residual  # at u (the last accepted step's)
     viol = jnp.max(jnp.abs(r) / tol)
     ok = (done | (still >= stall)) & (result == optx.RESULTS.successful)
     return SolveResult(p, r, jnp.sum(r**2), viol, viol <= 1.0, ok, n, history[0], violation_history=history[1])
