@@ -191,44 +191,45 @@ def minimise_constrained(
     g0 = ineq(p0, args)
     n_c, n_g = jnp.shape(c0)[0], jnp.shape(g0)[0]
 
-    def violation(p, c):
-        v = jnp.max(jnp.abs(c) / tol) if n_c else jnp.zeros((), c.dtype)
-        return jnp.maximum(v, jnp.max(jnp.maximum(ineq(p, args), 0.0) / inequality_tol)) if n_g else v
-
     def lagrangian(u, inner_args):
+        """The augmented Lagrangian, and (aux) the objective, c and g at ``u``: BFGS keeps them for its
+        accepted point, so a round does not evaluate them again (each copy of the model is compiled)."""
         lam, nu, mu, args = inner_args
         p = from_unbounded(u, lower, upper)
-        c = constraints(p, args)
-        phr = jnp.sum(jnp.maximum(nu + mu * ineq(p, args), 0.0) ** 2 - nu**2) / (2.0 * mu) if n_g else 0.0
-        return objective(p, args) + lam @ c + 0.5 * mu * c @ c + phr
+        c, g, f = constraints(p, args), ineq(p, args), objective(p, args)
+        phr = jnp.sum(jnp.maximum(nu + mu * g, 0.0) ** 2 - nu**2) / (2.0 * mu) if n_g else 0.0
+        return f + lam @ c + 0.5 * mu * c @ c + phr, (f, c, g)
+
+    def violation(c, g):
+        v = jnp.max(jnp.abs(c) / tol) if n_c else jnp.zeros((), c.dtype)
+        return jnp.maximum(v, jnp.max(jnp.maximum(g, 0.0) / inequality_tol)) if n_g else v
 
     solver = bfgs(rtol, atol)
 
     def round_(carry, _):
-        u, lam, nu, mu, steps, ok = carry
-        sol = optx.minimise(lagrangian, solver, u, (lam, nu, mu, args), max_steps=max_steps, throw=False)
-        p = from_unbounded(sol.value, lower, upper)
-        c = constraints(p, args)
-        viol = violation(p, c)
-        return (sol.value, lam + mu * c, jnp.maximum(nu + mu * ineq(p, args), 0.0), mu * growth,
-                steps + sol.stats["num_steps"], sol.result == optx.RESULTS.successful), \
-            (lagrangian(sol.value, (lam, nu, mu, args)), objective(p, args),
-             objective(p, args) if record is None else record(p, args), viol)
+        u, lam, nu, mu, steps, ok, _ = carry
+        sol = optx.minimise(lagrangian, solver, u, (lam, nu, mu, args), has_aux=True, max_steps=max_steps,
+                            throw=False)
+        f, c, g = sol.state.aux  # at sol.value, the last accepted point (``sol.aux`` is the one before it)
+        recorded = f if record is None else record(from_unbounded(sol.value, lower, upper), args)
+        return (sol.value, lam + mu * c, jnp.maximum(nu + mu * g, 0.0), mu * growth,
+                steps + sol.stats["num_steps"], sol.result == optx.RESULTS.successful, (f, c, g)), \
+            (sol.state.f_info.f, f, recorded, violation(c, g))
 
     dtype = ravel_pytree(u0)[0].dtype
     # Under vmap over what the constraints depend on (a sweep's targets) the rounds make the carry batched (all
     # but μ). Started so, by a select on a flag that is always true but computed from them, the scan is batched
     # in one pass over its body instead of two, each of which batches the BFGS loop inside it again.
     start = jnp.isnan(jnp.sum(c0) + jnp.sum(g0)) | True
-    u0, lam0, nu0, steps0, ok0 = jax.tree.map(lambda a: jnp.where(start, a, a), (
-        u0, jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype), jnp.asarray(0), jnp.asarray(True)))
-    init = (u0, lam0, nu0, jnp.asarray(mu0, dtype), steps0, ok0)
-    (u, _, _, _, steps, ok), (history, merit, f_history, v_history) = jax.lax.scan(round_, init, None,
-                                                                                   length=outer)
+    u0, lam0, nu0, steps0, ok0, last0 = jax.tree.map(lambda a: jnp.where(start, a, a), (
+        u0, jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype), jnp.asarray(0), jnp.asarray(True),
+        (jnp.zeros((), dtype), jnp.zeros(n_c, dtype), jnp.zeros(n_g, dtype))))  # the last round's f, c, g
+    init = (u0, lam0, nu0, jnp.asarray(mu0, dtype), steps0, ok0, last0)
+    (u, _, _, _, steps, ok, (f, c, g)), (history, merit, f_history, v_history) = jax.lax.scan(
+        round_, init, None, length=outer)
     p = from_unbounded(u, lower, upper)
-    c = constraints(p, args)
-    viol = violation(p, c)
-    return SolveResult(p, c, objective(p, args), viol, viol <= 1.0, ok, steps, history, f_history, v_history, merit)
+    viol = violation(c, g)
+    return SolveResult(p, c, f, viol, viol <= 1.0, ok, steps, history, f_history, v_history, merit)
 
 
 def fit_traced(residuals: Callable, p0, lower, upper, args=None, *, tol=1.0, rtol: float = 1e-6,
