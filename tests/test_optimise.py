@@ -139,6 +139,36 @@ def test_the_traced_fit_holds_one_copy_of_the_model():
     assert float(res.history[0]) == pytest.approx((np.sinh(1.0) - 2.0) ** 2 + 0.5**2, rel=1e-12)  # the start's
 
 
+def test_the_augmented_lagrangian_rounds_evaluate_the_model_only_inside_bfgs():
+    """Each round takes the objective, c and g at its solution from BFGS (the Lagrangian's aux), and the result
+    is the last round's: the program holds the objective, constraints and inequalities where BFGS evaluates
+    them (its step's value and gradient), not again after each round (it held 6, 6 and 14 copies of the
+    markers below; now 2, 3 and 6). The result is the one a fresh evaluation gives."""
+
+    def objective(p, args):
+        return (p["x"] - 2.0) ** 2 + jnp.sinh(p["y"]) ** 2  # sinh: the objective's marker
+
+    def constraints(p, args):
+        return jnp.stack([jnp.cosh(p["x"]) + p["y"] - 2.0])  # cosh (also sinh's derivative)
+
+    def inequalities(p, args):
+        return jnp.stack([jnp.tanh(p["y"]) - 0.2 * p["x"] - 0.1])
+
+    p0 = {"x": jnp.asarray(0.5), "y": jnp.asarray(0.1)}
+    lo, hi = {"x": jnp.asarray(-5.0), "y": jnp.asarray(-5.0)}, {"x": jnp.asarray(5.0), "y": jnp.asarray(5.0)}
+
+    def solve():
+        return minimise_constrained(objective, constraints, p0, lo, hi, inequalities=inequalities, outer=4)
+
+    jaxpr = jax.make_jaxpr(solve)().jaxpr
+    assert [_count(jaxpr, k) for k in ("sinh", "cosh", "tanh")] == [2, 3, 6]
+    r = jax.jit(solve)()
+    assert bool(r.met)
+    assert float(r.objective) == pytest.approx(float(objective(r.params, None)), rel=1e-12)
+    np.testing.assert_allclose(np.asarray(r.residuals), np.asarray(constraints(r.params, None)), atol=1e-14)
+    assert float(r.objective_history[-1]) == float(r.objective)
+
+
 @pytest.mark.slow
 def test_objective_gradient_matches_finite_differences(wigley_design):
     """The full objective of the minimisation (sea-state mean added resistance, scaled, plus smoothness)
