@@ -12,10 +12,10 @@ then NavalToolbox, then hullopt…) so both see the same machine load:
 
 hullopt **cold** is its first call with a fresh ``$HULLOPT_CACHE`` (the mesh read and sliced, the program
 traced and compiled); **warm** the later calls (the sections and the compiled program kept there). Medians of
-3 calls (2 with ``--quick``), cold too (a fresh cache each; the run's cold is one call). hullopt runs from a snapshot of the package copied before timing (kept programs
-are keyed by hullopt's source: an edit to the working tree during the run would make a warm call cold), its
-bytecode compiled first as ``pip install`` does (a cold call is a fresh cache, not a fresh Python). Writes
-``results/cli.json``.
+3 calls (2 with ``--quick``), cold ones too (a fresh cache each; the run's cold is one call, ~30 s). hullopt
+runs from a snapshot of the package copied before timing (kept programs are keyed by hullopt's source: an edit
+to the working tree during the run would make a warm call cold), its bytecode compiled first as ``pip install``
+does (a cold call is a fresh cache, not a fresh Python). Writes ``results/cli.json``.
 
 Run: ``.venv/bin/python benchmarks/bench_cli.py`` (or ``python benchmarks/run.py --only cli``).
 """
@@ -99,8 +99,7 @@ def main() -> None:
     res: dict = {}
     for name, cmd, ok in (("hydro", hydro, (0,)), ("stability", stab, (0, 4)), ("run", run, (0, 3))):
         path = [str(snapshot), *filter(None, [os.environ.get("PYTHONPATH")])]  # the snapshot before any wheels
-        # cold: a fresh cache each time; the median of `repeat` where a goal rests on it (the run's takes ~30 s)
-        colds = []
+        colds = []  # a fresh cache each; `repeat` of them but for the run's (~30 s each)
         for k in range(1 if name == "run" else repeat):
             env = dict(os.environ, HULLOPT_CACHE=str(tmp / f"cache-{name}-{k}"), PYTHONPATH=os.pathsep.join(path))
             cold, out = timed(cmd, env, ok, snapshot, f"{name} cold")
@@ -127,8 +126,8 @@ def main() -> None:
         r["warm_median_s"] = statistics.median(r["warm_s"])
         r["cpu_s"] = {k.split(" ", 1)[1]: v for k, v in CPU.items() if k.startswith(f"{name} ")}
         cpu = {k: statistics.median(v) for k, v in r["cpu_s"].items()}
-        line = (f"  {name:<10} hullopt cold {r['cold_s']:6.2f} s (median of {len(r['cold_each_s'])}), warm {r['warm_median_s']:6.2f} s "
-                f"(CPU {cpu['warm']:.2f} s)")
+        line = (f"  {name:<10} hullopt cold {r['cold_s']:6.2f} s (median of {len(r['cold_each_s'])}), "
+                f"warm {r['warm_median_s']:6.2f} s (CPU {cpu['warm']:.2f} s)")
         if "navaltoolbox_s" in r:
             r["navaltoolbox_median_s"] = statistics.median(r["navaltoolbox_s"])
             r["warm_over_navaltoolbox"] = r["warm_median_s"] / r["navaltoolbox_median_s"]

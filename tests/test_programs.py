@@ -211,3 +211,9 @@ def test_the_commands_build_their_program_while_a_mesh_is_read(command, cli, hul
     # one program, built on the thread that prepared it while the mesh was read, and taken by the call
     assert built == [f"prepare-{'hydrostatic_table' if command == 'hydro' else 'stability'}"]
     assert not programs._PENDING
+    # the same output as a call that builds its program from the real sections (nothing prepared, nothing kept)
+    monkeypatch.setattr(f"hullopt.app.commands.{command}.sections_like", lambda spec: None)
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "unprepared"))
+    again = cli(command, spec, *args, "--json")
+    assert again[0] == code and again[1] == out
+    assert built[1:] == ["MainThread"]
