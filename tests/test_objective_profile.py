@@ -174,6 +174,31 @@ def test_a_profile_with_two_sea_states_a_speed_equals_its_points_alone(tmp_path)
     assert float(jax.jit(swapped.__call__)(hull, 6.25)) == pytest.approx(value, rel=1e-13)
 
 
+def test_a_profile_computes_calm_water_once_a_speed(tmp_path, monkeypatch):
+    """A profile with calm water and two sea states at one speed: R_T is computed at each group's speed (two
+    speeds, not three: the panel methods' cost is per speed) and the profile equals its points alone."""
+    import dataclasses
+
+    from hullopt.optimise import _objectives
+    from hullopt.study import load_config
+
+    hull = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10)
+    path = tmp_path / "g.toml"
+    path.write_text(PROFILE.format(kind="profile_resistance", extra="motion = false").replace(
+        "speed_kn = 12\nweight = 2\n", "speed_kn = 18\nweight = 2\nhs = 4\ntp = 11\nheading_deg = 30\n"))
+    grouped = load_config(path)[0].objective.build()
+    assert grouped.groups == ((0, 2), (1,))
+    speeds = []
+    monkeypatch.setattr(_objectives, "calm_water", lambda s, t, u, m: speeds.append(u.shape) or calm_water(s, t, u, m))
+    alone = dataclasses.replace(grouped, groups=None)
+    value, point_by_point = (float(jax.jit(o.__call__)(hull, 6.25)) for o in (grouped, alone))
+    assert speeds == [(2,), (3,)]
+    assert value == pytest.approx(point_by_point, rel=1e-13)
+    r_t = calm_water(hull, 6.25, np.array([18.0, 15.0]) * KNOT).total
+    no_waves = dataclasses.replace(grouped, waves=False)
+    assert float(no_waves(hull, 6.25)) == pytest.approx(float(r_t @ np.array([3.0, 1.0])) / 4.0, rel=1e-12)
+
+
 def test_conditions_captions_say_where_an_objective_is_measured():
     """The Pareto plot's caption: the shipped configs' profiles, a speed list, one speed in one sea."""
     from conftest import REPO

@@ -125,3 +125,26 @@ def test_conditions_at_one_speed_share_their_strip_theory():
     assert _groups(np.array([10.0, 12.0]), np.zeros(2)) == ((0, 6, 8), (1, 7, 9), (2,), (3,), (4,), (5,))
     assert _groups(np.array([10.0, 10.0]), np.array([0.0, 0.5])) == ((0, 6, 8), (1, 7, 9), (2,), (3,), (4,), (5,))
     assert len(_groups(np.array([10.0, 10.0]), np.zeros(2))) == 3  # two sea states at one speed: one group a speed
+
+
+def test_calm_water_is_rescored_once_a_speed(monkeypatch):
+    """Two sea states at one speed: calm water's R_T is computed at that speed once a condition, not once a
+    point, and the profile's value is R_T there (the weights sum to one speed's)."""
+    from hullopt.optimise import point_groups
+    from hullopt.resistance import calm_water
+    from hullopt.study import load_config, load_study
+    from hullopt.study import _rescore
+
+    prob = load_study(load_config(CONFIG)[0]).problem
+    speeds = np.array([15.0, 15.0]) * KNOT
+    seen = []
+    monkeypatch.setattr(_rescore, "calm_water", lambda s, t, u, m: seen.append(u.shape) or calm_water(s, t, u, m))
+    stacked = jax.tree.map(lambda a: np.asarray(a)[None], prob.p0)
+    args = (prob.design.model, prob.p0, stacked, 6.25, speeds, np.array([1.0, 3.0]), np.array([3.0, 2.0]),
+            np.array([9.0, 8.0]), np.zeros(2))
+    values = _rescore._program(*args, False, ("holtrop",), _rescore._groups(speeds, np.zeros(2)),
+                               point_groups(speeds, np.zeros(2)))
+    assert seen == [(1,)]
+    s = prob.design.model(prob.p0)
+    direct = [float(calm_water(s, 6.25, f * 15.0 * KNOT).total) for f in (1.0, 0.9, 1.1, 1.0, 1.0)]
+    np.testing.assert_allclose(values["calm_holtrop"], [direct, direct], rtol=1e-12)

@@ -267,8 +267,9 @@ class ProfileResistance(Objective):
     Points: ``speed`` [m/s], ``weights``, ``hs`` [m] (0: calm water), ``tp`` [s], ``heading`` [rad], each (k,).
 
     ``groups`` (static; :func:`point_groups`, which ``from_config`` applies) lists the points by their speed and
-    heading: the sea states of one group share its strip-theory solve, which does not depend on the sea state
-    (a profile of 3 speeds in 2 sea states solves 3 times, not 6). ``None``: each point alone."""
+    heading: the sea states of one group share its strip-theory solve, which does not depend on the sea state,
+    and its calm-water R_T (a profile of 3 speeds in 2 sea states solves 3 times, not 6). ``None``: each point
+    alone."""
 
     name: ClassVar[str] = "profile_resistance"
     unit: ClassVar[str] = "N"
@@ -289,14 +290,19 @@ class ProfileResistance(Objective):
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         u = jnp.asarray(self.speed, dtype=float)
-        r = calm_water(sections, draft, u, self.method).total if self.calm else jnp.zeros_like(u)
+        groups = self.groups or tuple((i,) for i in range(u.shape[0]))
+        r = jnp.zeros_like(u)
+        if self.calm:  # once a group: its points share the speed (the panel methods' cost is per speed)
+            of = np.zeros(u.shape[0], int)
+            for n, g in enumerate(groups):
+                of[list(g)] = n
+            r = calm_water(sections, draft, u[np.array([g[0] for g in groups])], self.method).total[of]
         if self.waves:  # a point without a sea state adds nothing (its H_s replaced before, its R_AW after)
             wet = jnp.asarray(self.hs) > 0
 
             def point(ui, a, h, t):
                 return mean_added_resistance("nmri", sections, draft, ui, h, t, a, motion=self.motion).total
 
-            groups = self.groups or tuple((i,) for i in range(u.shape[0]))
             raw = vmap_grouped(point, groups, (u, jnp.asarray(self.heading, dtype=float)),
                                (jnp.where(wet, self.hs, 1.0), jnp.asarray(self.tp, dtype=float)))
             r = r + jnp.where(wet, raw, 0.0)

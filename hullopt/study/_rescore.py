@@ -146,11 +146,12 @@ def calm_methods(sections: Sections, draft: Draft, fn: float) -> tuple[tuple[str
 
 
 def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool, calm: tuple[str, ...],
-             groups: tuple[tuple[int, ...], ...]):
+             groups: tuple[tuple[int, ...], ...], by_speed: tuple[tuple[int, ...], ...]):
     """Every method's value [N] of the parent and each design (stacked on a leading axis) in each condition of
     :data:`CONDITIONS` ``(1 + k, 5)``: calm-water R_T and, when ``waves``, the mean R_AW, each the profile's
     weighted mean (the points without a sea state, ``hs`` 0, add no R_AW). ``groups``: the conditions' points
-    (condition-major) by speed and heading (:func:`_groups`), which share a strip-theory solve."""
+    (condition-major) by speed and heading (:func:`_groups`), which share a strip-theory solve; ``by_speed``:
+    the profile's points by speed (:func:`~hullopt.optimise.point_groups`), which share calm water's R_T."""
     params = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), p0, stacked)
     factors = jnp.asarray([c[0] for c in CONDITIONS])
     shifts = jnp.asarray([c[1] for c in CONDITIONS])
@@ -159,10 +160,13 @@ def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves:
     # every condition's points in one flat list: speed, heading (shared within a group), H_s, T_p
     shared = ((factors[:, None] * speeds).ravel(), jnp.tile(heading, n))
     each = (jnp.tile(hs, n), (tp + shifts[:, None]).ravel())
+    # calm water once a speed (a profile's sea states at one speed share it; the panel methods' cost is per speed)
+    u = speeds[np.array([g[0] for g in by_speed])]
+    w_u = jnp.stack([w[np.array(g)].sum() for g in by_speed])
 
     def one(p):
         s = model(p)
-        out = {f"calm_{m}": jax.vmap(lambda f, m=m: calm_water(s, draft, f * speeds, m).total @ w)(factors)
+        out = {f"calm_{m}": jax.vmap(lambda f, m=m: calm_water(s, draft, f * u, m).total @ w_u)(factors)
                for m in calm}
         if waves:
             for m in RESCORE_WAVES:
@@ -220,8 +224,8 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
     parent = d.model(prob.p0)
     fn = max(SPEED_FACTORS) * float(np.max(args[4])) / float(np.sqrt(G * float(holtrop_hull(parent, d.draft).L)))
     calm, invalid = calm_methods(parent, d.draft, fn)
-    values = jax.device_get(cached_call("rescore", _program, args, (waves, calm, _groups(args[4], args[8])),
-                                        key=[key, "rescore"]))
+    static = (waves, calm, _groups(args[4], args[8]), point_groups(args[4], np.zeros_like(args[4])))
+    values = jax.device_get(cached_call("rescore", _program, args, static, key=[key, "rescore"]))
     own = _own_method(cfg)
     methods = {}
     for name, v in values.items():
