@@ -143,7 +143,10 @@ def test_the_augmented_lagrangian_rounds_evaluate_the_model_only_inside_bfgs():
     """Each round takes the objective, c and g at its solution from BFGS (the Lagrangian's aux), and the result
     is the last round's: the program holds the objective, constraints and inequalities where BFGS evaluates
     them (its step's value and gradient), not again after each round (it held 6, 6 and 14 copies of the
-    markers below; now 2, 3 and 6). The result is the one a fresh evaluation gives."""
+    markers below; now 3, 3 and 6, one of each the start's evaluation, which only marks the start's carry as
+    batched and which XLA drops). Given ``terms``, the three come from one evaluation of what they share (a hull
+    model): its marker appears once at the start and once where BFGS evaluates it, with the same result. The
+    result is the one a fresh evaluation gives."""
 
     def objective(p, args):
         return (p["x"] - 2.0) ** 2 + jnp.sinh(p["y"]) ** 2  # sinh: the objective's marker
@@ -160,13 +163,23 @@ def test_the_augmented_lagrangian_rounds_evaluate_the_model_only_inside_bfgs():
     def solve():
         return minimise_constrained(objective, constraints, p0, lo, hi, inequalities=inequalities, outer=4)
 
+    def terms(p, args):
+        m = jnp.exp(p["x"] * p["y"])  # exp: the shared model's marker (its derivative is itself)
+        return objective(p, args) + 0 * m, constraints(p, args) + 0 * m, inequalities(p, args) + 0 * m
+
+    def shared():
+        return minimise_constrained(objective, constraints, p0, lo, hi, inequalities=inequalities, outer=4,
+                                    terms=terms)
+
     jaxpr = jax.make_jaxpr(solve)().jaxpr
-    assert [_count(jaxpr, k) for k in ("sinh", "cosh", "tanh")] == [2, 3, 6]
-    r = jax.jit(solve)()
+    assert [_count(jaxpr, k) for k in ("sinh", "cosh", "tanh")] == [3, 3, 6]
+    assert _count(jax.make_jaxpr(shared)().jaxpr, "exp") == 2
+    r, r_shared = jax.jit(solve)(), jax.jit(shared)()
     assert bool(r.met)
     assert float(r.objective) == pytest.approx(float(objective(r.params, None)), rel=1e-12)
     np.testing.assert_allclose(np.asarray(r.residuals), np.asarray(constraints(r.params, None)), atol=1e-14)
     assert float(r.objective_history[-1]) == float(r.objective)
+    np.testing.assert_allclose(np.asarray(r_shared.params["x"]), np.asarray(r.params["x"]), rtol=1e-12)
 
 
 @pytest.mark.slow

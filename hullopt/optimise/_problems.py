@@ -445,14 +445,25 @@ class Design(eqx.Module):
 
     def inequalities(self, params, args=None) -> Array:
         """The limits' normalised inequalities ``g ≤ 0`` (empty without limits)."""
-        return jnp.zeros(0) if self.limits is None else self.limits(self.model(params), self.draft)
+        return self._inequalities(self.model(params))
 
     def objective_value(self, params, args=None) -> Array:
         """The scaled objective plus the smoothness penalty (order one at the parent)."""
-        flat = ravel_pytree(self._scaled(params))[0]
+        return self._objective_value(params, self.model(params))
+
+    def terms(self, params, args=None) -> tuple[Array, Array, Array]:
+        """``(objective_value, constraints, inequalities)`` from one evaluation of the model: what a constrained
+        solve needs at each point (three evaluations would be traced, differentiated and compiled three times)."""
         s = self.model(params)
+        return self._objective_value(params, s), target_residuals(s, self.draft, self.targets), self._inequalities(s)
+
+    def _objective_value(self, params, s: Sections) -> Array:
+        flat = ravel_pytree(self._scaled(params))[0]
         value = self.objective(s, self.draft) / self.objective_scale + self.smoothness * flat @ flat
         return value + self.fairness * self._unfairness(s) if self.fairness else value
+
+    def _inequalities(self, s: Sections) -> Array:
+        return jnp.zeros(0) if self.limits is None else self.limits(s, self.draft)
 
     def objective_ratio(self, params, args=None) -> Array:
         """The objective alone, scaled by its value at the parent (1 there): what a run's convergence shows."""
@@ -665,7 +676,12 @@ def solve_minimum(design: Design, p0, lower, upper, **kw):
     tol = jnp.asarray(design.targets.tol)
     tol_g = 1.0 if design.limits is None else design.limits.tol
     ineq = None if design.limits is None else (lambda p, args: design.inequalities(p, args) / tol_g)
+
+    def terms(p, args):
+        f, c, g = design.terms(p, args)
+        return f, c / tol, g / tol_g
+
     kw = {"mu0": MU0, "growth": GROWTH, "record": design.objective_ratio} | kw
     r = minimise_constrained(design.objective_value, lambda p, args: design.constraints(p, args) / tol, p0, lower,
-                             upper, inequalities=ineq, **kw)
+                             upper, inequalities=ineq, terms=terms, **kw)
     return eqx.tree_at(lambda res: res.residuals, r, r.residuals * tol)
