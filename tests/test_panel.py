@@ -181,3 +181,31 @@ def test_wave_pattern_is_kelvins():
     side = np.asarray(wave_pattern(h, 6.25, u, np.array([-100.0]), np.array([20.0, 150.0]), stations=24,
                                    girth=6))[0]
     assert abs(side[1]) < 0.15 * np.abs(z[behind]).max() and abs(side[0]) > 0.15 * np.abs(z[behind]).max()
+
+
+def test_kelvin_spectrum_is_the_rectangles_integral():
+    """The spectrum, computed in real arithmetic where it can be (the depth factor shared by both sides, the
+    horizontal half-side's factor sin(y)/y), equals each panel rectangle's integral A·e^{a·c}·shc(a·h₁)·shc(a·h₂)
+    summed over both sides in numpy's complex arithmetic; the second half-side is horizontal."""
+    from hullopt.resistance._panel import _spectral_rectangles, hull_panels
+
+    panels = hull_panels(wigley(100, 10, 6.25, 10, n=41, m=17), 6.25)
+    sigma = jnp.asarray(np.random.default_rng(0).normal(size=panels.area.shape))
+    k0, lam = 9.80665 / 8.0**2, jnp.linspace(1.0, 6.0, 40)
+    got = np.asarray(kelvin_spectrum(panels, sigma, k0, lam))
+    c, h1, h2 = (np.asarray(a) for a in _spectral_rectangles(panels))
+    assert np.max(np.abs(h2[:, 2])) < 1e-12 * np.max(np.abs(h2))
+    c = c - np.array([0.0, 0.0, 6.25])
+    lam = np.asarray(lam)[:, None]
+    q = np.asarray(sigma * panels.area * panels.real)
+
+    def shc(z):
+        return np.where(np.abs(z) < 1e-8, 1.0, np.sinh(z) / np.where(np.abs(z) < 1e-8, 1.0, z))
+
+    want = 0.0
+    for side in (1.0, -1.0):
+        def dot(r):
+            return k0 * lam**2 * r[:, 2] + 1j * k0 * lam * (r[:, 0] + side * np.sqrt(lam**2 - 1.0) * r[:, 1])
+
+        want = want + (np.exp(dot(c)) * shc(dot(h1)) * shc(dot(h2))) @ q
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.max(np.abs(want)))

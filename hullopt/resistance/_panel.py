@@ -329,9 +329,16 @@ def _shc(s):
     return jnp.where(small, 1.0 + s * s / 6.0, jnp.sinh(ss) / ss)
 
 
+def _sinc(y):
+    """sin(y)/y for real y, by its series near 0 (finite derivatives everywhere): :func:`_shc` of i·y."""
+    small = jnp.abs(y) < 1e-4
+    yy = jnp.where(small, jnp.ones_like(y), y)
+    return jnp.where(small, 1.0 - y * y / 6.0, jnp.sin(yy) / yy)
+
+
 def _spectral_rectangles(panels: Panels):
-    """Each panel as a rectangle in its own plane for the wave spectrum: centre (N, 3) and half-sides (N, 3),
-    (N, 3) — one side horizontal, one along the plane's steepest slope, spanning the panel's heights exactly
+    """Each panel as a rectangle in its own plane for the wave spectrum: centre (N, 3) and half-sides h₁ (N, 3)
+    along the plane's steepest slope, spanning the panel's heights exactly, and h₂ (N, 3) horizontal
     (so no corner rises above the panel's highest point, where e^{k₀λ²(z − T)} would grow) with the panel's
     area. A horizontal panel takes its in-plane x direction for the slope."""
     c, n, _, _, _ = _plane_frames(panels)
@@ -376,14 +383,17 @@ def kelvin_spectrum(panels: Panels, sigma: Float[ArrayLike, ' N'], k0: Values, l
     ky = kl * jnp.sqrt(jnp.maximum(lam * lam - 1.0, 0.0))[:, None]
     kz = kl * lam[:, None]
 
-    def phase(r, sign):  # a·r for a = (i kλ, i·sign·kλ√(λ²−1), k λ²), r (N, 3) → (L, N) complex
-        return jax.lax.complex(kz * r[None, :, 2], kl * r[None, :, 0] + sign * ky * r[None, :, 1])
+    def along(r, sign):  # the imaginary part of a·r for a = (i kλ, i·sign·kλ√(λ²−1), k λ²), r (N, 3) → (L, N)
+        return kl * r[None, :, 0] + sign * ky * r[None, :, 1]
 
-    cz = c.at[:, 2].add(-panels.draft)
+    # real where they can be: e^{kλ²(z − T)} is both sides', and h₂ is horizontal, so shc(a·h₂) = sin(y)/y
+    depth = jnp.exp(kz * (c[None, :, 2] - panels.draft)) * q  # (L, N)
     total = 0.0
     for sign in (1.0, -1.0):  # the port and starboard sources
-        e = jnp.exp(phase(cz, sign)) * _shc(phase(h1, sign)) * _shc(phase(h2, sign))
-        total = total + e @ q.astype(e.dtype)
+        x = along(c, sign)
+        h = _shc(jax.lax.complex(kz * h1[None, :, 2], along(h1, sign)))
+        real = (depth * _sinc(along(h2, sign))).astype(h.dtype)
+        total = total + jnp.sum(jax.lax.complex(jnp.cos(x), jnp.sin(x)) * h * real, axis=1)
     return total
 
 
