@@ -143,10 +143,10 @@ def test_the_augmented_lagrangian_rounds_evaluate_the_model_only_inside_bfgs():
     """Each round takes the objective, c and g at its solution from BFGS (the Lagrangian's aux), and the result
     is the last round's: the program holds the objective, constraints and inequalities where BFGS evaluates
     them (its step's value and gradient), not again after each round (it held 6, 6 and 14 copies of the
-    markers below; now 3, 3 and 6, one of each the start's evaluation, which only marks the start's carry as
-    batched and which XLA drops). Given ``terms``, the three come from one evaluation of what they share (a hull
-    model): its marker appears once at the start and once where BFGS evaluates it, with the same result. The
-    result is the one a fresh evaluation gives."""
+    markers below; now 2, 3 and 6). Given ``terms``, the three come from one evaluation of what they share (a
+    hull model): its marker appears once at the start (which only marks the start's carry as batched, and which
+    XLA drops) and once where BFGS evaluates it, with the same result. The result is the one a fresh evaluation
+    gives."""
 
     def objective(p, args):
         return (p["x"] - 2.0) ** 2 + jnp.sinh(p["y"]) ** 2  # sinh: the objective's marker
@@ -172,14 +172,14 @@ def test_the_augmented_lagrangian_rounds_evaluate_the_model_only_inside_bfgs():
                                     terms=terms)
 
     jaxpr = jax.make_jaxpr(solve)().jaxpr
-    assert [_count(jaxpr, k) for k in ("sinh", "cosh", "tanh")] == [3, 3, 6]
+    assert [_count(jaxpr, k) for k in ("sinh", "cosh", "tanh")] == [2, 3, 6]
     assert _count(jax.make_jaxpr(shared)().jaxpr, "exp") == 2
     r, r_shared = jax.jit(solve)(), jax.jit(shared)()
     assert bool(r.met)
     assert float(r.objective) == pytest.approx(float(objective(r.params, None)), rel=1e-12)
     np.testing.assert_allclose(np.asarray(r.residuals), np.asarray(constraints(r.params, None)), atol=1e-14)
     assert float(r.objective_history[-1]) == float(r.objective)
-    np.testing.assert_allclose(np.asarray(r_shared.params["x"]), np.asarray(r.params["x"]), rtol=1e-12)
+    np.testing.assert_allclose(np.asarray(r_shared.params["x"]), np.asarray(r.params["x"]), rtol=1e-9)
 
 
 @pytest.mark.slow
