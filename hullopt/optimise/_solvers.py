@@ -180,7 +180,7 @@ def minimise_constrained(
         ``record(p, args)`` → scalar recorded after each round in ``objective_history``; None: the objective.
     terms : callable or None
         ``terms(p, args)`` → ``(objective, constraints, inequalities)``, the three from one evaluation, where they
-        share work (a hull model); None: the three called apart.
+        share work (a hull model), jitted; None: the three called apart, as traced.
 
     Returns
     -------
