@@ -43,11 +43,11 @@ heading_deg = 30
 """
 
 
-def _load(tmp_path, kind="profile_resistance", extra=""):
+def _load(tmp_path, kind="profile_resistance", extra="", edit=lambda text: text):
     from hullopt.study import load_config
 
     path = tmp_path / "p.toml"
-    path.write_text(PROFILE.format(kind=kind, extra=extra))
+    path.write_text(edit(PROFILE.format(kind=kind, extra=extra)))
     return load_config(path)[0]
 
 
@@ -153,19 +153,21 @@ def test_points_at_one_speed_and_heading_share_what_those_alone_give():
     assert [e.outvars[0].aval.shape for e in sines] == [(4,)]  # once a group; (4, 2) would be once a slot
 
 
+def _two_seas_a_speed(tmp_path, kind):
+    """The profile of ``kind`` with two sea states at 18 kn (a group) and 15 kn alone, motion part off."""
+    cfg = _load(tmp_path, kind, "motion = false", lambda text: text.replace(
+        "speed_kn = 12\nweight = 2\n", "speed_kn = 18\nweight = 2\nhs = 4\ntp = 11\nheading_deg = 30\n"))
+    grouped = cfg.objective.build()
+    assert grouped.groups == ((0, 2), (1,))
+    return grouped
+
+
 def test_a_profile_with_two_sea_states_a_speed_equals_its_points_alone(tmp_path):
     """Two sea states at one speed (a group) and a speed alone: the grouped profile equals the same profile
     evaluated point by point (``groups=None``) to rounding, and sees each point's own sea state."""
     import dataclasses
 
-    from hullopt.study import load_config
-
-    hull = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10)
-    path = tmp_path / "g.toml"
-    path.write_text(PROFILE.format(kind="profile_added_resistance", extra="motion = false").replace(
-        "speed_kn = 12\nweight = 2\n", "speed_kn = 18\nweight = 2\nhs = 4\ntp = 11\nheading_deg = 30\n"))
-    grouped = load_config(path)[0].objective.build()
-    assert grouped.groups == ((0, 2), (1,))
+    hull, grouped = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10), _two_seas_a_speed(tmp_path, "profile_added_resistance")
     alone = dataclasses.replace(grouped, groups=None)
     value, point_by_point = (float(jax.jit(o.__call__)(hull, 6.25)) for o in (grouped, alone))
     assert value == pytest.approx(point_by_point, rel=1e-13)
@@ -180,14 +182,8 @@ def test_a_profile_computes_calm_water_once_a_speed(tmp_path, monkeypatch):
     import dataclasses
 
     from hullopt.optimise import _objectives
-    from hullopt.study import load_config
 
-    hull = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10)
-    path = tmp_path / "g.toml"
-    path.write_text(PROFILE.format(kind="profile_resistance", extra="motion = false").replace(
-        "speed_kn = 12\nweight = 2\n", "speed_kn = 18\nweight = 2\nhs = 4\ntp = 11\nheading_deg = 30\n"))
-    grouped = load_config(path)[0].objective.build()
-    assert grouped.groups == ((0, 2), (1,))
+    hull, grouped = wigley(100.0, 10.0, 6.25, 10.0, n=31, m=10), _two_seas_a_speed(tmp_path, "profile_resistance")
     speeds = []
     monkeypatch.setattr(_objectives, "calm_water", lambda s, t, u, m: speeds.append(u.shape) or calm_water(s, t, u, m))
     alone = dataclasses.replace(grouped, groups=None)
