@@ -56,6 +56,23 @@ def test_another_key_static_value_or_shape_is_another_program(folder):
     assert len(list(folder.glob("t-*.bin"))) == 4
 
 
+def test_a_quick_program_is_another_program_compiled_without_llvm_optimisation(folder, monkeypatch):
+    compiled = []
+
+    def compile_fresh(lowered, options):
+        compiled.append(options)
+        return lowered.compile(options), False
+
+    monkeypatch.setattr(programs, "_compile_fresh", compile_fresh)
+    slow = programs.cached_call("t", model, args(), (3,), key="k")
+    quick = programs.cached_call("t", model, args(), (3,), key="k", quick=True)
+    # each built; the quick one with XLA's optimisation level 0 (on the CPU, where it was measured)
+    assert compiled == [{}, programs.QUICK if jax.default_backend() == "cpu" else {}]
+    assert len(list(folder.glob("t-*.bin"))) == 2
+    for x, y in zip(jax.tree.leaves(slow), jax.tree.leaves(quick)):
+        np.testing.assert_allclose(x, y, rtol=1e-13)
+
+
 def test_a_corrupt_program_file_is_rebuilt(folder):
     programs.cached_call("t", model, args(), (3,), key="k")
     (path,) = folder.glob("t-*.bin")

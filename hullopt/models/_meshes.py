@@ -594,20 +594,17 @@ def _port_arc(loop: np.ndarray, x: float) -> np.ndarray | None:
             "(twin skegs or an asymmetric appendage are not supported yet)"
         )
     # Insert the centreline crossings, then walk from the lower crossing through y > 0 to the upper one.
-    pts = []
-    nxt = np.roll(loop, -1, axis=0)
-    for p, q in zip(loop, nxt):
-        pts.append(p)
-        if (p[0] > 0) != (q[0] > 0) and p[0] != q[0]:
-            t = p[0] / (p[0] - q[0])
-            pts.append(np.array([0.0, p[1] + t * (q[1] - p[1])]))
-    pts = np.asarray(pts)
+    p, q = loop, np.roll(loop, -1, axis=0)
+    cross = np.flatnonzero(((p[:, 0] > 0) != (q[:, 0] > 0)) & (p[:, 0] != q[:, 0]))
+    p, q = p[cross], q[cross]
+    t = p[:, 0] / (p[:, 0] - q[:, 0])
+    pts = np.insert(loop, cross + 1, np.stack([np.zeros_like(t), p[:, 1] + t * (q[:, 1] - p[:, 1])], axis=1), axis=0)
     on = np.flatnonzero(np.abs(pts[:, 0]) <= tiny)
     pts[on, 0] = 0.0
     # Rotate so the loop starts at a centreline point followed by a port point.
-    start = next(i for i in on if pts[(i + 1) % len(pts), 0] > 0)
+    start = on[np.roll(pts[:, 0], -1)[on] > 0][0]
     pts = np.roll(pts, -start, axis=0)
-    end = 1 + next(i for i in range(1, len(pts)) if pts[i, 0] <= 0)
+    end = 2 + np.flatnonzero(pts[1:, 0] <= 0)[0]
     arc = pts[:end]
     if arc[0, 1] > arc[-1, 1]:
         arc = arc[::-1]

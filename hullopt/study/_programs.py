@@ -14,6 +14,10 @@ A command whose input is slow to read (a mesh, sliced) can :func:`prepare_call` 
 it will have, on a background thread, and read the input meanwhile: a cold ``hullopt hydro`` of a mesh traces
 and compiles while the file is parsed and sliced.
 
+A program that runs once on little data (the hydrostatic table, a GZ curve, a fit to hydrostatic targets) is
+compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and leaves a run of
+milliseconds as it was; a solver's long loop or a panel method keeps XLA's default.
+
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
 unused for 30 days are deleted when a new one is written.
@@ -41,6 +45,11 @@ import jax
 from ..geometry import atomic_write_bytes
 
 _PACKAGE = Path(__file__).resolve().parents[1]
+QUICK = {"xla_backend_optimization_level": 0}
+"""XLA's compile options of a ``quick`` program on the CPU. Measured on 2 cores: the DTC's hydrostatic table
+(201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s, and a cold ``hullopt run`` of the demo fit takes
+22 s instead of 31 s with its warm solve as fast; the KCS sweep's rescoring (a panel method, Dawson's) ran 47 s
+slower so, so it is not quick. Results agree with the default's to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 
 
@@ -70,7 +79,7 @@ def _baked(in_tree, fixed) -> list[str]:
     return [re.sub(r" at 0x[0-9a-fA-F]+", "", str(in_tree)), *scalars]
 
 
-def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object):
+def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
     Without a programs folder (:func:`programs_dir`: the persistent compilation cache off) this is a plain
@@ -91,6 +100,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         Any JSON-serialisable value that, with the array shapes and what :func:`_baked` reads off ``args``,
         determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
         solver settings and the parent's digest), not the numbers that enter as arrays.
+    quick : bool
+        Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates the hull
+        once or loops over cheap hydrostatics, not for a solver through an expensive model.
 
     Returns
     -------
@@ -99,16 +111,16 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     """
     if programs_dir() is None:
         return eqx.filter_jit(fn)(*args, *static)
-    path, leaves, in_tree, fixed = _locate(name, args, static, key)
+    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, quick)
     pending = _PENDING.pop(path, None)
     program = pending.result() if pending is not None else None
     if program is None:  # not prepared, or preparing it failed: build it here, where an error is raised
-        program = _program(path, fn, leaves, in_tree, fixed, static)
+        program = _program(path, fn, leaves, in_tree, fixed, static, options)
     compiled, skeleton = program
     return jax.tree.unflatten(jax.tree.structure(skeleton), compiled(*leaves))
 
 
-def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object) -> None:
+def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False) -> None:
     """Start loading, or tracing and compiling, the program of a later :func:`cached_call` on a background
     thread, before its inputs are known: ``args`` may hold :class:`jax.ShapeDtypeStruct` leaves where the
     arrays will be (e.g. a mesh's sections while the file is read and sliced; XLA compiles without the GIL).
@@ -119,7 +131,7 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
 
     Parameters
     ----------
-    name, fn, static, key
+    name, fn, static, key, quick
         As :func:`cached_call`'s.
     args : tuple
         As :func:`cached_call`'s, with :class:`jax.ShapeDtypeStruct` leaves allowed in place of arrays.
@@ -131,14 +143,14 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
     """
     if programs_dir() is None:
         return
-    path, leaves, in_tree, fixed = _locate(name, args, static, key)
+    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, quick)
     if path in _PENDING:
         return
     pending = _PENDING[path] = Future()
 
     def build():
         try:
-            pending.set_result(_program(path, fn, leaves, in_tree, fixed, static))
+            pending.set_result(_program(path, fn, leaves, in_tree, fixed, static, options))
         except BaseException:  # the call builds it again and raises there
             pending.set_result(None)
 
@@ -152,21 +164,23 @@ def _is_input(x) -> bool:
     return eqx.is_array(x) or isinstance(x, jax.ShapeDtypeStruct)
 
 
-def _locate(name: str, args: tuple, static: tuple, key: object) -> tuple:
-    """The kept program's file for these inputs, and ``args`` split as :func:`_program` takes them."""
+def _locate(name: str, args: tuple, static: tuple, key: object, quick: bool) -> tuple:
+    """The kept program's file for these inputs, ``args`` split as :func:`_program` takes them, and XLA's
+    compile options."""
     dynamic, fixed = eqx.partition(args, _is_input)
     leaves, in_tree = jax.tree.flatten(dynamic)
     # the executable is built for these devices and XLA's flags
     devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
+    options = QUICK if quick and jax.default_backend() == "cpu" else {}
     signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
-                 devices, _baked(in_tree, fixed)]
+                 devices, _baked(in_tree, fixed), options]
     digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]
-    return programs_dir() / f"{name}-{digest}.bin", leaves, in_tree, fixed
+    return programs_dir() / f"{name}-{digest}.bin", leaves, in_tree, fixed, options
 
 
-def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tuple) -> tuple:
-    """``(compiled, skeleton)``: the kept program at ``path`` loaded, or ``fn`` exported, compiled and kept
-    there (``leaves`` may be :class:`jax.ShapeDtypeStruct`)."""
+def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tuple, options: dict) -> tuple:
+    """``(compiled, skeleton)``: the kept program at ``path`` loaded, or ``fn`` exported, compiled with XLA's
+    ``options`` and kept there (``leaves`` may be :class:`jax.ShapeDtypeStruct`)."""
     try:
         kept = pickle.loads(path.read_bytes())
         program, skeleton = kept["program"], kept["outputs"]
@@ -177,7 +191,7 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
         # an executable calling out to anything but LAPACK (a host callback holds an address of this process)
         # is not kept; its compile goes through the compilation cache
         keep = all(t.startswith("lapack_") for t in targets)
-        compiled, fresh = _compile_fresh(lowered) if keep else (lowered.compile(), False)
+        compiled, fresh = _compile_fresh(lowered, options) if keep else (lowered.compile(options), False)
         kept = {"program": exported.serialize(), "outputs": skeleton, "targets": targets,
                 "executable": _serialize(compiled) if fresh else None}
         try:
@@ -191,12 +205,12 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
         path.touch()  # in use: keep it (see _prune)
     compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
     if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
-        compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile()
+        compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile(options)
     return compiled, skeleton
 
 
-def _compile_fresh(lowered) -> tuple:
-    """``(lowered.compile(), fresh)``: compiled here, not loaded from the persistent compilation cache, when
+def _compile_fresh(lowered, options: dict) -> tuple:
+    """``(lowered.compile(options), fresh)``: compiled here, not loaded from the persistent compilation cache, when
     ``fresh`` (XLA:CPU cannot serialize again an executable it loaded from there: the copy lacks its fused
     kernels). The cache is bypassed through jax's private switch, which the key's jax version pins; where that
     fails, an ordinary compile (not fresh)."""
@@ -207,9 +221,9 @@ def _compile_fresh(lowered) -> tuple:
             saved = cc._cache_checked, cc._cache_used
             cc._cache_checked, cc._cache_used = True, False
     except Exception:
-        return lowered.compile(), False
+        return lowered.compile(options), False
     try:
-        return lowered.compile(), True
+        return lowered.compile(options), True
     finally:
         with cc._cache_initialized_mutex:
             cc._cache_checked, cc._cache_used = saved
