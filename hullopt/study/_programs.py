@@ -48,7 +48,7 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 QUICK = {"xla_backend_optimization_level": 0}
 """XLA's compile options of a ``quick`` program on the CPU. Measured on 2 cores: the DTC's hydrostatic table
 (201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s, and a cold ``hullopt run`` of the demo fit takes
-22 s instead of 31 s with its warm solve as fast; the KCS sweep's rescoring (a panel method, Dawson's) ran 47 s
+20–22 s instead of 26 s with its warm solve as fast; the KCS sweep's rescoring (a panel method, Dawson's) ran 47 s
 slower so, so it is not quick. Results agree with the default's to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 
