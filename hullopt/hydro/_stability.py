@@ -220,7 +220,7 @@ def heeled_equilibrium(sections: Sections, heel: Angle, volume: Volume, lcg: Len
     """Sink (and, with ``free_trim``, trim) the hull heeled by ``heel`` [rad] until it displaces ``volume``
     [m³] and, with free trim, B lies on the vertical through G = (lcg, 0, kg) in the longitudinal plane:
     ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim; with free trim only to a volume
-    within 1e-6, Newton's start), then Newton on (level, trim) from there to 1e-11; both differentiable by the implicit function theorem.
+    within 1e-4, Newton's start), then Newton on (level, trim) from there to 1e-11; both differentiable by the implicit function theorem.
 
     Parameters
     ----------
@@ -250,8 +250,8 @@ def heeled_equilibrium(sections: Sections, heel: Angle, volume: Volume, lcg: Len
         level0 = heeled_level(sections, heel, volume)
         hi = heeled_integrals(sections, heel, level0)
         return Equilibrium(level0, jnp.zeros_like(level0), hi, jnp.abs(hi.volume / volume - 1.0) < 1e-8)
-    # Newton's start: a coarse bisection (volume to 1e-6) — about half the bisection steps of a full one; Newton
-    # then converges as from the exact level (its result and its implicit gradient do not depend on the start)
+    # Newton's start: a coarse bisection (level and volume to 1e-4), about half the bisection steps of a full
+    # one; Newton then converges as from the exact level (its result and implicit gradient do not depend on it)
     level0 = heeled_level(sections, heel, volume, rtol=1e-4, atol=1e-4)
     lpp = sections.lpp
 
