@@ -111,13 +111,14 @@ def test_run_report_warns_when_calm_methods_disagree():
     than 1.5× (the KCS bow sweep over 22–26 kn: 1875 vs 4104 kN at 24 kn), naming Michell as outside its
     validity; not when they agree."""
     from hullopt.study import load_config
-    from hullopt.study._assess import calm_disagreement
     from hullopt.models import load_hull
+    from hullopt.resistance import holtrop_hull
+    from hullopt.study._assess import calm_disagreement
 
     cfg, _ = load_config("configs/pareto_bow.toml")
     kcs = load_hull("examples/hulls/kcs_model_closed_from_igs.stl.gz?scale=31.6&lpp=230").sections
     objectives = {"calm_resistance": {"parent": 1875e3}, "calm_resistance_michell": {"parent": 4104e3}}
-    (msg,) = calm_disagreement(cfg, objectives, kcs, 10.8)
+    (msg,) = calm_disagreement(cfg, objectives, holtrop_hull(kcs, 10.8))
     assert "by michell is 2.2×" in msg and "michell is outside its validity (Cb 0.6" in msg and "22–26 kn" in msg
     objectives["calm_resistance_michell"]["parent"] = 2500e3
-    assert calm_disagreement(cfg, objectives, kcs, 10.8) == []
+    assert calm_disagreement(cfg, objectives, holtrop_hull(kcs, 10.8)) == []

@@ -13,10 +13,9 @@ from pydantic import ValidationError
 
 from ..constants import KNOT, G
 from ..fairing import ARRAY_MEASURES, SHAPE_MEASURES, SHAPE_UNITS
-from ..geometry import Sections
 from ..models import FeatureParams
 from ..optimise import OBJECTIVES, Design, Particular
-from ..resistance import DISAGREE, holtrop_hull, outside_validity
+from ..resistance import DISAGREE, HoltropHull, holtrop_hull, outside_validity
 from ._config import RunConfig, options_as
 from ._problem import Problem, constraint_measure
 from ._programs import cached_call
@@ -63,8 +62,8 @@ def report_measures(cfg: RunConfig, d: Design) -> dict:
 
 
 def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
-    """The measures of the parent and of each design (params stacked on a leading axis), each limit group's
-    largest normalised value of the parent and per design, and the parent. The parent is mapped with the
+    """The measures of the parent and of each design (params stacked on a leading axis), and each limit group's
+    largest normalised value of the parent and per design. The parent is mapped with the
     designs, as the first of the batch: traced once, the measures compile once (traced apart, the parent
     doubled the program and its compile)."""
     parent = d.model(p0)
@@ -79,7 +78,7 @@ def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
     both = jax.tree.map(lambda a, b: jnp.concatenate([jnp.asarray(a)[None], b]), p0, designs)
     vals, groups = jax.vmap(one)(both)
     first, rest = (lambda t: jax.tree.map(lambda a: a[0], t)), (lambda t: jax.tree.map(lambda a: a[1:], t))
-    return first(vals), first(groups), rest(vals), rest(groups), parent
+    return first(vals), first(groups), rest(vals), rest(groups)
 
 
 LIMIT_NAMES = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline",
@@ -99,7 +98,7 @@ def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> 
     measures = report_measures(cfg, d)
     stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
     # without an objective (a fit) the measures run once, cheaply: compiled quick (the demo: 4.6 -> 3.6 s)
-    p, g_p, vals, groups, parent = jax.device_get(cached_call(
+    p, g_p, vals, groups = jax.device_get(cached_call(
         "assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key, quick=d.objective is None))
     one = len(designs) == 1
     key_ = "design" if one else "designs"
@@ -129,21 +128,35 @@ def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> 
                 warnings.append(f"{who}the {what} rougher than the parent's: {r / r0:.2f}× "
                                 f"(more than {ROUGHNESS:g}×); raise [solver] fairness"
                                 + blend * (k == "section_roughness"))
-    warnings += calm_disagreement(cfg, objectives, parent, d.draft)
+    if cfg.objective is not None:
+        warnings += calm_disagreement(cfg, objectives, parent_particulars(prob, key))
     return objectives, limits, warnings
 
 
-def calm_disagreement(cfg: RunConfig, objectives: dict, parent: Sections, draft) -> list[str]:
+def parent_particulars(prob: Problem, key) -> HoltropHull:
+    """Holtrop–Mennen's inputs (:func:`~hullopt.resistance.holtrop_hull`) measured on the parent at the design
+    draft, through a kept program (``key``: the study's). Evaluated op by op instead, a cold run compiled ~400
+    small programs for them (13 s of the KCS sweep's assessment, as much again in its rescoring)."""
+    return jax.device_get(cached_call("parent-particulars", _parent_particulars,
+                                      (prob.design.model, prob.p0, np.asarray(prob.design.draft)), (), key=key,
+                                      quick=True))
+
+
+def _parent_particulars(model, p0, draft) -> HoltropHull:
+    return holtrop_hull(model(p0), draft)
+
+
+def calm_disagreement(cfg: RunConfig, objectives: dict, hull: HoltropHull) -> list[str]:
     """A warning when the parent's calm-water R_T by Holtrop–Mennen and by Michell (both in every report with an
     objective) differ by more than :data:`~hullopt.resistance.DISAGREE`, naming the method outside
-    its validity (``hullopt resistance --method all`` shows the panel method beside them)."""
+    its validity (``hullopt resistance --method all`` shows the panel method beside them); ``hull``: the parent's
+    particulars (:func:`parent_particulars`)."""
     ho, mi = objectives.get("calm_resistance"), objectives.get("calm_resistance_michell")
     if ho is None or mi is None or cfg.objective is None:
         return []
     ratio = max(ho["parent"], mi["parent"]) / max(min(ho["parent"], mi["parent"]), 1e-300)
     if ratio <= DISAGREE:
         return []
-    hull = holtrop_hull(parent, draft)
     o = cfg.objective
     profile = getattr(o, "profile", None)
     speeds = [p.speed_kn for p in profile] if profile else list(getattr(o, "speeds_kn", None) or [o.speed_kn])

@@ -21,13 +21,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._types import Draft
 from ..constants import G, KNOT
-from ..geometry import Sections
 from ..models import FeatureParams
 from ..optimise import point_groups, vmap_grouped
-from ..resistance import calm_water, holtrop_hull, outside_validity
+from ..resistance import HoltropHull, calm_water, outside_validity
 from ..waves import mean_added_resistance
+from ._assess import parent_particulars
 from ._config import RunConfig
 from ._problem import Problem
 from ._programs import cached_call
@@ -135,13 +134,13 @@ CONDITIONS = ((1.0, 0.0), *((f, 0.0) for f in SPEED_FACTORS if f != 1.0), *((1.0
 T_p (calm water sees only the first three)."""
 
 
-def calm_methods(sections: Sections, draft: Draft, fn: float) -> tuple[tuple[str, ...], dict[str, str]]:
-    """The calm-water methods a study re-scores by, and those of them outside their validity on the parent
-    ``sections`` at ``draft`` up to Froude number ``fn`` (with why): Holtrop–Mennen, Michell and the panel
-    method, and Dawson's where the parent is full or bulbous (there Kelvin's waves, Michell's and the panel
+def calm_methods(hull: HoltropHull, fn: float) -> tuple[tuple[str, ...], dict[str, str]]:
+    """The calm-water methods a study re-scores by, and those of them outside their validity on the parent (its
+    particulars ``hull``, :func:`parent_particulars`) up to Froude number ``fn`` (with why): Holtrop–Mennen,
+    Michell and the panel method, and Dawson's where the parent is full or bulbous (there Kelvin's waves, Michell's and the panel
     method's, are outside their validity; on a slender hull Dawson's would add its cost and no independent
     view). A method outside its validity is shown but confirms no gain."""
-    invalid = outside_validity(holtrop_hull(sections, draft), fn)
+    invalid = outside_validity(hull, fn)
     return ("holtrop", "michell", "panel") + (("dawson",) if "panel" in invalid else ()), invalid
 
 
@@ -221,9 +220,9 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             d.draft, np.asarray(cond["speeds_kn"], float) * KNOT, np.asarray(cond["weights"], float), hs, tp,
             np.radians(heading))
     waves = bool(np.any(hs > 0))
-    parent = d.model(prob.p0)
-    fn = max(SPEED_FACTORS) * float(np.max(args[4])) / float(np.sqrt(G * float(holtrop_hull(parent, d.draft).L)))
-    calm, invalid = calm_methods(parent, d.draft, fn)
+    hull = parent_particulars(prob, key)
+    fn = max(SPEED_FACTORS) * float(np.max(args[4])) / float(np.sqrt(G * float(hull.L)))
+    calm, invalid = calm_methods(hull, fn)
     static = (waves, calm, _groups(args[4], args[8]), point_groups(args[4], np.zeros_like(args[4])))
     values = jax.device_get(cached_call("rescore", _program, args, static, key=[key, "rescore"]))
     own = _own_method(cfg)
