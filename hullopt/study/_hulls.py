@@ -223,7 +223,15 @@ def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
         p, label = study.final_params(report, design)
     except ValueError as e:
         raise HullError(f"hull {spec!r}: {e}") from None
-    return LoadedHull(study.problem.design.model(p), f"{folder.name}{label}", float(study.problem.design.draft))
+    from ._programs import cached_call
+
+    # a kept program: evaluated op by op, the model took ~7 s of a cold `hullopt lines RUN` (160 small compiles)
+    sections = cached_call("design-hull", _evaluate, (study.problem.design.model, p), (), key=study.key, quick=True)
+    return LoadedHull(sections, f"{folder.name}{label}", float(study.problem.design.draft))
+
+
+def _evaluate(model, params) -> Sections:
+    return model(params)
 
 
 def _library(spec: str) -> str | None:
