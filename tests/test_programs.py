@@ -1,5 +1,8 @@
 """Kept programs (jax.export) of the app layer: a warm run reuses the traced program, never a stale one."""
 
+import os
+import subprocess
+import sys
 import threading
 
 import equinox as eqx
@@ -71,6 +74,23 @@ def test_a_quick_program_is_another_program_compiled_without_llvm_optimisation(f
     assert len(list(folder.glob("t-*.bin"))) == 2
     for x, y in zip(jax.tree.leaves(slow), jax.tree.leaves(quick)):
         np.testing.assert_allclose(x, y, rtol=1e-13)
+
+
+def test_a_kept_program_loads_and_runs_where_there_are_two_devices(tmp_path):
+    """A kept executable runs on the one device a jit runs on, also where jax has several (loaded with its
+    defaults, it expected a shard on each: every warm call failed with ``jax_num_cpu_devices = 2``)."""
+    script = ("import sys, jax; jax.config.update('jax_num_cpu_devices', 2)\n"
+              "from hullopt.app.cli import configure_jax; configure_jax()\n"
+              "import jax.numpy as jnp\n"
+              "from hullopt.study import _programs as P\n"
+              "out = P.cached_call('two', lambda a, k: jnp.sum(a) * k, (jnp.arange(4.0),), (3,), key='k')\n"
+              "print(float(out), len(list(P.programs_dir().glob('two-*.bin'))))\n")
+    env = dict(os.environ, HULLOPT_CACHE=str(tmp_path), TF_CPP_MIN_LOG_LEVEL="3")
+    runs = [subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300)
+            for _ in range(2)]  # the first compiles and keeps it, the second loads it
+    for p in runs:
+        assert p.returncode == 0, p.stderr[-2000:]
+        assert p.stdout.split() == ["18.0", "1"]
 
 
 def test_a_corrupt_program_file_is_rebuilt(folder):

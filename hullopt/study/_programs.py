@@ -251,7 +251,9 @@ def _deserialize(kept: tuple | None, targets: list[str]):
             from jax._src.lib import lapack
 
             lapack._lapack.initialize()
-        return deserialize_and_load(*kept)
+        # on the one device a jit runs on: by default the executable would expect a shard on every device
+        # (with jax_num_cpu_devices = 2, every warm call failed)
+        return deserialize_and_load(*kept, execution_devices=jax.devices()[:1])
     except Exception:
         return None
 
