@@ -14,9 +14,9 @@ A command whose input is slow to read (a mesh, sliced) can :func:`prepare_call` 
 it will have, on a background thread, and read the input meanwhile: a cold ``hullopt hydro`` of a mesh traces
 and compiles while the file is parsed and sliced.
 
-A program that runs once on little data (the hydrostatic table, a GZ curve, a fit to hydrostatic targets) is
-compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and leaves a run of
-milliseconds as it was; a solver's long loop or a panel method keeps XLA's default.
+A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
+compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and adds
+milliseconds to its run; a solver's loop, a GZ curve's equilibria or a panel method keep XLA's default.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
@@ -47,9 +47,10 @@ from ..geometry import atomic_write_bytes
 _PACKAGE = Path(__file__).resolve().parents[1]
 QUICK = {"xla_backend_optimization_level": 0}
 """XLA's compile options of a ``quick`` program on the CPU. Measured on 2 cores: the DTC's hydrostatic table
-(201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s, and a cold ``hullopt run`` of the demo fit takes
-20–22 s instead of 26 s with its warm solve as fast; the KCS sweep's rescoring (a panel method, Dawson's) ran 47 s
-slower so, so it is not quick. Results agree with the default's to round-off (1e-12)."""
+(201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s and runs in 0.12 s instead of 0.03 s. Not quick:
+the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s slower), the GZ curve (its compile
+1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s slower). Results agree with the default's
+to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 
 
@@ -101,8 +102,8 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
         solver settings and the parent's digest), not the numbers that enter as arrays.
     quick : bool
-        Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates the hull
-        once or loops over cheap hydrostatics, not for a solver through an expensive model.
+        Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates a hull once,
+        not for a solver's loop (a warm run pays its slower code every time).
 
     Returns
     -------

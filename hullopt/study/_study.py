@@ -223,9 +223,8 @@ class _Single(Study):
     def solve(self, out: Path, progress=None, **options) -> Solution:
         prob = self.problem
         d = prob.design
-        # a fit without objective loops over the hydrostatics only: cheap to run, not to compile
         res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
-                                            (), key=self.key, quick=d.objective is None))
+                                            (), key=self.key))
         met = bool(res.met)
         report = {
             "kind": self.kind,
