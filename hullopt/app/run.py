@@ -51,7 +51,6 @@ from ..study import (
     Study,
     collect_chunks,
     conditions_text,
-    design_outcomes,
     load_study,
 )
 from .output import console, write_hull_file
@@ -111,7 +110,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         _write_hull(m, d.draft, out)
         hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
     else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
-        _write_designs(design_outcomes(study, solution.designs), float(d.draft), out / "designs")
+        _write_designs(solution.outcomes, float(d.draft), out / "designs")
         o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
         where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
                           for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))

@@ -93,13 +93,15 @@ class Solution:
     :func:`hullopt.app.run.run`, which writes it as ``report.json``); ``outcome``: the parent and the final design measured (a sweep: the parent
     twice); ``designs``: the parameters of the designs to assess and write (one, or the sweep's); ``final``:
     whether there is one final hull (a sweep's hulls are its designs); ``partial``: a shard of a sweep whose other
-    chunks are not done yet (nothing to assess or write)."""
+    chunks are not done yet (nothing to assess or write); ``outcomes``: a sweep's designs measured
+    (:func:`design_outcomes`), for their files."""
 
     report: dict
     outcome: Outcome | None
     designs: list[FeatureParams] = field(default_factory=list)
     final: bool = True
     partial: bool = False
+    outcomes: list[Outcome] = field(default_factory=list)
 
 
 def _digest(parent: FeatureHull) -> str:
@@ -339,9 +341,9 @@ class Pareto(Study):
                   "targets": {k: float(v) for k, v in cfg.targets.items()}, "designs": designs,
                   "objective": {"name": cfg.objective.kind, "measure": cfg.sweep.measure.kind},
                   "pareto_count": int(front.sum())}
-        (m,) = design_outcomes(self, [prob.p0])  # the parent's (its objective is in the report's objectives)
         params = [params_from_dict(r["params"], prob.p0) for r in designs]
-        return Solution(report, m, params, final=False)
+        m, *outcomes = design_outcomes(self, [prob.p0, *params])  # the parent's, then the designs': one program
+        return Solution(report, m, params, final=False, outcomes=outcomes)
 
 
 def target_report(d: Design, achieved_values, errors) -> dict:
