@@ -371,7 +371,8 @@ def design_outcomes(study: Study, params: list[FeatureParams]) -> list[Outcome]:
     list of Outcome
         One :class:`Outcome` a design, on the host: parent and design sections and hydrostatics at the draft,
         achieved targets and their errors, sectional-area curves ``(2, n)`` [m²]; no objective (None: the
-        designs' files draw none, and the KCS sweep's profile objective was a third of this program's compile).
+        designs' files draw none). The KCS sweep's parent and 6 designs, cold: 7.8 s; measured one at a time with
+        the objective, 10.2 s.
     """
     prob = study.problem
     d = dataclasses.replace(prob.design, objective=None)
