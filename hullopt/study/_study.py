@@ -9,11 +9,11 @@ Defining a subclass with a ``kind`` registers it in :data:`STUDIES`.
 from __future__ import annotations
 
 import abc
+import dataclasses
 import hashlib
 import json
 import re
 from collections.abc import Callable
-import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
