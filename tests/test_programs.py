@@ -275,3 +275,19 @@ def test_the_commands_build_their_program_while_a_mesh_is_read(command, cli, hul
     again = cli(command, spec, *args, "--json")
     assert again[0] == code and again[1] == out
     assert built[1:] == ["MainThread"]
+
+
+def test_stack_params_puts_each_design_on_a_leading_axis():
+    from conftest import REPO
+
+    from hullopt.study import load_study, stack_params
+    from hullopt.study._config import load_config
+
+    cfg, _ = load_config(REPO / "tests/data/pareto_wigley.toml")
+    p0 = load_study(cfg).problem.p0
+    p1 = jax.tree.map(lambda a: np.asarray(a) + 1.0, p0)
+    stacked = stack_params([p0, p1])
+    for a, b, s in zip(jax.tree.leaves(p0), jax.tree.leaves(p1), jax.tree.leaves(stacked)):
+        assert isinstance(s, np.ndarray) and s.dtype == np.float64 and s.shape == (2, *np.shape(a))
+        np.testing.assert_array_equal(s[0], a)
+        np.testing.assert_array_equal(s[1], b)

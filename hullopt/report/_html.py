@@ -40,6 +40,7 @@ from ..study import (
     folder_study,
     params_from_dict,
     read_run_config,
+    stack_params,
     structure,
 )
 from ._units import displayed, fmt, label, quantity, to_builtin, unit_scale
@@ -110,7 +111,7 @@ def run_hulls(folder: Path, report: dict) -> Hulls:
     else:
         values, names = [], []
     params = [prob.p0] + [params_from_dict(v, prob.p0) for v in values]
-    stacked = jax.tree.map(lambda *a: np.stack([np.asarray(x, float) for x in a]), *params)
+    stacked = stack_params(params)
     draft = float(prob.design.draft)
 
     # the program's key: the config's structure and the parent's content (the draft is an argument)

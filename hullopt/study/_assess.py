@@ -17,7 +17,7 @@ from ..models import FeatureParams
 from ..optimise import OBJECTIVES, Design, Particular
 from ..resistance import DISAGREE, HoltropHull, holtrop_hull, outside_validity
 from ._config import RunConfig, options_as
-from ._problem import Problem, constraint_measure
+from ._problem import Problem, constraint_measure, stack_params
 from ._programs import cached_call
 
 SI_UNITS = {"volume": "m³", "displacement": "kg", "wetted_surface": "m²", "lcb": "m", "lcf": "m", "kb": "m",
@@ -96,7 +96,7 @@ def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> 
     study's (what the kept program depends on)."""
     d = prob.design
     measures = report_measures(cfg, d)
-    stacked = jax.tree.map(lambda *leaves: np.stack([np.asarray(v) for v in leaves]), *designs)
+    stacked = stack_params(designs)
     p, g_p, vals, groups = jax.device_get(cached_call(
         "assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key))
     one = len(designs) == 1

@@ -179,6 +179,22 @@ def params_to_dict(p: FeatureParams) -> dict:
     return {k: np.asarray(v).tolist() for k, v in zip(PARAM_KEYS, (p.apex, p.distribution, p.contour))}
 
 
+def stack_params(params: list[FeatureParams]) -> FeatureParams:
+    """Parameters stacked on a new leading axis (one row a design), as numpy float arrays, for a vmapped program.
+
+    Parameters
+    ----------
+    params : list of FeatureParams
+        The designs' parameters, all of one structure.
+
+    Returns
+    -------
+    FeatureParams
+        Each leaf ``(len(params), ...)``.
+    """
+    return jax.tree.map(lambda *a: np.stack([np.asarray(v, float) for v in a]), *params)
+
+
 def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
     """The parameters of a report's ``params`` (the inverse of :func:`params_to_dict`).
 

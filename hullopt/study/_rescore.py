@@ -28,7 +28,7 @@ from ..resistance import HoltropHull, calm_water, outside_validity
 from ..waves import mean_added_resistance
 from ._assess import parent_particulars
 from ._config import RunConfig
-from ._problem import Problem
+from ._problem import Problem, stack_params
 from ._programs import cached_call
 
 RESCORE_WAVES = ("nmri", "snnm", "stawave2")
@@ -216,7 +216,7 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
     d = prob.design
     seas = [s or [0.0, 10.0, 0.0] for s in cond["sea_states"]]
     hs, tp, heading = (np.asarray([s[i] for s in seas], float) for i in range(3))
-    args = (d.model, prob.p0, jax.tree.map(lambda *a: np.stack([np.asarray(v, float) for v in a]), *designs),
+    args = (d.model, prob.p0, stack_params(designs),
             d.draft, np.asarray(cond["speeds_kn"], float) * KNOT, np.asarray(cond["weights"], float), hs, tp,
             np.radians(heading))
     waves = bool(np.any(hs > 0))

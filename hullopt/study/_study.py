@@ -45,6 +45,7 @@ from ._problem import (
     build_problem,
     params_from_dict,
     params_to_dict,
+    stack_params,
 )
 from ._programs import cached_call
 from ._rescore import rescore
@@ -376,8 +377,8 @@ def design_outcomes(study: Study, params: list[FeatureParams]) -> list[Outcome]:
     """
     prob = study.problem
     d = dataclasses.replace(prob.design, objective=None)
-    stacked = jax.tree.map(lambda *a: np.stack([np.asarray(v) for v in a]), *params)
-    out = jax.device_get(cached_call("outcomes", _outcomes, (d, prob.p0, stacked), (), key=study.key, quick=True))
+    out = jax.device_get(cached_call("outcomes", _outcomes, (d, prob.p0, stack_params(params)), (), key=study.key,
+                                     quick=True))
     return [jax.tree.map(lambda a, k=k: a[k], out) for k in range(len(params))]
 
 
