@@ -12,7 +12,7 @@ from hullopt.constants import KNOT
 from hullopt.geometry import Sections
 from hullopt.models import wigley
 from hullopt.optimise import OBJECTIVES, MichellCalmResistance
-from hullopt.resistance import holtrop_hull, holtrop_mennen, michell_wave_resistance
+from hullopt.resistance import LAMBDA_PANELS, holtrop_hull, holtrop_mennen, michell_wave_resistance
 
 DRAFT = 6.25
 HULL = wigley(100.0, 10.0, DRAFT, 10.0, n=41, m=17)
@@ -35,7 +35,7 @@ def test_value_is_michell_plus_form_factor_friction():
     def parts(s):
         hm = holtrop_mennen(holtrop_hull(s, DRAFT), 18.0 * KNOT)
         return (hm.form_factor * hm.friction + hm.appendages + hm.correlation,
-                michell_wave_resistance(s, DRAFT, 18.0 * KNOT, panels=128), hm.total)
+                michell_wave_resistance(s, DRAFT, 18.0 * KNOT, panels=LAMBDA_PANELS), hm.total)
 
     viscous, wave, holtrop = (float(v) for v in parts(HULL))
     assert float(eqx.filter_jit(obj)(HULL, DRAFT)) == pytest.approx(viscous + wave, rel=1e-12)

@@ -31,7 +31,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from ..constants import KNOT
 from ..geometry import Sections
-from ..resistance import calm_water
+from ..resistance import LAMBDA_PANELS, calm_water
 from ..waves import bluntness, froude_number, k_aw, mean_added_resistance
 from ..wind import Parts, no_parts, wind_added_resistance, wind_variables
 
@@ -150,7 +150,7 @@ class CalmResistance(Objective):
     weights: Float[ArrayLike, "*k"] | None = None
     method: str = eqx.field(static=True, default="holtrop")
     n_levels: int = eqx.field(static=True, default=33)
-    panels: int = eqx.field(static=True, default=128)
+    panels: int = eqx.field(static=True, default=LAMBDA_PANELS)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         r = calm_water(sections, draft, self.speed, self.method, n_levels=self.n_levels,
