@@ -48,7 +48,7 @@ from ._problem import (
     stack_params,
     stacked_like,
 )
-from ._programs import cached_call, prepare_call
+from ._programs import cached_call, prepare_call, programs_dir
 from ._rescore import rescore, rescore_program
 from ._sweep import SweepPlan, run_chunks
 
@@ -177,7 +177,10 @@ class Study(abc.ABC):
 
     def prepare(self, n: int) -> None:
         """Start building the programs that assess and re-score ``n`` designs on background threads
-        (:func:`~hullopt.study.prepare_call`), so that they trace and compile while the solve runs."""
+        (:func:`~hullopt.study.prepare_call`), so that they trace and compile while the solve runs. Nothing
+        without kept programs (the persistent compilation cache off: the Python API's default)."""
+        if programs_dir() is None:
+            return
         stacked = stacked_like(self.problem.p0, n)
         prepare_call(*assess_program(self.cfg, self.problem, stacked, self.key))
         if self.cfg.objective is not None:
@@ -320,6 +323,12 @@ class Pareto(Study):
     kind: ClassVar[str] = "pareto"
     title: ClassVar[str] = "Pareto sweep"
 
+    def prepare(self, n: int) -> None:
+        """As :meth:`Study.prepare`, and the program that measures the parent and the ``n`` designs for their
+        files (:func:`design_outcomes`)."""
+        super().prepare(n)
+        prepare_call(*_outcomes_program(self, stacked_like(self.problem.p0, n + 1)))
+
     def units(self, options: dict) -> int:
         k, n = options.get("shard", (1, 1))
         return len(range(k - 1, SweepPlan(self.cfg, self.problem).n_chunks, n))
@@ -336,7 +345,6 @@ class Pareto(Study):
         plan = SweepPlan(cfg, prob)
         if shard == (1, 1):  # the run ends with every design: its last programs build while the chunks solve
             self.prepare(cfg.sweep.count)
-            prepare_call(*_outcomes_program(self, stacked_like(prob.p0, cfg.sweep.count + 1)))
         designs = run_chunks(plan, out, shard, executor, address, progress=progress)
         if designs is None:
             done = [k for k in range(plan.n_chunks) if plan.load(plan.path(out / "chunks", k), k) is not None]
