@@ -318,3 +318,31 @@ def test_a_sweep_prepares_the_very_programs_its_designs_then_take(folder, monkey
              where(*rescore_program(cfg, prob, stack_params(moved), study.key)[0]),
              where(*_study._outcomes_program(study, stack_params([prob.p0, *moved])))]
     assert prepared == taken and len(set(taken)) == 3
+
+
+def test_a_kept_program_bypasses_the_compilation_cache_on_its_own_thread_only(folder):
+    """A program kept with its executable is compiled fresh (not loaded from jax's cache) on its thread, while
+    other threads' compiles meanwhile (a sweep's chunks beside its prepared programs) keep using the cache."""
+    from jax._src import compilation_cache as cc
+
+    programs.cached_call("t", model, args(), (3,), key="fresh")
+    assert hasattr(cc.is_cache_used, "bypassed")  # jax's check, wrapped once
+    check = programs._bypassable(lambda backend: True)  # as it answers with the cache on
+    inside, done = threading.Event(), threading.Event()
+    seen = []
+
+    def keeping():  # a thread in the middle of compiling a program it keeps
+        programs._BYPASS.on = True
+        seen.append(check(None))
+        inside.set()
+        done.wait(10)
+        programs._BYPASS.on = False
+        seen.append(check(None))
+
+    thread = threading.Thread(target=keeping)
+    thread.start()
+    inside.wait(10)
+    assert check(None)  # the main thread meanwhile: the cache used
+    done.set()
+    thread.join()
+    assert seen == [False, True]

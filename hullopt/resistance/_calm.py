@@ -111,7 +111,8 @@ def calm_water(sections: Sections, draft: Draft, speed: Speeds, method: str = "h
     n_levels, lambda_panels, stations, girth : int
         Michell's heights, the λ rule's panels (Michell and panel), the panel method's panelling. The λ rule's
         default 64 panels hold the Wigley within 1.3e-5 (Michell, against 1024 panels) and 1.9e-4 (panel, against
-        512) at Fn 0.12, 8e-9 and 2.4e-5 at Fn 0.15, 6e-12 and 7e-7 at Fn 0.2 (tests/test_michell.py);
+        512) at Fn 0.12, 8e-9 and 2.4e-5 at Fn 0.15, 6e-12 and 7e-7 at Fn 0.2 (tests/test_michell.py,
+        tests/test_panel.py); below Fn 0.12 take 128 or more (Michell at Fn 0.1: 8e-4 with 64, 9e-8 with 128).
         ``hullopt resistance`` takes 256.
     attitude : int
         Dawson's sinkage-and-trim iterations (:func:`.dawson_wave_resistance`): 0, the hull fixed at its static

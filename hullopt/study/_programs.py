@@ -30,6 +30,7 @@ import contextlib
 import functools
 import hashlib
 import json
+import logging
 import os
 import pickle
 import re
@@ -154,6 +155,7 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
         try:
             pending.set_result(_program(path, fn, leaves, in_tree, fixed, static, options))
         except BaseException:  # the call builds it again and raises there
+            logging.getLogger(__name__).debug("preparing the program %s failed", name, exc_info=True)
             pending.set_result(None)
 
     threading.Thread(target=build, name=f"prepare-{name}", daemon=True).start()
@@ -214,40 +216,37 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
 def _compile_fresh(lowered, options: dict) -> tuple:
     """``(lowered.compile(options), fresh)``: compiled here, not loaded from the persistent compilation cache, when
     ``fresh`` (XLA:CPU cannot serialize again an executable it loaded from there: the copy lacks its fused
-    kernels). The cache is bypassed through jax's private switch, which the key's jax version pins; where that
-    fails, an ordinary compile (not fresh)."""
+    kernels). The cache is bypassed for this thread only (:func:`_bypassable`: programs prepared on threads
+    compile beside the main thread's jitted calls, which keep the cache), through jax's private check, which
+    the key's jax version pins; where that fails, an ordinary compile (not fresh)."""
     try:
         from jax._src import compilation_cache as cc
 
-        cc._cache_initialized_mutex, cc._cache_checked, cc._cache_used  # noqa: B018 (present in this jax)
+        with _BYPASS_LOCK:
+            if not hasattr(cc.is_cache_used, "bypassed"):
+                cc.is_cache_used = _bypassable(cc.is_cache_used)
     except Exception:
         return lowered.compile(options), False
-    with _cache_bypassed(cc):
+    _BYPASS.on = True
+    try:
         return lowered.compile(options), True
+    finally:
+        _BYPASS.on = False
 
 
-_BYPASS = {"compiles": 0, "saved": None}  # the compiles under way that bypass the cache; its switches before
+_BYPASS = threading.local()  # ``on`` while this thread compiles a program it keeps (:func:`_compile_fresh`)
 _BYPASS_LOCK = threading.Lock()
 
 
-@contextlib.contextmanager
-def _cache_bypassed(cc):
-    """The persistent compilation cache off while any thread compiles inside (programs prepared on threads
-    compile at once): the first compile in turns it off, the last one out restores it."""
-    with _BYPASS_LOCK:
-        if _BYPASS["compiles"] == 0:
-            with cc._cache_initialized_mutex:
-                _BYPASS["saved"] = cc._cache_checked, cc._cache_used
-                cc._cache_checked, cc._cache_used = True, False
-        _BYPASS["compiles"] += 1
-    try:
-        yield
-    finally:
-        with _BYPASS_LOCK:
-            _BYPASS["compiles"] -= 1
-            if _BYPASS["compiles"] == 0:
-                with cc._cache_initialized_mutex:
-                    cc._cache_checked, cc._cache_used = _BYPASS["saved"]
+def _bypassable(is_cache_used: Callable) -> Callable:
+    """jax's check whether the persistent compilation cache is used, answering no on a thread that bypasses it."""
+
+    @functools.wraps(is_cache_used)
+    def check(backend) -> bool:
+        return False if getattr(_BYPASS, "on", False) else is_cache_used(backend)
+
+    check.bypassed = True
+    return check
 
 
 def _serialize(compiled) -> tuple | None:

@@ -178,7 +178,9 @@ class Study(abc.ABC):
     def prepare(self, n: int) -> None:
         """Start building the programs that assess and re-score ``n`` designs on background threads
         (:func:`~hullopt.study.prepare_call`), so that they trace and compile while the solve runs. Nothing
-        without kept programs (the persistent compilation cache off: the Python API's default)."""
+        without kept programs (the persistent compilation cache off: the Python API's default). The parent's
+        particulars (which calm-water methods the rescoring takes) are measured here, and an error in the
+        measures is raised here, before the solve rather than after it."""
         if programs_dir() is None:
             return
         stacked = stacked_like(self.problem.p0, n)
