@@ -293,36 +293,9 @@ def test_stack_params_puts_each_design_on_a_leading_axis():
         np.testing.assert_array_equal(s[1], b)
 
 
-def test_a_sweep_prepares_the_very_programs_its_designs_then_take(folder, monkeypatch):
-    """``Pareto.prepare`` (while the chunks solve) asks for the programs that the assessment, the rescoring and the
-    designs' outcomes then call with the real designs: the same files, so none is built twice."""
-    from conftest import REPO
-
-    from hullopt.study import _study, load_study, stack_params
-    from hullopt.study._assess import assess_program
-    from hullopt.study._config import load_config
-    from hullopt.study._rescore import rescore_program
-
-    def where(name, fn, args, static, key, quick=False):
-        return programs._locate(name, args, static, key, quick)[0]
-
-    prepared = []
-    monkeypatch.setattr(_study, "programs_dir", programs.programs_dir)
-    monkeypatch.setattr(_study, "prepare_call", lambda *call: prepared.append(where(*call)))
-    cfg, _ = load_config(REPO / "tests/data/pareto_wigley.toml")
-    study = load_study(cfg)
-    prob = study.problem
-    study.prepare(2)
-    moved = [jax.tree.map(lambda a, k=k: np.asarray(a) + 0.01 * k, prob.p0) for k in (1, 2)]  # two designs
-    taken = [where(*assess_program(cfg, prob, stack_params(moved), study.key)),
-             where(*rescore_program(cfg, prob, stack_params(moved), study.key)[0]),
-             where(*_study._outcomes_program(study, stack_params([prob.p0, *moved])))]
-    assert prepared == taken and len(set(taken)) == 3
-
-
 def test_a_kept_program_bypasses_the_compilation_cache_on_its_own_thread_only(folder):
     """A program kept with its executable is compiled fresh (not loaded from jax's cache) on its thread, while
-    other threads' compiles meanwhile (a sweep's chunks beside its prepared programs) keep using the cache."""
+    other threads' compiles meanwhile (beside a program prepared on a thread) keep using the cache."""
     from jax._src import compilation_cache as cc
 
     programs.cached_call("t", model, args(), (3,), key="fresh")

@@ -12,8 +12,7 @@ comes from the compilation cache. Array inputs stay arguments (not constants), s
 
 A command whose input is slow to read (a mesh, sliced) can :func:`prepare_call` its program from the shapes
 it will have, on a background thread, and read the input meanwhile: a cold ``hullopt hydro`` of a mesh traces
-and compiles while the file is parsed and sliced, and a study's programs that measure, assess and re-score its
-designs build while it solves (the cold KCS sweep 225 → 211 s).
+and compiles while the file is parsed and sliced.
 
 A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
 compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and adds
@@ -216,8 +215,8 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
 def _compile_fresh(lowered, options: dict) -> tuple:
     """``(lowered.compile(options), fresh)``: compiled here, not loaded from the persistent compilation cache, when
     ``fresh`` (XLA:CPU cannot serialize again an executable it loaded from there: the copy lacks its fused
-    kernels). The cache is bypassed for this thread only (:func:`_bypassable`: programs prepared on threads
-    compile beside the main thread's jitted calls, which keep the cache), through jax's private check, which
+    kernels). The cache is bypassed for this thread only (:func:`_bypassable`: a program prepared on a thread
+    compiles beside the main thread's jitted calls, which keep the cache), through jax's private check, which
     the key's jax version pins; where that fails, an ordinary compile (not fresh)."""
     try:
         from jax._src import compilation_cache as cc

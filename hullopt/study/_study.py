@@ -37,7 +37,7 @@ from ..optimise import (
     target_errors,
     with_objective_scale,
 )
-from ._assess import assess, assess_program
+from ._assess import assess
 from ._config import FAIRNESS, RunConfig
 from ._problem import (
     Problem,
@@ -46,10 +46,9 @@ from ._problem import (
     params_from_dict,
     params_to_dict,
     stack_params,
-    stacked_like,
 )
-from ._programs import cached_call, prepare_call, programs_dir
-from ._rescore import rescore, rescore_program
+from ._programs import cached_call
+from ._rescore import rescore
 from ._sweep import SweepPlan, run_chunks
 
 STUDIES: dict[str, type[Study]] = {}
@@ -175,19 +174,6 @@ class Study(abc.ABC):
         ``n`` more units of work done (a sweep's chunks), ``options`` the kind's (a sweep's shard, executor,
         address)."""
 
-    def prepare(self, n: int) -> None:
-        """Start building the programs that assess and re-score ``n`` designs on background threads
-        (:func:`~hullopt.study.prepare_call`), so that they trace and compile while the solve runs. Nothing
-        without kept programs (the persistent compilation cache off: the Python API's default). The parent's
-        particulars (which calm-water methods the rescoring takes) are measured here, and an error in the
-        measures is raised here, before the solve rather than after it."""
-        if programs_dir() is None:
-            return
-        stacked = stacked_like(self.problem.p0, n)
-        prepare_call(*assess_program(self.cfg, self.problem, stacked, self.key))
-        if self.cfg.objective is not None:
-            prepare_call(*rescore_program(self.cfg, self.problem, stacked, self.key)[0])
-
     def units(self, options: dict) -> int | None:
         """How many units of work :meth:`solve` reports to ``progress`` (None: one, uncounted)."""
         return None
@@ -240,7 +226,6 @@ class _Single(Study):
     def solve(self, out: Path, progress=None, **options) -> Solution:
         prob = self.problem
         d = prob.design
-        self.prepare(1)
         res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
                                             (), key=self.key))
         met = bool(res.met)
@@ -325,12 +310,6 @@ class Pareto(Study):
     kind: ClassVar[str] = "pareto"
     title: ClassVar[str] = "Pareto sweep"
 
-    def prepare(self, n: int) -> None:
-        """As :meth:`Study.prepare`, and the program that measures the parent and the ``n`` designs for their
-        files (:func:`design_outcomes`)."""
-        super().prepare(n)
-        prepare_call(*_outcomes_program(self, stacked_like(self.problem.p0, n + 1)))
-
     def units(self, options: dict) -> int:
         k, n = options.get("shard", (1, 1))
         return len(range(k - 1, SweepPlan(self.cfg, self.problem).n_chunks, n))
@@ -345,8 +324,6 @@ class Pareto(Study):
               address: str | None = None) -> Solution:
         cfg, prob = self.cfg, self.problem
         plan = SweepPlan(cfg, prob)
-        if shard == (1, 1):  # the run ends with every design: its last programs build while the chunks solve
-            self.prepare(cfg.sweep.count)
         designs = run_chunks(plan, out, shard, executor, address, progress=progress)
         if designs is None:
             done = [k for k in range(plan.n_chunks) if plan.load(plan.path(out / "chunks", k), k) is not None]
@@ -398,15 +375,11 @@ def design_outcomes(study: Study, params: list[FeatureParams]) -> list[Outcome]:
         designs' files draw none). The KCS sweep's parent and 6 designs, cold: 7.8 s; measured one at a time with
         the objective, 10.2 s.
     """
-    out = jax.device_get(cached_call(*_outcomes_program(study, stack_params(params))))
+    prob = study.problem
+    d = dataclasses.replace(prob.design, objective=None)
+    out = jax.device_get(cached_call("outcomes", _outcomes, (d, prob.p0, stack_params(params)), (), key=study.key,
+                                     quick=True))
     return [jax.tree.map(lambda a, k=k: a[k], out) for k in range(len(params))]
-
-
-def _outcomes_program(study: Study, stacked) -> tuple:
-    """The arguments of :func:`cached_call` (or :func:`prepare_call`) of :func:`design_outcomes` of the designs
-    ``stacked`` (or their shapes)."""
-    d = dataclasses.replace(study.problem.design, objective=None)
-    return "outcomes", _outcomes, (d, study.problem.p0, stacked), (), study.key, True
 
 
 def _outcomes(d: Design, p0: FeatureParams, stacked: FeatureParams) -> Outcome:
