@@ -49,6 +49,18 @@ def test_a_kept_program_is_reused_without_tracing(folder, monkeypatch):
     np.testing.assert_allclose(again.scaled["r"], jnp.linalg.qr(args()[0]["a"])[1])
 
 
+def test_ready_is_called_once_the_program_is_traced_or_loaded(folder):
+    """``ready`` (a sweep starts building its next programs there) runs once a call: when the program is built,
+    after its trace and before XLA compiles and keeps it; when it is loaded, after loading. Without kept
+    programs it is not called (tests below)."""
+    calls = []
+    for _ in range(2):  # built, then loaded
+        out = programs.cached_call("t", model, args(), (3,), key="ready",
+                                   ready=lambda: calls.append(len(list(folder.glob("t-*.bin")))))
+        assert float(out.total) == pytest.approx(3 * 66.0)
+    assert calls == [0, 1]
+
+
 def test_another_key_static_value_or_shape_is_another_program(folder):
     programs.cached_call("t", model, args(), (3,), key={"config": 1})
     programs.cached_call("t", model, args(), (3,), key={"config": 2})
@@ -103,7 +115,8 @@ def test_a_corrupt_program_file_is_rebuilt(folder):
 
 def test_without_a_compilation_cache_nothing_is_kept(monkeypatch):
     monkeypatch.setattr(programs, "programs_dir", lambda: None)
-    assert float(programs.cached_call("t", model, args(), (2,), key=0).total) == pytest.approx(132.0)
+    out = programs.cached_call("t", model, args(), (2,), key=0, ready=lambda: pytest.fail("no program to be ready"))
+    assert float(out.total) == pytest.approx(132.0)
 
 
 def test_programs_unused_for_30_days_are_pruned_when_one_is_written(folder):
@@ -293,9 +306,36 @@ def test_stack_params_puts_each_design_on_a_leading_axis():
         np.testing.assert_array_equal(s[1], b)
 
 
+def test_a_sweep_prepares_the_very_programs_its_designs_then_take(folder, monkeypatch):
+    """``Pareto.prepare`` (while the chunks solve) asks for the programs that the assessment, the rescoring and the
+    designs' outcomes then call with the real designs: the same files, so none is built twice."""
+    from conftest import REPO
+
+    from hullopt.study import _study, load_study, stack_params
+    from hullopt.study._assess import assess_program
+    from hullopt.study._config import load_config
+    from hullopt.study._rescore import rescore_program
+
+    def where(name, fn, args, static, key, quick=False):
+        return programs._locate(name, args, static, key, quick)[0]
+
+    prepared = []
+    monkeypatch.setattr(_study, "programs_dir", programs.programs_dir)
+    monkeypatch.setattr(_study, "prepare_call", lambda *call: prepared.append(where(*call)))
+    cfg, _ = load_config(REPO / "tests/data/pareto_wigley.toml")
+    study = load_study(cfg)
+    prob = study.problem
+    study.prepare(2)
+    moved = [jax.tree.map(lambda a, k=k: np.asarray(a) + 0.01 * k, prob.p0) for k in (1, 2)]  # two designs
+    taken = [where(*assess_program(cfg, prob, stack_params(moved), study.key)),
+             where(*rescore_program(cfg, prob, stack_params(moved), study.key)[0]),
+             where(*_study._outcomes_program(study, stack_params([prob.p0, *moved])))]
+    assert prepared == taken and len(set(taken)) == 3
+
+
 def test_a_kept_program_bypasses_the_compilation_cache_on_its_own_thread_only(folder):
     """A program kept with its executable is compiled fresh (not loaded from jax's cache) on its thread, while
-    other threads' compiles meanwhile (beside a program prepared on a thread) keep using the cache."""
+    other threads' compiles meanwhile (a sweep's chunks beside its prepared programs) keep using the cache."""
     from jax._src import compilation_cache as cc
 
     programs.cached_call("t", model, args(), (3,), key="fresh")

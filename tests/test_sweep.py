@@ -1,5 +1,6 @@
 """Sweeps at scale: a sweep split in shards and merged equals the unsplit sweep; two CPU devices give the
-one-device results; a Dask local cluster gives the same rows; bad shard options fail with a message.
+one-device results; a Dask local cluster gives the same rows; a sweep with new numbers does not trace; bad
+shard options fail with a message.
 
 One small sweep (4 values in chunks of 2, 2 outer rounds of 40 steps) compiled once for the module: the
 runs in this process share the jitted chunk solver."""
@@ -79,6 +80,19 @@ def test_shards_merged_equal_the_unsplit_sweep(capsys, unsplit, folder):
     assert merged["designs"] == unsplit["designs"]  # the same compiled solver: bit for bit
     assert merged["pareto_count"] == unsplit["pareto_count"] and merged["parent"] == unsplit["parent"]
     assert (m / "pareto.png").stat().st_size > 0 and (m / "report.json").exists()
+
+
+def test_new_sweep_numbers_run_the_kept_programs_without_tracing(capsys, unsplit, folder, monkeypatch):
+    """The sweep's values are arguments of its kept chunk program (and the designs those of the assessment's,
+    the rescoring's and the outcomes' programs): a sweep to another stop neither traces nor compiles, solves at
+    its own values, and its first value, which the unsplit sweep shares, comes back bit for bit."""
+    from hullopt.study import _programs as programs
+
+    monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("traced again for new numbers"))
+    _, r = sweep(capsys, folder / "what-if", "--set", "sweep.stop=0.026")
+    assert [d["bf_target"] for d in r["designs"]] == pytest.approx([0.012, 0.016666667, 0.021333333, 0.026])
+    assert r["designs"][0] == unsplit["designs"][0]
+    assert all(a["objective"] != b["objective"] for a, b in zip(r["designs"][1:], unsplit["designs"][1:]))
 
 
 def test_merge_refuses_different_sweeps(capsys, unsplit, folder, tmp_path):

@@ -16,6 +16,7 @@ import multiprocessing
 import os
 import threading
 import time
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -89,6 +90,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         write_json(out / "report.json", report)
         return report
     m = solution.outcome
+    # a sweep's design folders are written by other processes while the designs are assessed and re-scored
+    designs = None if solution.final else _write_designs(solution.outcomes, float(d.draft), out / "designs")
     report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
     report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
     report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
@@ -110,7 +113,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         _write_hull(m, d.draft, out)
         hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
     else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
-        _write_designs(solution.outcomes, float(d.draft), out / "designs")
+        designs()
         o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
         where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
                           for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
@@ -169,21 +172,26 @@ def _write_hull(m: Outcome, draft, out: Path) -> None:
                  measures=(m.areas, m.levels, m.widths))
 
 
-def _write_designs(outcomes: list[Outcome], draft: float, out: Path) -> None:
-    """Each design's files (:func:`_write_hull`) in ``out/<k>/``. A few seconds a design, mostly plots on the
-    CPU (a 64-design sweep spends minutes here), so with four designs or more and several cores they are
-    written by a pool of processes, one per core: spawned, not forked (jax's threads do not survive a fork),
-    and on the CPU backend (they only draw and write)."""
+def _write_designs(outcomes: list[Outcome], draft: float, out: Path) -> Callable[[], None]:
+    """Start writing each design's files (:func:`_write_hull`) in ``out/<k>/``; returns the function that waits
+    for them (and raises a writer's error). A few seconds a design, mostly plots, so with four designs or more
+    and several cores they are written by a pool of processes, one per core, beside the parent process's work:
+    spawned, not forked (jax's threads do not survive a fork), and on the CPU backend (they only draw and
+    write). Otherwise they are written when waited for."""
     workers = min(len(outcomes), os.cpu_count() or 1)
     if workers < 2 or len(outcomes) < 4:
-        for k, mk in enumerate(outcomes):
-            _write_hull(mk, draft, out / str(k))
-        return
-    ctx = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_writer_process) as pool:
-        jobs = [pool.submit(_write_hull, mk, draft, out / str(k)) for k, mk in enumerate(outcomes)]
-        for job in jobs:
-            job.result()  # a failure is raised here, with the worker's traceback
+        def write():
+            for k, mk in enumerate(outcomes):
+                _write_hull(mk, draft, out / str(k))
+        return write
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_writer_process)
+    jobs = [pool.submit(_write_hull, mk, draft, out / str(k)) for k, mk in enumerate(outcomes)]
+
+    def wait():
+        with pool:
+            for job in jobs:
+                job.result()  # a failure is raised here, with the worker's traceback
+    return wait
 
 
 def _writer_process() -> None:

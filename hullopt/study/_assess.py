@@ -81,6 +81,13 @@ def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
     return first(vals), first(groups), rest(vals), rest(groups)
 
 
+def assess_program(cfg: RunConfig, prob: Problem, stacked, key) -> tuple:
+    """The arguments of :func:`~hullopt.study.cached_call` (or :func:`~hullopt.study.prepare_call`) of the
+    assessment of the designs ``stacked`` (:func:`~hullopt.study.stack_params`; to prepare it, their shapes)."""
+    d = prob.design
+    return "assess", _assess_program, (report_measures(cfg, d), d, prob.p0, stacked), (), key
+
+
 LIMIT_NAMES = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline",
                "frozen": "the frozen stations"}
 """How the warnings name the limits that are no ``[constraints]`` bound."""
@@ -94,11 +101,9 @@ def assess(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> 
     of the bound where the parent is not) or violated, of a sectional-area curve or sections more than
     :data:`ROUGHNESS` times as rough as the parent's and of calm-water methods that disagree. ``key``: the
     study's (what the kept program depends on)."""
-    d = prob.design
-    measures = report_measures(cfg, d)
-    stacked = stack_params(designs)
-    p, g_p, vals, groups = jax.device_get(cached_call(
-        "assess", _assess_program, (measures, d, prob.p0, stacked), (), key=key))
+    call = assess_program(cfg, prob, stack_params(designs), key)
+    measures = call[2][0]
+    p, g_p, vals, groups = jax.device_get(cached_call(*call))
     one = len(designs) == 1
     key_ = "design" if one else "designs"
 

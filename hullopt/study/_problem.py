@@ -195,6 +195,12 @@ def stack_params(params: list[FeatureParams]) -> FeatureParams:
     return jax.tree.map(lambda *a: np.stack([np.asarray(v, float) for v in a]), *params)
 
 
+def stacked_like(p0: FeatureParams, n: int) -> FeatureParams:
+    """The shapes :func:`stack_params` gives ``n`` designs of ``p0``'s structure, as
+    :class:`jax.ShapeDtypeStruct` leaves (a program prepared before the designs exist)."""
+    return jax.tree.map(lambda a: jax.ShapeDtypeStruct((n, *np.shape(a)), np.float64), p0)
+
+
 def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
     """The parameters of a report's ``params`` (the inverse of :func:`params_to_dict`).
 

@@ -12,7 +12,9 @@ comes from the compilation cache. Array inputs stay arguments (not constants), s
 
 A command whose input is slow to read (a mesh, sliced) can :func:`prepare_call` its program from the shapes
 it will have, on a background thread, and read the input meanwhile: a cold ``hullopt hydro`` of a mesh traces
-and compiles while the file is parsed and sliced.
+and compiles while the file is parsed and sliced, and a sweep's last programs (assessment, rescoring, the
+designs' measures) trace while its chunks' program compiles and compile while it runs (``cached_call(...,
+ready=…)``).
 
 A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
 compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and adds
@@ -81,7 +83,8 @@ def _baked(in_tree, fixed) -> list[str]:
     return [re.sub(r" at 0x[0-9a-fA-F]+", "", str(in_tree)), *scalars]
 
 
-def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False):
+def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False,
+                ready: Callable[[], None] | None = None):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
     Without a programs folder (:func:`programs_dir`: the persistent compilation cache off) this is a plain
@@ -105,6 +108,11 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     quick : bool
         Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates a hull once,
         not for a solver's loop (a warm run pays its slower code every time).
+    ready : callable, optional
+        Called once the program no longer needs Python (with kept programs only): once it is traced and
+        lowered, before XLA compiles it, or once it is loaded. E.g. to start preparing the next programs
+        (:func:`prepare_call`): they trace while this one compiles and compile while it runs, which release
+        the GIL.
 
     Returns
     -------
@@ -117,7 +125,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     pending = _PENDING.pop(path, None)
     program = pending.result() if pending is not None else None
     if program is None:  # not prepared, or preparing it failed: build it here, where an error is raised
-        program = _program(path, fn, leaves, in_tree, fixed, static, options)
+        program = _program(path, fn, leaves, in_tree, fixed, static, options, ready)
+    elif ready is not None:
+        ready()
     compiled, skeleton = program
     return jax.tree.unflatten(jax.tree.structure(skeleton), compiled(*leaves))
 
@@ -181,9 +191,12 @@ def _locate(name: str, args: tuple, static: tuple, key: object, quick: bool) -> 
     return programs_dir() / f"{name}-{digest}.bin", leaves, in_tree, fixed, options
 
 
-def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tuple, options: dict) -> tuple:
+def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tuple, options: dict,
+             ready: Callable[[], None] | None = None) -> tuple:
     """``(compiled, skeleton)``: the kept program at ``path`` loaded, or ``fn`` exported, compiled with XLA's
-    ``options`` and kept there (``leaves`` may be :class:`jax.ShapeDtypeStruct`)."""
+    ``options`` and kept there (``leaves`` may be :class:`jax.ShapeDtypeStruct`); ``ready()`` called once it is
+    loaded, or lowered and not yet compiled."""
+    ready = ready or (lambda: None)
     try:
         kept = pickle.loads(path.read_bytes())
         program, skeleton = kept["program"], kept["outputs"]
@@ -191,6 +204,7 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
         exported, skeleton = _export(fn, leaves, in_tree, fixed, static)
         targets = sorted(set(re.findall(r"custom_call @(\w+)", exported.mlir_module())))
         lowered = jax.jit(exported.call).lower(*leaves)
+        ready()
         # an executable calling out to anything but LAPACK (a host callback holds an address of this process)
         # is not kept; its compile goes through the compilation cache
         keep = all(t.startswith("lapack_") for t in targets)
@@ -209,6 +223,7 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
     compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
     if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
         compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile(options)
+    ready()
     return compiled, skeleton
 
 

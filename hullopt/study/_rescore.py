@@ -187,6 +187,24 @@ def _groups(speeds: np.ndarray, heading: np.ndarray) -> tuple[tuple[int, ...], .
     return point_groups((factors[:, None] * speeds).ravel(), np.tile(heading, len(CONDITIONS)))
 
 
+def rescore_program(cfg: RunConfig, prob: Problem, stacked, key) -> tuple[tuple, dict[str, str]]:
+    """The arguments of :func:`~hullopt.study.cached_call` (or :func:`~hullopt.study.prepare_call`) of the
+    re-scoring of the designs ``stacked`` (:func:`~hullopt.study.stack_params`; to prepare it, their shapes),
+    and the calm-water methods outside their validity on the parent (:func:`calm_methods`)."""
+    cond = conditions(cfg)
+    d = prob.design
+    seas = [s or [0.0, 10.0, 0.0] for s in cond["sea_states"]]
+    hs, tp, heading = (np.asarray([s[i] for s in seas], float) for i in range(3))
+    speeds = np.asarray(cond["speeds_kn"], float) * KNOT
+    hull = parent_particulars(prob, key)
+    fn = max(SPEED_FACTORS) * float(np.max(speeds)) / float(np.sqrt(G * float(hull.L)))
+    calm, invalid = calm_methods(hull, fn)
+    args = (d.model, prob.p0, stacked, d.draft, speeds, np.asarray(cond["weights"], float), hs, tp,
+            np.radians(heading))
+    static = (bool(np.any(hs > 0)), calm, _groups(speeds, args[8]), point_groups(speeds, np.zeros_like(speeds)))
+    return ("rescore", _program, args, static, [key, "rescore"]), invalid
+
+
 def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) -> tuple[dict, list[str]]:
     """``(rescored, warnings)``: the designs and the parent by every method of each kind (see the module).
 
@@ -213,18 +231,9 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
         independent method. The warnings name each design and kind where it does not.
     """
     cond = conditions(cfg)
-    d = prob.design
-    seas = [s or [0.0, 10.0, 0.0] for s in cond["sea_states"]]
-    hs, tp, heading = (np.asarray([s[i] for s in seas], float) for i in range(3))
-    args = (d.model, prob.p0, stack_params(designs),
-            d.draft, np.asarray(cond["speeds_kn"], float) * KNOT, np.asarray(cond["weights"], float), hs, tp,
-            np.radians(heading))
-    waves = bool(np.any(hs > 0))
-    hull = parent_particulars(prob, key)
-    fn = max(SPEED_FACTORS) * float(np.max(args[4])) / float(np.sqrt(G * float(hull.L)))
-    calm, invalid = calm_methods(hull, fn)
-    static = (waves, calm, _groups(args[4], args[8]), point_groups(args[4], np.zeros_like(args[4])))
-    values = jax.device_get(cached_call("rescore", _program, args, static, key=[key, "rescore"]))
+    call, invalid = rescore_program(cfg, prob, stack_params(designs), key)
+    waves = call[3][0]
+    values = jax.device_get(cached_call(*call))
     own = _own_method(cfg)
     methods = {}
     for name, v in values.items():

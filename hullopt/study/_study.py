@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+import functools
 import hashlib
 import json
 import re
@@ -37,7 +38,7 @@ from ..optimise import (
     target_errors,
     with_objective_scale,
 )
-from ._assess import assess
+from ._assess import assess, assess_program
 from ._config import FAIRNESS, RunConfig
 from ._problem import (
     Problem,
@@ -46,9 +47,10 @@ from ._problem import (
     params_from_dict,
     params_to_dict,
     stack_params,
+    stacked_like,
 )
-from ._programs import cached_call
-from ._rescore import rescore
+from ._programs import cached_call, prepare_call, programs_dir
+from ._rescore import rescore, rescore_program
 from ._sweep import SweepPlan, run_chunks
 
 STUDIES: dict[str, type[Study]] = {}
@@ -310,6 +312,18 @@ class Pareto(Study):
     kind: ClassVar[str] = "pareto"
     title: ClassVar[str] = "Pareto sweep"
 
+    def prepare(self, n: int) -> None:
+        """Start building the programs that assess, re-score and measure ``n`` designs (and the parent) on
+        background threads (:func:`~hullopt.study.prepare_call`), to trace and compile on the core the chunks'
+        solve leaves free. Nothing without kept programs (the persistent compilation cache off: the Python API's
+        default)."""
+        if programs_dir() is None:
+            return
+        stacked = stacked_like(self.problem.p0, n)
+        prepare_call(*assess_program(self.cfg, self.problem, stacked, self.key))
+        prepare_call(*rescore_program(self.cfg, self.problem, stacked, self.key)[0])
+        prepare_call(*_outcomes_program(self, stacked_like(self.problem.p0, n + 1)))
+
     def units(self, options: dict) -> int:
         k, n = options.get("shard", (1, 1))
         return len(range(k - 1, SweepPlan(self.cfg, self.problem).n_chunks, n))
@@ -323,7 +337,10 @@ class Pareto(Study):
     def solve(self, out: Path, progress=None, shard=(1, 1), executor: str = "local",
               address: str | None = None) -> Solution:
         cfg, prob = self.cfg, self.problem
-        plan = SweepPlan(cfg, prob)
+        # a run that ends with every design builds its last programs once the chunks' is traced: they trace
+        # while it compiles and compile while it runs, which leave the GIL and a core free
+        ready = functools.partial(self.prepare, cfg.sweep.count) if shard == (1, 1) else None
+        plan = SweepPlan(cfg, prob, self.key, ready)
         designs = run_chunks(plan, out, shard, executor, address, progress=progress)
         if designs is None:
             done = [k for k in range(plan.n_chunks) if plan.load(plan.path(out / "chunks", k), k) is not None]
@@ -375,11 +392,15 @@ def design_outcomes(study: Study, params: list[FeatureParams]) -> list[Outcome]:
         designs' files draw none). The KCS sweep's parent and 6 designs, cold: 7.8 s; measured one at a time with
         the objective, 10.2 s.
     """
-    prob = study.problem
-    d = dataclasses.replace(prob.design, objective=None)
-    out = jax.device_get(cached_call("outcomes", _outcomes, (d, prob.p0, stack_params(params)), (), key=study.key,
-                                     quick=True))
+    out = jax.device_get(cached_call(*_outcomes_program(study, stack_params(params))))
     return [jax.tree.map(lambda a, k=k: a[k], out) for k in range(len(params))]
+
+
+def _outcomes_program(study: Study, stacked) -> tuple:
+    """The arguments of :func:`cached_call` (or :func:`prepare_call`) of :func:`design_outcomes` of the designs
+    ``stacked`` (or their shapes)."""
+    d = dataclasses.replace(study.problem.design, objective=None)
+    return "outcomes", _outcomes, (d, study.problem.p0, stacked), (), study.key, True
 
 
 def _outcomes(d: Design, p0: FeatureParams, stacked: FeatureParams) -> Outcome:

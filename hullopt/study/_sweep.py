@@ -18,6 +18,7 @@ import functools
 import hashlib
 import json
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import equinox as eqx
@@ -31,6 +32,7 @@ from ..models import feature_hull
 from ..optimise import make_targets, solve_pareto
 from ._config import RunConfig
 from ._problem import Problem, build_problem, params_to_dict
+from ._programs import cached_call
 
 PARTICULARS = ("volume", "cb", "lcb_pct", "cp", "cwp", "wetted_surface", "bwl", "lwl")
 
@@ -101,9 +103,15 @@ def load_chunk(path: Path, key: str, values: np.ndarray) -> list[dict] | None:
 
 class SweepPlan:
     """The ε-constraint sweep of a config: at each Bf* minimise the objective with the targets and
-    Bf = Bf* held. ``values(k)`` are chunk k's Bf*, ``solve(k)`` its rows."""
+    Bf = Bf* held. ``values(k)`` are chunk k's Bf*, ``solve(k)`` its rows.
 
-    def __init__(self, cfg: RunConfig, prob: Problem):
+    With a ``program_key`` (the study's :attr:`~hullopt.study.Study.key`) a chunk on one device is solved by a
+    kept program (:func:`~hullopt.study.cached_call`): a warm run loads it instead of tracing the solve again
+    (~25 s on the KCS sweep), and ``ready()`` is called once it is traced (or loaded), before it compiles and
+    runs the first chunk."""
+
+    def __init__(self, cfg: RunConfig, prob: Problem, program_key: object = None,
+                 ready: Callable[[], None] | None = None):
         sw = cfg.sweep
         targets = dict(cfg.targets) | {"bf": 0.5 * (sw.start + sw.stop)}
         tgt = make_targets(targets, cfg.tolerances, cfg.kg)
@@ -113,6 +121,7 @@ class SweepPlan:
         self.chunk = sw.chunk
         self.n_chunks = -(-sw.count // sw.chunk)
         self.key = sweep_key(cfg)
+        self.program_key, self.ready = program_key, ready
 
     def values(self, k: int) -> np.ndarray:
         return chunk_values(self.cfg, k)
@@ -126,9 +135,14 @@ class SweepPlan:
         size = -(-self.chunk // mesh.size) * mesh.size
         padded = np.concatenate([values, np.full(size - len(values), values[-1])])
         c = self.cfg.solver
-        front = jax.device_get(solve_pareto(self.design, "bf", jnp.asarray(padded), self.prob.p0, self.prob.lower,
-                                            self.prob.upper, self.measure, outer=c.outer, max_steps=c.max_steps,
-                                            mesh=mesh))
+        args = (self.design, jnp.asarray(padded), self.prob.p0, self.prob.lower, self.prob.upper, self.measure)
+        if mesh.size == 1 and self.program_key is not None:
+            ready, self.ready = self.ready, None
+            front = cached_call("sweep", _solve_chunk, args, (c.outer, c.max_steps), key=self.program_key,
+                                ready=ready)
+        else:  # several devices: a sharded jit, its compile from jax's cache (kept programs run on one device)
+            front = solve_pareto(self.design, "bf", *args[1:], outer=c.outer, max_steps=c.max_steps, mesh=mesh)
+        front = jax.device_get(front)
         r, obj, meas, hd = front.result, front.objective, front.measure, front.hydrostatics.to_dict()
         return [{
             "bf_target": float(e),
@@ -150,6 +164,11 @@ class SweepPlan:
     def write(self, chunks: Path, k: int, rows: list[dict]) -> None:
         data = {"key": self.key, "index": k, "values": self.values(k).tolist(), "designs": rows}
         atomic_write_bytes(self.path(chunks, k), (json.dumps(data, indent=2) + "\n").encode())
+
+
+def _solve_chunk(design, values, p0, lower, upper, measure, outer: int, max_steps: int):
+    """:func:`~hullopt.optimise.solve_pareto` on Bf, as a kept program calls it."""
+    return solve_pareto(design, "bf", values, p0, lower, upper, measure, outer=outer, max_steps=max_steps)
 
 
 def run_chunks(plan: SweepPlan, out: Path, shard=(1, 1), executor: str = "local", address: str | None = None,
@@ -187,7 +206,7 @@ def _worker_plan(task_json: str) -> SweepPlan:
     cfg = RunConfig.model_validate(task["config"])
     p = task["parent"]
     parent = feature_hull(p, p["name"], p["design_draft"], p["q"])
-    return SweepPlan(cfg, build_problem(cfg, parent, task["fairness"], True))
+    return SweepPlan(cfg, build_problem(cfg, parent, task["fairness"], True), task["program_key"])
 
 
 def _dask_chunk(task_json: str, k: int) -> list[dict]:
@@ -215,7 +234,7 @@ def _run_dask(plan: SweepPlan, chunks: Path, todo: list[int], address: str | Non
             client = Client(cluster)
         with client:
             task = {"config": plan.cfg.model_dump(), "parent": plan.prob.design.model.hull.to_dict(),
-                    "fairness": float(plan.prob.design.fairness)}
+                    "fairness": float(plan.prob.design.fairness), "program_key": plan.program_key}
             task_json = json.dumps(task, sort_keys=True)
             futures = {client.submit(_dask_chunk, task_json, k, pure=False): k for k in todo}
             for fut in as_completed(futures):
