@@ -91,7 +91,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         return report
     m = solution.outcome
     # a sweep's design folders are written by other processes while the designs are assessed and re-scored
-    designs = None if solution.final else _write_designs(solution.outcomes, float(d.draft), out / "designs")
+    designs_written = None if solution.final else _write_designs(solution.outcomes, float(d.draft), out / "designs")
     report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
     report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
     report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
@@ -113,7 +113,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         _write_hull(m, d.draft, out)
         hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
     else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
-        designs()
+        designs_written()
         o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
         where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
                           for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
