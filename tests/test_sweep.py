@@ -2,13 +2,15 @@
 one-device results; a Dask local cluster gives the same rows; a sweep with new numbers does not trace; bad
 shard options fail with a message.
 
-One small sweep (4 values in chunks of 2, 2 outer rounds of 40 steps) compiled once for the module: the
-runs in this process share the jitted chunk solver."""
+One small sweep (4 values in chunks of 2, 2 outer rounds of 40 steps), solved once for the module with its own
+cache (its kept programs: the chunks' and those it prepares while they run); the other runs are compared with
+it."""
 
 import json
 import os
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -39,14 +41,29 @@ def sweep(capsys, out: Path, *extra) -> tuple[int, dict]:
 
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:  # the module's own cache, unset again after the module
-        mp.setenv("HULLOPT_CACHE", str(tmp_path_factory.mktemp("cache")))
-        yield tmp_path_factory.mktemp("sweeps")
+    folder = tmp_path_factory.mktemp("sweeps")
+    with pytest.MonkeyPatch.context() as mp:  # the unsplit sweep's own cache (the tests take the session's)
+        mp.setenv("HULLOPT_CACHE", str(folder / "cache"))
+        yield folder
+
+
+BUILT: list[tuple[str, str]] = []  # the unsplit sweep's kept programs built (not loaded): (name, thread)
 
 
 @pytest.fixture(scope="module")
 def unsplit(folder):
-    code = main(["run", str(CONFIG), *SMALL, "--out", str(folder / "full"), "--json"])
+    from hullopt.study import _programs as programs
+
+    real = programs._program
+
+    def recorded(path, *a):
+        if not path.exists():
+            BUILT.append((path.name.rsplit("-", 1)[0], threading.current_thread().name))
+        return real(path, *a)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(programs, "_program", recorded)
+        code = main(["run", str(CONFIG), *SMALL, "--out", str(folder / "full"), "--json"])
     assert code == 3  # module fixtures have no capsys: the report is read from the run folder
     report = json.loads((folder / "full" / "report.json").read_text())
     assert not report["met"] and not any(d["met"] for d in report["designs"])  # why the code is 3
@@ -60,6 +77,11 @@ def unsplit(folder):
 
 def test_unsplit_sweep_has_every_chunk(unsplit, folder):
     assert len(unsplit["designs"]) == 4 and "partial" not in unsplit
+    # the chunks' program built once (the second chunk loads it), and the assessment's, rescoring's and
+    # outcomes' each once, on the thread that prepared it while the chunks compiled and ran
+    assert BUILT.count(("sweep", "MainThread")) == 1
+    for name in ("assess", "rescore", "outcomes"):
+        assert [t for n, t in BUILT if n == name] == [f"prepare-{name}"], BUILT
     assert sorted(p.name for p in (folder / "full" / "chunks").iterdir()) == ["chunk_0000.json", "chunk_0001.json"]
     assert [d["bf_target"] for d in unsplit["designs"]] == pytest.approx([0.012, 0.017333333, 0.022666667, 0.028])
 
@@ -88,6 +110,7 @@ def test_new_sweep_numbers_run_the_kept_programs_without_tracing(capsys, unsplit
     its own values, and its first value, which the unsplit sweep shares, comes back bit for bit."""
     from hullopt.study import _programs as programs
 
+    monkeypatch.setenv("HULLOPT_CACHE", str(folder / "cache"))  # the unsplit sweep's programs
     monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("traced again for new numbers"))
     _, r = sweep(capsys, folder / "what-if", "--set", "sweep.stop=0.026")
     assert [d["bf_target"] for d in r["designs"]] == pytest.approx([0.012, 0.016666667, 0.021333333, 0.026])
