@@ -71,7 +71,7 @@ def test_another_key_static_value_or_shape_is_another_program(folder):
     assert len(list(folder.glob("t-*.bin"))) == 4
 
 
-def test_a_quick_program_is_another_program_compiled_without_llvm_optimisation(folder, monkeypatch):
+def test_each_effort_is_another_program_compiled_with_its_options(folder, monkeypatch):
     compiled = []
 
     def compile_fresh(lowered, options):
@@ -79,13 +79,17 @@ def test_a_quick_program_is_another_program_compiled_without_llvm_optimisation(f
         return lowered.compile(options), False
 
     monkeypatch.setattr(programs, "_compile_fresh", compile_fresh)
-    slow = programs.cached_call("t", model, args(), (3,), key="k")
-    quick = programs.cached_call("t", model, args(), (3,), key="k", quick=True)
-    # each built; the quick one with XLA's optimisation level 0 (on the CPU, where it was measured)
-    assert compiled == [{}, programs.QUICK if jax.default_backend() == "cpu" else {}]
-    assert len(list(folder.glob("t-*.bin"))) == 2
-    for x, y in zip(jax.tree.leaves(slow), jax.tree.leaves(quick)):
-        np.testing.assert_allclose(x, y, rtol=1e-13)
+    out = {e: programs.cached_call("t", model, args(), (3,), key="k", effort=e) for e in ("full", "lean", "quick")}
+    # each built, with XLA:CPU's options for its effort (other devices: XLA's defaults), which XLA accepts
+    cpu = jax.default_backend() == "cpu"
+    assert compiled == [programs.EFFORTS[e] if cpu else {} for e in ("full", "lean", "quick")]
+    assert compiled[0] == {} and compiled[1] != compiled[2] or not cpu
+    assert len(list(folder.glob("t-*.bin"))) == 3
+    for e in ("lean", "quick"):
+        for x, y in zip(jax.tree.leaves(out["full"]), jax.tree.leaves(out[e])):
+            np.testing.assert_allclose(x, y, rtol=1e-13)
+    with pytest.raises(ValueError, match="effort='fast': expected one of full, lean, quick"):
+        programs.cached_call("t", model, args(), (3,), key="k", effort="fast")
 
 
 def test_a_kept_program_loads_and_runs_where_there_are_two_devices(tmp_path):
@@ -316,8 +320,8 @@ def test_a_sweep_prepares_the_very_programs_its_designs_then_take(folder, monkey
     from hullopt.study._config import load_config
     from hullopt.study._rescore import rescore_program
 
-    def where(name, fn, args, static, key, quick=False):
-        return programs._locate(name, args, static, key, quick)[0]
+    def where(name, fn, args, static, key, effort="full"):
+        return programs._locate(name, args, static, key, effort)[0]
 
     prepared = []
     monkeypatch.setattr(_study, "programs_dir", programs.programs_dir)

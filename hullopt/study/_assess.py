@@ -83,9 +83,12 @@ def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
 
 def assess_program(cfg: RunConfig, prob: Problem, stacked, key) -> tuple:
     """The arguments of :func:`~hullopt.study.cached_call` (or :func:`~hullopt.study.prepare_call`) of the
-    assessment of the designs ``stacked`` (:func:`~hullopt.study.stack_params`; to prepare it, their shapes)."""
+    assessment of the designs ``stacked`` (:func:`~hullopt.study.stack_params`; to prepare it, their shapes):
+    compiled ``lean`` without an objective (shape measures: milliseconds to run), ``full`` with one (its
+    methods' strip theory and panels run for seconds)."""
     d = prob.design
-    return "assess", _assess_program, (report_measures(cfg, d), d, prob.p0, stacked), (), key
+    effort = "lean" if cfg.objective is None else "full"
+    return "assess", _assess_program, (report_measures(cfg, d), d, prob.p0, stacked), (), key, effort
 
 
 LIMIT_NAMES = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline",
@@ -143,7 +146,7 @@ def parent_particulars(prob: Problem, key) -> HoltropHull:
     small programs for them (13 s of the KCS sweep's assessment, as much again in its rescoring)."""
     return jax.device_get(cached_call("parent-particulars", _parent_particulars,
                                       (prob.design.model, prob.p0, np.asarray(prob.design.draft)), (), key=key,
-                                      quick=True))
+                                      effort="quick"))
 
 
 def _parent_particulars(model, p0, draft) -> HoltropHull:

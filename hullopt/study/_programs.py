@@ -16,9 +16,10 @@ and compiles while the file is parsed and sliced, and a sweep's last programs (a
 designs' measures) trace while its chunks' program compiles and compile while it runs (``cached_call(...,
 ready=…)``).
 
-A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
-compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and adds
-milliseconds to its run; a solver's loop, a GZ curve's equilibria or a panel method keep XLA's default.
+Each program is compiled with the effort its runs repay (:data:`EFFORTS`): a program that evaluates a hull
+once (the hydrostatic table, a run folder's design, the report's hulls) ``quick``; a short solve (a fit to
+targets, a GZ curve's equilibria) ``lean``; a program whose run outweighs its compile (a batch of designs'
+solve, assessment or re-scoring, an objective's strip theory or panels) ``full``.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
@@ -48,12 +49,23 @@ import jax
 from ..geometry import atomic_write_bytes
 
 _PACKAGE = Path(__file__).resolve().parents[1]
-QUICK = {"xla_backend_optimization_level": 0}
-"""XLA's compile options of a ``quick`` program on the CPU. Measured on 2 cores: the DTC's hydrostatic table
-(201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s and runs in 0.12 s instead of 0.03 s. Not quick:
-the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s slower), the GZ curve (its compile
-1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s slower). Results agree with the default's
-to round-off (1e-12)."""
+EFFORTS = {
+    "full": {},
+    "lean": {"xla_cpu_use_fusion_emitters": False},
+    "quick": {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_level": 0},
+}
+"""XLA's compile options on the CPU, by effort (:func:`cached_call`'s ``effort``; other devices take XLA's
+defaults). ``lean`` emits XLA:CPU's fused kernels the classic way, not by its newer MLIR emitters, which
+vectorise better but take about twice as long to compile; ``quick`` also turns LLVM's optimisation off.
+Measured on 2 cores, 2026-11-29, as compile → run seconds:
+
+- the demo fit (28 Levenberg–Marquardt steps): full 13.9 → 0.05, lean 6.9 → 0.04 (quick, earlier: run 0.37);
+- its assessment: full 2.9 → 0.003, lean 1.2 → 0.003;
+- the DTC's GZ curve (130 free-trim equilibria): full 3.1 → 0.7–1.0, lean 1.9 → 0.7–0.8;
+- the DTC's hydrostatic table (20 drafts): LLVM level 0 alone 1.5 → 0.12, quick 0.74 → 0.065;
+- the KCS sweep's re-scoring: full 21.7 → 24.5–26.3, lean 16.6 → 29–33 (full: a warm run pays the run).
+
+Results agree to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 
 
@@ -83,7 +95,7 @@ def _baked(in_tree, fixed) -> list[str]:
     return [re.sub(r" at 0x[0-9a-fA-F]+", "", str(in_tree)), *scalars]
 
 
-def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False,
+def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, effort: str = "full",
                 ready: Callable[[], None] | None = None):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
@@ -105,9 +117,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         Any JSON-serialisable value that, with the array shapes and what :func:`_baked` reads off ``args``,
         determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
         solver settings and the parent's digest), not the numbers that enter as arrays.
-    quick : bool
-        Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates a hull once,
-        not for a solver's loop (a warm run pays its slower code every time).
+    effort : {"full", "lean", "quick"}
+        How hard XLA works on the program (:data:`EFFORTS`): ``quick`` for a hull evaluated once, ``lean`` for a
+        short solve, ``full`` (the default) for a program whose every warm run would pay for slower code.
     ready : callable, optional
         Called once the program no longer needs Python (with kept programs only): once it is traced and
         lowered, before XLA compiles it, or once it is loaded. E.g. to start preparing the next programs
@@ -121,7 +133,7 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     """
     if programs_dir() is None:
         return eqx.filter_jit(fn)(*args, *static)
-    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, quick)
+    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, effort)
     pending = _PENDING.pop(path, None)
     program = pending.result() if pending is not None else None
     if program is None:  # not prepared, or preparing it failed: build it here, where an error is raised
@@ -132,7 +144,7 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     return jax.tree.unflatten(jax.tree.structure(skeleton), compiled(*leaves))
 
 
-def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False) -> None:
+def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, effort: str = "full") -> None:
     """Start loading, or tracing and compiling, the program of a later :func:`cached_call` on a background
     thread, before its inputs are known: ``args`` may hold :class:`jax.ShapeDtypeStruct` leaves where the
     arrays will be (e.g. a mesh's sections while the file is read and sliced; XLA compiles without the GIL).
@@ -143,7 +155,7 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
 
     Parameters
     ----------
-    name, fn, static, key, quick
+    name, fn, static, key, effort
         As :func:`cached_call`'s.
     args : tuple
         As :func:`cached_call`'s, with :class:`jax.ShapeDtypeStruct` leaves allowed in place of arrays.
@@ -155,7 +167,7 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
     """
     if programs_dir() is None:
         return
-    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, quick)
+    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, effort)
     if path in _PENDING:
         return
     pending = _PENDING[path] = Future()
@@ -177,14 +189,16 @@ def _is_input(x) -> bool:
     return eqx.is_array(x) or isinstance(x, jax.ShapeDtypeStruct)
 
 
-def _locate(name: str, args: tuple, static: tuple, key: object, quick: bool) -> tuple:
+def _locate(name: str, args: tuple, static: tuple, key: object, effort: str) -> tuple:
     """The kept program's file for these inputs, ``args`` split as :func:`_program` takes them, and XLA's
     compile options."""
     dynamic, fixed = eqx.partition(args, _is_input)
     leaves, in_tree = jax.tree.flatten(dynamic)
     # the executable is built for these devices and XLA's flags
     devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
-    options = QUICK if quick and jax.default_backend() == "cpu" else {}
+    if effort not in EFFORTS:
+        raise ValueError(f"effort={effort!r}: expected one of {', '.join(EFFORTS)}")
+    options = EFFORTS[effort] if jax.default_backend() == "cpu" else {}
     signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
                  devices, _baked(in_tree, fixed), options]
     digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]

@@ -152,12 +152,14 @@ def structure(cfg: RunConfig) -> dict:
 class Study(abc.ABC):
     """A design study of a config on a parent: :attr:`problem` (the :class:`~hullopt.study.Problem`),
     :meth:`solve`, and the second look at its designs (:meth:`assess`, :meth:`rescore`). Subclasses set ``kind`` (the config's), ``title`` (what the progress display shows),
-    ``limits`` (whether ``[constraints]`` hold) and ``fairness`` (the default fairness weight)."""
+    ``limits`` (whether ``[constraints]`` hold), ``fairness`` (the default fairness weight) and ``effort`` (how
+    hard XLA compiles its solve: :data:`~hullopt.study.EFFORTS`)."""
 
     kind: ClassVar[str]
     title: ClassVar[str]
     limits: ClassVar[bool] = True
     fairness: ClassVar[float] = FAIRNESS
+    effort: ClassVar[str] = "full"
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -229,7 +231,7 @@ class _Single(Study):
         prob = self.problem
         d = prob.design
         res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
-                                            (), key=self.key))
+                                            (), key=self.key, effort=self.effort))
         met = bool(res.met)
         report = {
             "kind": self.kind,
@@ -265,6 +267,7 @@ class Fit(_Single):
     title: ClassVar[str] = "fit"
     limits: ClassVar[bool] = False
     fairness: ClassVar[float] = 0.0
+    effort: ClassVar[str] = "lean"  # tens of steps on hydrostatics: compiling for speed (+7 s) saves nothing
     SOLVERS: ClassVar[dict[str, str]] = {"optimistix": "Levenberg–Marquardt", "lbfgsb": "L-BFGS-B"}
 
     def __init__(self, cfg: RunConfig, parent: FeatureHull):
@@ -400,7 +403,7 @@ def _outcomes_program(study: Study, stacked) -> tuple:
     """The arguments of :func:`cached_call` (or :func:`prepare_call`) of :func:`design_outcomes` of the designs
     ``stacked`` (or their shapes)."""
     d = dataclasses.replace(study.problem.design, objective=None)
-    return "outcomes", _outcomes, (d, study.problem.p0, stacked), (), study.key, True
+    return "outcomes", _outcomes, (d, study.problem.p0, stacked), (), study.key, "quick"
 
 
 def _outcomes(d: Design, p0: FeatureParams, stacked: FeatureParams) -> Outcome:
