@@ -117,6 +117,22 @@ def test_a_corrupt_program_file_is_rebuilt(folder):
     assert path.read_bytes() != b"not a program"
 
 
+def test_a_program_this_process_holds_is_read_again_only_when_its_file_changes(folder, monkeypatch):
+    """A sweep's chunks call their program in turn: the second call takes it from memory, not from the file,
+    unless the file has changed since (another process wrote or touched it)."""
+    import os
+
+    loads, real = [], programs._deserialize
+    monkeypatch.setattr(programs, "_deserialize", lambda *a: loads.append(1) or real(*a))
+    first = programs.cached_call("t", model, args(), (3,), key="k")
+    again = programs.cached_call("t", model, args(), (3,), key="k")
+    assert loads == [] and float(again.total) == float(first.total)
+    (path,) = folder.glob("t-*.bin")
+    os.utime(path, (1e9, 1e9))
+    assert float(programs.cached_call("t", model, args(), (3,), key="k").total) == float(first.total)
+    assert loads == [1]
+
+
 def test_without_a_compilation_cache_nothing_is_kept(monkeypatch):
     monkeypatch.setattr(programs, "programs_dir", lambda: None)
     out = programs.cached_call("t", model, args(), (2,), key=0, ready=lambda: pytest.fail("no program to be ready"))
