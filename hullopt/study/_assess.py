@@ -83,12 +83,9 @@ def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
 
 def assess_program(cfg: RunConfig, prob: Problem, stacked, key) -> tuple:
     """The arguments of :func:`~hullopt.study.cached_call` (or :func:`~hullopt.study.prepare_call`) of the
-    assessment of the designs ``stacked`` (:func:`~hullopt.study.stack_params`; to prepare it, their shapes):
-    compiled ``lean`` without an objective (shape measures: milliseconds to run), ``full`` with one (its
-    methods' strip theory and panels run for seconds)."""
+    assessment of the designs ``stacked`` (:func:`~hullopt.study.stack_params`; to prepare it, their shapes)."""
     d = prob.design
-    effort = "lean" if cfg.objective is None else "full"
-    return "assess", _assess_program, (report_measures(cfg, d), d, prob.p0, stacked), (), key, effort
+    return "assess", _assess_program, (report_measures(cfg, d), d, prob.p0, stacked), (), key
 
 
 LIMIT_NAMES = {"max_half_breadth": "the maximum half-breadth", "bulge": "no bulge below the waterline",

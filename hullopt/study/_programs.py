@@ -16,10 +16,9 @@ and compiles while the file is parsed and sliced, and a sweep's last programs (a
 designs' measures) trace while its chunks' program compiles and compile while it runs (``cached_call(...,
 ready=…)``).
 
-Each program is compiled with the effort its runs repay (:data:`EFFORTS`): a program that evaluates a hull
-once (the hydrostatic table, a run folder's design, the report's hulls) ``quick``; a short solve (a fit to
-targets, a GZ curve's equilibria) ``lean``; a program whose run outweighs its compile (a batch of designs'
-solve, assessment or re-scoring, an objective's strip theory or panels) ``full``.
+A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
+compiled ``quick`` (:data:`EFFORTS`): with LLVM's optimisation off, which halves XLA's compile and adds
+milliseconds to its run; a solver's loop, a GZ curve's equilibria or a panel method keep XLA's default.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
@@ -49,23 +48,18 @@ import jax
 from ..geometry import atomic_write_bytes
 
 _PACKAGE = Path(__file__).resolve().parents[1]
-EFFORTS = {
-    "full": {},
-    "lean": {"xla_cpu_use_fusion_emitters": False},
-    "quick": {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_level": 0},
-}
+EFFORTS = {"full": {}, "quick": {"xla_backend_optimization_level": 0}}
 """XLA's compile options on the CPU, by effort (:func:`cached_call`'s ``effort``; other devices take XLA's
-defaults). ``lean`` emits XLA:CPU's fused kernels the classic way, not by its newer MLIR emitters, which
-vectorise better but take about twice as long to compile; ``quick`` also turns LLVM's optimisation off.
-Measured on 2 cores, 2026-11-29, as compile → run seconds:
+defaults): ``quick`` turns LLVM's optimisation off, for a program that evaluates a hull once. Measured on 2
+cores: the DTC's hydrostatic table (201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s and runs in
+0.12 s instead of 0.03 s. Not quick: the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s
+slower), the GZ curve (its compile 1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s
+slower). Results agree with the default's to round-off (1e-12).
 
-- the demo fit (28 Levenberg–Marquardt steps): full 13.9 → 0.05, lean 6.9 → 0.04 (quick, earlier: run 0.37);
-- its assessment: full 2.9 → 0.003, lean 1.2 → 0.003;
-- the DTC's GZ curve (130 free-trim equilibria): full 3.1 → 0.7–1.0, lean 1.9 → 0.7–0.8;
-- the DTC's hydrostatic table (20 drafts): LLVM level 0 alone 1.5 → 0.12, quick 0.74 → 0.065;
-- the KCS sweep's re-scoring: full 21.7 → 24.5–26.3, lean 16.6 → 29–33 (full: a warm run pays the run).
-
-Results agree to round-off (1e-12)."""
+XLA:CPU's classic fused-kernel emitters (``xla_cpu_use_fusion_emitters=false``) halved the demo fit's compile
+(13.9 → 6.9 s) and the GZ curve's (3.1 → 1.9 s) without slowing their runs, but a test process that compiled
+programs both ways segfaulted in XLA while writing another program to the compilation cache (a CI run of
+2026-11-29): not used."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 
 
@@ -117,9 +111,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         Any JSON-serialisable value that, with the array shapes and what :func:`_baked` reads off ``args``,
         determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
         solver settings and the parent's digest), not the numbers that enter as arrays.
-    effort : {"full", "lean", "quick"}
-        How hard XLA works on the program (:data:`EFFORTS`): ``quick`` for a hull evaluated once, ``lean`` for a
-        short solve, ``full`` (the default) for a program whose every warm run would pay for slower code.
+    effort : {"full", "quick"}
+        How hard XLA works on the program (:data:`EFFORTS`): ``quick`` for a hull evaluated once, ``full`` (the
+        default) for a solver's loop, whose every warm run would pay for slower code.
     ready : callable, optional
         Called once the program no longer needs Python (with kept programs only): once it is traced and
         lowered, before XLA compiles it, or once it is loaded. E.g. to start preparing the next programs

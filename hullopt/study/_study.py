@@ -152,14 +152,12 @@ def structure(cfg: RunConfig) -> dict:
 class Study(abc.ABC):
     """A design study of a config on a parent: :attr:`problem` (the :class:`~hullopt.study.Problem`),
     :meth:`solve`, and the second look at its designs (:meth:`assess`, :meth:`rescore`). Subclasses set ``kind`` (the config's), ``title`` (what the progress display shows),
-    ``limits`` (whether ``[constraints]`` hold), ``fairness`` (the default fairness weight) and ``effort`` (how
-    hard XLA compiles its solve: :data:`~hullopt.study.EFFORTS`)."""
+    ``limits`` (whether ``[constraints]`` hold) and ``fairness`` (the default fairness weight)."""
 
     kind: ClassVar[str]
     title: ClassVar[str]
     limits: ClassVar[bool] = True
     fairness: ClassVar[float] = FAIRNESS
-    effort: ClassVar[str] = "full"
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -244,7 +242,7 @@ class _Single(Study):
         prob = self.problem
         d = prob.design
         res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
-                                            (), key=self.key, effort=self.effort,
+                                            (), key=self.key,
                                             ready=functools.partial(self.prepare, 1)))
         met = bool(res.met)
         report = {
@@ -281,7 +279,6 @@ class Fit(_Single):
     title: ClassVar[str] = "fit"
     limits: ClassVar[bool] = False
     fairness: ClassVar[float] = 0.0
-    effort: ClassVar[str] = "lean"  # tens of steps on hydrostatics: compiling for speed (+7 s) saves nothing
     SOLVERS: ClassVar[dict[str, str]] = {"optimistix": "Levenberg–Marquardt", "lbfgsb": "L-BFGS-B"}
 
     def __init__(self, cfg: RunConfig, parent: FeatureHull):

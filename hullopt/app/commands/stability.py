@@ -89,7 +89,7 @@ def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: 
     # built for that way or the other, not both (a lax.cond traces and compiles both)
     step = 0.5 * np.pi / (GRID - 1)
     on_grid = bool(np.all(np.abs(heels - np.round(heels / step) * step) <= 1e-12))
-    return call("stability", _stability_program, args, (free_trim, on_grid), key=key, effort="lean")
+    return call("stability", _stability_program, args, (free_trim, on_grid), key=key)
 
 
 @app.command("stability")
@@ -290,7 +290,7 @@ def _weather(sections, curve, displacement: float, kg: float, rho: float, theta_
             arr(kg), None if theta_f is None else arr(theta_f), arr(extra_area or 0.0), arr(extra_lever or 0.0),
             arr(bilge_keel_area), arr(pressure))
     fields, inputs = cached_call("weather", _weather_program, args, (sharp_bilges, float(rho)),
-                                 key={"flooding_angle": theta_f is not None, "v": 1}, effort="lean")
+                                 key={"flooding_angle": theta_f is not None, "v": 1})
     w = Weather(**fields)
     inputs = {k: float(v) for k, v in inputs.items()}
     if not inputs["windage_area"] > 0:
