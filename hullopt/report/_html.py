@@ -118,7 +118,7 @@ def run_hulls(folder: Path, report: dict) -> Hulls:
     digest = hashlib.sha256(json.dumps(prob.design.model.hull.to_dict(), sort_keys=True).encode()).hexdigest()
     sections, areas = jax.device_get(cached_call("report", _evaluate, (prob.design.model, stacked,
                                                                        np.asarray(draft)), (),
-                                                 key=[structure(cfg), digest], effort="quick"))
+                                                 key=[structure(cfg), digest], quick=True))
     one = [_numpy(jax.tree.map(lambda a, i=i: a[i], sections)) for i in range(len(params))]
     areas = np.asarray(areas)
     return Hulls(draft, one[0], areas[0], [(n, s, a) for n, s, a in zip(names, one[1:], areas[1:])])

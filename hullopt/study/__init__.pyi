@@ -31,7 +31,6 @@ from ._problem import limits_from as limits_from
 from ._problem import params_from_dict as params_from_dict
 from ._problem import params_to_dict as params_to_dict
 from ._problem import stack_params as stack_params
-from ._programs import EFFORTS as EFFORTS
 from ._programs import cached_call as cached_call
 from ._programs import prepare_call as prepare_call
 from ._study import STUDIES as STUDIES

@@ -143,7 +143,7 @@ def parent_particulars(prob: Problem, key) -> HoltropHull:
     small programs for them (13 s of the KCS sweep's assessment, as much again in its rescoring)."""
     return jax.device_get(cached_call("parent-particulars", _parent_particulars,
                                       (prob.design.model, prob.p0, np.asarray(prob.design.draft)), (), key=key,
-                                      effort="quick"))
+                                      quick=True))
 
 
 def _parent_particulars(model, p0, draft) -> HoltropHull:

@@ -226,8 +226,7 @@ def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
     from ._programs import cached_call
 
     # a kept program: evaluated op by op, the model took ~7 s of a cold `hullopt lines RUN` (160 small compiles)
-    sections = cached_call("design-hull", _evaluate, (study.problem.design.model, p), (), key=study.key,
-                           effort="quick")
+    sections = cached_call("design-hull", _evaluate, (study.problem.design.model, p), (), key=study.key, quick=True)
     return LoadedHull(sections, f"{folder.name}{label}", float(study.problem.design.draft))
 
 

@@ -17,7 +17,7 @@ designs' measures) trace while its chunks' program compiles and compile while it
 ready=…)``).
 
 A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
-compiled ``quick`` (:data:`EFFORTS`): with LLVM's optimisation off, which halves XLA's compile and adds
+compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and adds
 milliseconds to its run; a solver's loop, a GZ curve's equilibria or a panel method keep XLA's default.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
@@ -48,18 +48,12 @@ import jax
 from ..geometry import atomic_write_bytes
 
 _PACKAGE = Path(__file__).resolve().parents[1]
-EFFORTS = {"full": {}, "quick": {"xla_backend_optimization_level": 0}}
-"""XLA's compile options on the CPU, by effort (:func:`cached_call`'s ``effort``; other devices take XLA's
-defaults): ``quick`` turns LLVM's optimisation off, for a program that evaluates a hull once. Measured on 2
-cores: the DTC's hydrostatic table (201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s and runs in
-0.12 s instead of 0.03 s. Not quick: the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s
-slower), the GZ curve (its compile 1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s
-slower). Results agree with the default's to round-off (1e-12).
-
-XLA:CPU's classic fused-kernel emitters (``xla_cpu_use_fusion_emitters=false``) halved the demo fit's compile
-(13.9 → 6.9 s) and the GZ curve's (3.1 → 1.9 s) without slowing their runs, but a test process that compiled
-programs both ways segfaulted in XLA while writing another program to the compilation cache (a CI run of
-2026-11-29): not used."""
+QUICK = {"xla_backend_optimization_level": 0}
+"""XLA's compile options of a ``quick`` program on the CPU. Measured on 2 cores: the DTC's hydrostatic table
+(201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s and runs in 0.12 s instead of 0.03 s. Not quick:
+the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s slower), the GZ curve (its compile
+1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s slower). Results agree with the default's
+to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 
 
@@ -89,7 +83,7 @@ def _baked(in_tree, fixed) -> list[str]:
     return [re.sub(r" at 0x[0-9a-fA-F]+", "", str(in_tree)), *scalars]
 
 
-def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, effort: str = "full",
+def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False,
                 ready: Callable[[], None] | None = None):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
@@ -111,9 +105,9 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         Any JSON-serialisable value that, with the array shapes and what :func:`_baked` reads off ``args``,
         determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
         solver settings and the parent's digest), not the numbers that enter as arrays.
-    effort : {"full", "quick"}
-        How hard XLA works on the program (:data:`EFFORTS`): ``quick`` for a hull evaluated once, ``full`` (the
-        default) for a solver's loop, whose every warm run would pay for slower code.
+    quick : bool
+        Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates a hull once,
+        not for a solver's loop (a warm run pays its slower code every time).
     ready : callable, optional
         Called once the program no longer needs Python (with kept programs only): once it is traced and
         lowered, before XLA compiles it, or once it is loaded. E.g. to start preparing the next programs
@@ -127,7 +121,7 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     """
     if programs_dir() is None:
         return eqx.filter_jit(fn)(*args, *static)
-    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, effort)
+    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, quick)
     pending = _PENDING.pop(path, None)
     program = pending.result() if pending is not None else None
     if program is None:  # not prepared, or preparing it failed: build it here, where an error is raised
@@ -138,7 +132,7 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     return jax.tree.unflatten(jax.tree.structure(skeleton), compiled(*leaves))
 
 
-def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, effort: str = "full") -> None:
+def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False) -> None:
     """Start loading, or tracing and compiling, the program of a later :func:`cached_call` on a background
     thread, before its inputs are known: ``args`` may hold :class:`jax.ShapeDtypeStruct` leaves where the
     arrays will be (e.g. a mesh's sections while the file is read and sliced; XLA compiles without the GIL).
@@ -149,7 +143,7 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
 
     Parameters
     ----------
-    name, fn, static, key, effort
+    name, fn, static, key, quick
         As :func:`cached_call`'s.
     args : tuple
         As :func:`cached_call`'s, with :class:`jax.ShapeDtypeStruct` leaves allowed in place of arrays.
@@ -161,7 +155,7 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
     """
     if programs_dir() is None:
         return
-    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, effort)
+    path, leaves, in_tree, fixed, options = _locate(name, args, static, key, quick)
     if path in _PENDING:
         return
     pending = _PENDING[path] = Future()
@@ -183,16 +177,14 @@ def _is_input(x) -> bool:
     return eqx.is_array(x) or isinstance(x, jax.ShapeDtypeStruct)
 
 
-def _locate(name: str, args: tuple, static: tuple, key: object, effort: str) -> tuple:
+def _locate(name: str, args: tuple, static: tuple, key: object, quick: bool) -> tuple:
     """The kept program's file for these inputs, ``args`` split as :func:`_program` takes them, and XLA's
     compile options."""
     dynamic, fixed = eqx.partition(args, _is_input)
     leaves, in_tree = jax.tree.flatten(dynamic)
     # the executable is built for these devices and XLA's flags
     devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
-    if effort not in EFFORTS:
-        raise ValueError(f"effort={effort!r}: expected one of {', '.join(EFFORTS)}")
-    options = EFFORTS[effort] if jax.default_backend() == "cpu" else {}
+    options = QUICK if quick and jax.default_backend() == "cpu" else {}
     signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
                  devices, _baked(in_tree, fixed), options]
     digest = hashlib.sha256(json.dumps(signature, default=str).encode()).hexdigest()[:32]
@@ -203,14 +195,8 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
              ready: Callable[[], None] | None = None) -> tuple:
     """``(compiled, skeleton)``: the kept program at ``path`` loaded, or ``fn`` exported, compiled with XLA's
     ``options`` and kept there (``leaves`` may be :class:`jax.ShapeDtypeStruct`); ``ready()`` called once it is
-    loaded, or lowered and not yet compiled. A program this process has already loaded or built, from a file
-    unchanged since, is taken from memory: a sweep's chunks call the same one in turn (reading the KCS chunks'
-    10.7 MB executable again took ~2 s a chunk)."""
+    loaded, or lowered and not yet compiled."""
     ready = ready or (lambda: None)
-    held = _HELD.get(path)
-    if held is not None and held[0] == _stamp(path):
-        ready()
-        return held[1]
     try:
         kept = pickle.loads(path.read_bytes())
         program, skeleton = kept["program"], kept["outputs"]
@@ -231,28 +217,14 @@ def _program(path: Path, fn: Callable, leaves: list, in_tree, fixed, static: tup
             _prune(path.parent)
         except OSError:
             pass  # a read-only cache: run without keeping the program
-        _HELD[path] = _stamp(path), (compiled, skeleton)
         return compiled, skeleton
     with contextlib.suppress(OSError):
         path.touch()  # in use: keep it (see _prune)
     compiled = _deserialize(kept.get("executable"), kept.get("targets", []))
     if compiled is None:  # kept without an executable, or one this jaxlib cannot load: compile (cached)
         compiled = jax.jit(jax.export.deserialize(program).call).lower(*leaves).compile(options)
-    _HELD[path] = _stamp(path), (compiled, skeleton)
     ready()
     return compiled, skeleton
-
-
-_HELD: dict[Path, tuple] = {}  # programs loaded or built in this process: file -> (its stamp then, program)
-
-
-def _stamp(path: Path) -> tuple | None:
-    """What changes when a program file is written or touched (None: there is none)."""
-    try:
-        st = path.stat()
-    except OSError:
-        return None
-    return st.st_ino, st.st_size, st.st_mtime_ns
 
 
 def _compile_fresh(lowered, options: dict) -> tuple:

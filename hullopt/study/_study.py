@@ -189,19 +189,6 @@ class Study(abc.ABC):
             raise ValueError("the report has no params (an unfinished run?)")
         return params_from_dict(report["params"], self.problem.p0), ""
 
-    def prepare(self, n: int) -> None:
-        """Start building the programs that assess and re-score ``n`` designs (and the parent; a sweep's also
-        measure them) on background threads (:func:`~hullopt.study.prepare_call`): handed to the solve's
-        :func:`~hullopt.study.cached_call` as ``ready``, they trace while its program compiles and compile while
-        it runs, which leave the GIL and a core free. Nothing without kept programs (the persistent compilation
-        cache off: the Python API's default)."""
-        if programs_dir() is None:
-            return
-        stacked = stacked_like(self.problem.p0, n)
-        prepare_call(*assess_program(self.cfg, self.problem, stacked, self.key))
-        if self.cfg.objective is not None:
-            prepare_call(*rescore_program(self.cfg, self.problem, stacked, self.key)[0])
-
     def assess(self, solution: Solution) -> tuple[dict, dict, list[str]]:
         """The report's ``objectives``, ``limits`` and ``warnings`` of a solution's designs
         (:func:`~hullopt.study.assess`, plus parameters stopped by their bounds)."""
@@ -242,8 +229,7 @@ class _Single(Study):
         prob = self.problem
         d = prob.design
         res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
-                                            (), key=self.key,
-                                            ready=functools.partial(self.prepare, 1)))
+                                            (), key=self.key))
         met = bool(res.met)
         report = {
             "kind": self.kind,
@@ -327,9 +313,16 @@ class Pareto(Study):
     title: ClassVar[str] = "Pareto sweep"
 
     def prepare(self, n: int) -> None:
-        super().prepare(n)
-        if programs_dir() is not None:
-            prepare_call(*_outcomes_program(self, stacked_like(self.problem.p0, n + 1)))
+        """Start building the programs that assess, re-score and measure ``n`` designs (and the parent) on
+        background threads (:func:`~hullopt.study.prepare_call`), to trace and compile on the core the chunks'
+        solve leaves free. Nothing without kept programs (the persistent compilation cache off: the Python API's
+        default)."""
+        if programs_dir() is None:
+            return
+        stacked = stacked_like(self.problem.p0, n)
+        prepare_call(*assess_program(self.cfg, self.problem, stacked, self.key))
+        prepare_call(*rescore_program(self.cfg, self.problem, stacked, self.key)[0])
+        prepare_call(*_outcomes_program(self, stacked_like(self.problem.p0, n + 1)))
 
     def units(self, options: dict) -> int:
         k, n = options.get("shard", (1, 1))
@@ -407,7 +400,7 @@ def _outcomes_program(study: Study, stacked) -> tuple:
     """The arguments of :func:`cached_call` (or :func:`prepare_call`) of :func:`design_outcomes` of the designs
     ``stacked`` (or their shapes)."""
     d = dataclasses.replace(study.problem.design, objective=None)
-    return "outcomes", _outcomes, (d, study.problem.p0, stacked), (), study.key, "quick"
+    return "outcomes", _outcomes, (d, study.problem.p0, stacked), (), study.key, True
 
 
 def _outcomes(d: Design, p0: FeatureParams, stacked: FeatureParams) -> Outcome:

@@ -77,7 +77,7 @@ def hydro(
     like = sections_like(hull)
     if like is not None and displacement is None:  # a mesh: its table's program is built while it is read
         count = 1 if drafts is None else len(parse_range(drafts, "--drafts"))
-        prepare_call(*_table_program(like, jax.ShapeDtypeStruct((count,), np.float64), rho), effort="quick")
+        prepare_call(*_table_program(like, jax.ShapeDtypeStruct((count,), np.float64), rho), quick=True)
     h = load_hull(hull)
     ts = resolve_drafts(h, draft, displacement, drafts, rho)
     res = hydro_table(h.sections, ts, rho)
@@ -108,7 +108,7 @@ def _table_program(sections, drafts, rho: float) -> tuple:
 def hydro_table(sections, drafts: np.ndarray, rho: float) -> dict[str, list[float]]:
     """:func:`~hullopt.hydro.hydrostatic_table` as ``Hydrostatics.to_dict`` gives it, through a kept program
     (the hydrostatics are imported only when the program is built)."""
-    res = cached_call(*_table_program(sections, jnp.asarray(drafts, dtype=float), rho), effort="quick")
+    res = cached_call(*_table_program(sections, jnp.asarray(drafts, dtype=float), rho), quick=True)
     # the fields in Hydrostatics' order (PARTICULARS lists them so; a kept dict comes back sorted by key)
     order = [*(k for k in PARTICULARS if k in res), *(k for k in res if k not in PARTICULARS)]
     return {k: np.asarray(res[k]).tolist() for k in order}
