@@ -139,3 +139,26 @@ def test_xla_scheduler_workaround_is_set_and_leaves_the_users_choice():
     import jax
 
     assert jax.devices()  # the backend started with these flags (no XLA error on an unknown flag)
+
+
+def test_classic_emitters_for_a_process_of_small_programs_only(tmp_path):
+    """A process started for ``hydro``, ``stability`` or a fit run compiles with XLA:CPU's classic emitters (half
+    the compile); a sweep, a minimisation, other commands, an unreadable config and a user who chose the
+    emitters keep XLA_FLAGS as they are."""
+    from hullopt.app.cli import CLASSIC_EMITTERS, xla_flags_for
+
+    base = "--xla_cpu_enable_concurrency_optimized_scheduler=false"
+    for config in ("fit_cb_lcb", "fit_own_hull", "pareto_bow", "min_added_resistance"):
+        path = str(REPO / "configs" / f"{config}.toml")
+        flags = xla_flags_for(["run", path, "--set", "targets.cb=0.47"], base)
+        assert flags == (f"{base} {CLASSIC_EMITTERS}" if config.startswith("fit") else base), config
+    assert xla_flags_for(["hydro", WIGLEY, "--json"], "") == CLASSIC_EMITTERS
+    assert xla_flags_for(["--help"], base) == base
+    for argv in (["stability", "DTC.stl", "--kg", "20"], ["--json", "hydro", WIGLEY]):
+        assert xla_flags_for(argv, base) == f"{base} {CLASSIC_EMITTERS}"
+    for argv in (["motions", WIGLEY], ["rescore", "runs/x"], ["run", str(tmp_path / "absent.toml")], ["run"]):
+        assert xla_flags_for(argv, base) == base, argv
+    (tmp_path / "bad.toml").write_text("kind = \n")
+    assert xla_flags_for(["run", str(tmp_path / "bad.toml")], base) == base
+    mine = "--xla_cpu_use_fusion_emitters=true"
+    assert xla_flags_for(["hydro", WIGLEY], mine) == mine
