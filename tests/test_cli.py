@@ -142,9 +142,9 @@ def test_xla_scheduler_workaround_is_set_and_leaves_the_users_choice():
 
 
 def test_classic_emitters_for_a_process_of_small_programs_only(tmp_path):
-    """A process started for ``hydro``, ``stability`` or a fit run compiles with XLA:CPU's classic emitters (half
-    the compile); a sweep, a minimisation, other commands, an unreadable config and a user who chose the
-    emitters keep XLA_FLAGS as they are."""
+    """A process started for a command of small programs (``hydro``, ``stability``, ``motions``…) or a fit run
+    compiles with XLA:CPU's classic emitters (half the compile); a sweep, a minimisation, the other commands, an
+    unreadable config and a user who chose the emitters keep XLA_FLAGS as they are."""
     from hullopt.app.cli import CLASSIC_EMITTERS, xla_flags_for
 
     base = "--xla_cpu_enable_concurrency_optimized_scheduler=false"
@@ -156,7 +156,7 @@ def test_classic_emitters_for_a_process_of_small_programs_only(tmp_path):
     assert xla_flags_for(["--help"], base) == base
     for argv in (["stability", "DTC.stl", "--kg", "20"], ["--json", "hydro", WIGLEY]):
         assert xla_flags_for(argv, base) == f"{base} {CLASSIC_EMITTERS}"
-    for argv in (["motions", WIGLEY], ["rescore", "runs/x"], ["run", str(tmp_path / "absent.toml")], ["run"]):
+    for argv in (["resistance", WIGLEY], ["rescore", "runs/x"], ["run", str(tmp_path / "absent.toml")], ["run"]):
         assert xla_flags_for(argv, base) == base, argv
     (tmp_path / "bad.toml").write_text("kind = \n")
     assert xla_flags_for(["run", str(tmp_path / "bad.toml")], base) == base

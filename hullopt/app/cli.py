@@ -15,14 +15,17 @@ os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
 from ..errors import HullError  # noqa: E402
 
 # XLA:CPU emits its fused kernels one of two ways, for a whole process. Its MLIR emitters (the default) vectorise
-# better: the large vmapped programs of a sweep's chunks and of re-scoring run 15-30 % faster. Its classic emitters
-# compile a small program in about half the time and run it as fast (2 cores, 2026-11-29: the demo fit's compile
-# 13.9 -> 6.9 s; the DTC's GZ curve 3.1-3.8 -> 1.9-2.9 s, its run 0.98 -> 0.69 s; its 20-draft table 1.5 -> 0.7 s;
-# results equal to 1e-14). So a process started for a command that builds only small programs uses the classic
-# ones: a cold call is mostly compiling. Kept programs are keyed by XLA_FLAGS (hullopt.study), so each kind has its
-# own; the user's XLA_FLAGS decide where they name the option.
+# better: the large vmapped programs of a sweep's chunks, of re-scoring and of the panel methods run 15-30 % faster.
+# Its classic emitters compile a small program in about half the time and run it as fast (2 cores, 2026-11-29: the
+# demo fit's compile 13.9 -> 6.9 s; the DTC's GZ curve 3.1-3.8 -> 1.9-2.9 s, its run 0.98 -> 0.69 s; results equal
+# to 1e-14). A cold call is mostly compiling, so a process started for a command that builds only small programs
+# uses the classic ones. Cold calls measured by pairs (MLIR -> classic): motions 14.3 -> 7.5 s, waves 9.3 -> 7.4 s,
+# wind 11.1 -> 8.0 s, lines 8.1 -> 6.3 s, deform 22.4 -> 18.2 s, fair 35 -> 26 s; their warm calls unchanged. Not
+# `resistance` (its warm call 2.7 -> 3.2 s with Holtrop and Michell, and the panel methods' solves are large), nor
+# sweeps and minimisations (their large programs). Kept programs are keyed by XLA_FLAGS (hullopt.study), so each
+# kind has its own; the user's XLA_FLAGS decide where they name the option.
 CLASSIC_EMITTERS = "--xla_cpu_use_fusion_emitters=false"
-SMALL_PROGRAM_COMMANDS = frozenset({"hydro", "stability"})
+SMALL_PROGRAM_COMMANDS = frozenset({"hydro", "stability", "motions", "waves", "wind", "lines", "deform", "fair"})
 SMALL_PROGRAM_RUNS = frozenset({"fit"})  # `hullopt run` of a config of these kinds
 
 
