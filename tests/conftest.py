@@ -48,11 +48,23 @@ def dtmb5415() -> tuple[str, float]:
     return f"{HULLS / name}?{params}", draft
 
 
+# what the CLI's configure_jax sets for its process: every compile written to the persistent cache
+CACHE_OPTIONS = ("jax_compilation_cache_dir", "jax_persistent_cache_min_compile_time_secs",
+                 "jax_persistent_cache_min_entry_size_bytes")
+
+
 @pytest.fixture(autouse=True)
 def _compilation_cache(tmp_path_factory, monkeypatch):
     """CLI calls in tests use a throw-away persistent compilation cache, never the user's; one folder for the
-    whole session (shared by the xdist workers), so a program compiled by one test is loaded by the next."""
+    whole session (shared by the xdist workers), so a program compiled by one test is loaded by the next. The
+    CLI's cache options hold for its call only: a worker that ran one would otherwise serialise every later
+    test's compiles, eager operations included, and XLA has crashed a worker inside that write (late in the
+    slow suite, in tests that pass alone)."""
     monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path_factory.getbasetemp().parent / "jax-cache"))
+    before = {name: getattr(jax.config, name) for name in CACHE_OPTIONS}
+    yield
+    for name, value in before.items():
+        jax.config.update(name, value)
 
 
 _LIBC = ctypes.CDLL(None) if sys.platform.startswith("linux") else None
