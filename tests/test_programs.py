@@ -88,6 +88,19 @@ def test_a_quick_program_is_another_program_compiled_without_llvm_optimisation(f
         np.testing.assert_allclose(x, y, rtol=1e-13)
 
 
+def test_a_program_quick_with_the_classic_emitters_is_quick_only_where_the_process_uses_them(folder, monkeypatch):
+    """``quick="classic"`` (a fit's solver): optimisation level 0 where XLA_FLAGS select XLA:CPU's classic
+    emitters (a CLI fit run), XLA's default elsewhere; the flags are part of the program's key."""
+    chosen, paths = [], set()
+    for flags in ("", "--xla_cpu_use_fusion_emitters=true", "--a=1 --xla_cpu_use_fusion_emitters=false"):
+        monkeypatch.setenv("XLA_FLAGS", flags)
+        path, *_, options = programs._locate("t", args(), (3,), "k", "classic")
+        chosen.append(options)
+        paths.add(path)
+    cpu = jax.default_backend() == "cpu"
+    assert chosen == [{}, {}, programs.QUICK if cpu else {}] and len(paths) == 3
+
+
 def test_a_kept_program_loads_and_runs_where_there_are_two_devices(tmp_path):
     """A kept executable runs on the one device a jit runs on, also where jax has several (loaded with its
     defaults, it expected a shard on each: every warm call failed with ``jax_num_cpu_devices = 2``)."""

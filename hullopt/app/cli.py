@@ -22,8 +22,10 @@ from ..errors import HullError  # noqa: E402
 # uses the classic ones. Cold calls measured by pairs (MLIR -> classic): motions 14.3 -> 7.5 s, waves 9.3 -> 7.4 s,
 # wind 11.1 -> 8.0 s, lines 8.1 -> 6.3 s, deform 22.4 -> 18.2 s, fair 35 -> 26 s; their warm calls unchanged. Not
 # `resistance` (its warm call 2.7 -> 3.2 s with Holtrop and Michell, and the panel methods' solves are large), nor
-# sweeps and minimisations (their large programs). Kept programs are keyed by XLA_FLAGS (hullopt.study), so each
-# kind has its own; the user's XLA_FLAGS decide where they name the option.
+# sweeps and minimisations (their large programs). With them a fit's solver also compiles without LLVM's
+# optimisation (hullopt.study's quick="classic"): the demo's cold run 21-25 -> 17-18 s, its warm run unchanged.
+# Kept programs are keyed by XLA_FLAGS (hullopt.study), so each kind has its own; the user's XLA_FLAGS decide
+# where they name the option.
 CLASSIC_EMITTERS = "--xla_cpu_use_fusion_emitters=false"
 SMALL_PROGRAM_COMMANDS = frozenset({"hydro", "stability", "motions", "waves", "wind", "lines", "deform", "fair"})
 SMALL_PROGRAM_RUNS = frozenset({"fit"})  # `hullopt run` of a config of these kinds

@@ -18,7 +18,9 @@ ready=…)``).
 
 A program that evaluates a hull once (the hydrostatic table, a run folder's design, the report's hulls) is
 compiled ``quick``: with LLVM's optimisation off (:data:`QUICK`), which halves XLA's compile and adds
-milliseconds to its run; a solver's loop, a GZ curve's equilibria or a panel method keep XLA's default.
+milliseconds to its run; a solver's loop, a GZ curve's equilibria or a panel method keep XLA's default. A fit's
+solver is quick only in a process that compiles with XLA:CPU's classic emitters (``quick="classic"``: the CLI's
+fit runs, :mod:`hullopt.app.cli`), whose code loses little without LLVM's optimisation.
 
 Programs are kept only when the persistent compilation cache is on (the CLI turns it on), in a sibling folder
 ``programs-<cache folder name>``; a missing, stale or unreadable file is rebuilt, never trusted, and programs
@@ -55,6 +57,8 @@ the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s sl
 1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s slower). Results agree with the default's
 to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
+# in XLA_FLAGS: the process compiles with XLA:CPU's classic emitters
+CLASSIC_EMITTERS_SET = re.compile(r"--xla_cpu_use_fusion_emitters=(false|0)\b")
 
 
 def programs_dir() -> Path | None:
@@ -83,7 +87,7 @@ def _baked(in_tree, fixed) -> list[str]:
     return [re.sub(r" at 0x[0-9a-fA-F]+", "", str(in_tree)), *scalars]
 
 
-def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False,
+def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool | str = False,
                 ready: Callable[[], None] | None = None):
     """``jax.jit(fn)(*args, *static)``, through a kept program when there is one (see the module docstring).
 
@@ -105,9 +109,12 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
         Any JSON-serialisable value that, with the array shapes and what :func:`_baked` reads off ``args``,
         determines the program: what ``fn`` captures besides its arguments (e.g. the config's structure, its
         solver settings and the parent's digest), not the numbers that enter as arrays.
-    quick : bool
+    quick : bool or "classic"
         Compile for a single short run (:data:`QUICK`, on the CPU): for a program that evaluates a hull once,
-        not for a solver's loop (a warm run pays its slower code every time).
+        not for a solver's loop (a warm run pays its slower code every time). ``"classic"``: quick where the
+        process uses XLA:CPU's classic emitters (``XLA_FLAGS``), whose code runs nearly as fast without LLVM's
+        optimisation (the demo fit: compile 10.8 → 6.1 s, run 0.06 → 0.13 s; with the default MLIR emitters
+        its run is 0.37 s), so that the compile of a fit's solver, run once by a process, halves.
     ready : callable, optional
         Called once the program no longer needs Python (with kept programs only): once it is traced and
         lowered, before XLA compiles it, or once it is loaded. E.g. to start preparing the next programs
@@ -132,7 +139,8 @@ def cached_call(name: str, fn: Callable, args: tuple, static: tuple, key: object
     return jax.tree.unflatten(jax.tree.structure(skeleton), compiled(*leaves))
 
 
-def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool = False) -> None:
+def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: object, quick: bool | str = False
+                 ) -> None:
     """Start loading, or tracing and compiling, the program of a later :func:`cached_call` on a background
     thread, before its inputs are known: ``args`` may hold :class:`jax.ShapeDtypeStruct` leaves where the
     arrays will be (e.g. a mesh's sections while the file is read and sliced; XLA compiles without the GIL).
@@ -177,13 +185,15 @@ def _is_input(x) -> bool:
     return eqx.is_array(x) or isinstance(x, jax.ShapeDtypeStruct)
 
 
-def _locate(name: str, args: tuple, static: tuple, key: object, quick: bool) -> tuple:
+def _locate(name: str, args: tuple, static: tuple, key: object, quick: bool | str) -> tuple:
     """The kept program's file for these inputs, ``args`` split as :func:`_program` takes them, and XLA's
     compile options."""
     dynamic, fixed = eqx.partition(args, _is_input)
     leaves, in_tree = jax.tree.flatten(dynamic)
     # the executable is built for these devices and XLA's flags
     devices = [jax.default_backend(), jax.device_count(), os.environ.get("XLA_FLAGS", "")]
+    if quick == "classic":
+        quick = CLASSIC_EMITTERS_SET.search(os.environ.get("XLA_FLAGS", "")) is not None
     options = QUICK if quick and jax.default_backend() == "cpu" else {}
     signature = [name, key, [repr(s) for s in static], [(x.shape, str(x.dtype)) for x in leaves], _code_digest(),
                  devices, _baked(in_tree, fixed), options]

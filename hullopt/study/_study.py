@@ -229,7 +229,7 @@ class _Single(Study):
         prob = self.problem
         d = prob.design
         res, m = jax.device_get(cached_call(f"run-{self.kind}", self._program, (d, prob.p0, prob.lower, prob.upper),
-                                            (), key=self.key))
+                                            (), key=self.key, quick="classic"))
         met = bool(res.met)
         report = {
             "kind": self.kind,
