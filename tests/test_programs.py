@@ -273,6 +273,20 @@ def test_a_prepared_program_that_fails_raises_in_the_call(folder):
     assert not programs._PENDING
 
 
+def test_a_command_that_fails_after_preparing_its_program_leaves_none_prepared(cli, hulls, tmp_path, monkeypatch):
+    """A mesh command prepares its program before it reads the file; when reading fails (here: a parameter
+    the mesh does not take) the CLI drops the preparation, which a long-lived process (the tests, a notebook)
+    would otherwise hold."""
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path))
+    prepared = []
+    real = programs.prepare_call
+    monkeypatch.setattr("hullopt.app.commands.hydro.prepare_call",
+                        lambda *a, **k: prepared.append(a[0]) or real(*a, **k))
+    code, _, err = cli("hydro", f"{hulls / 'wigley_openfoam.stl.gz'}?n=31&m=24&bogus=1", "--drafts", "1:2:3")
+    assert code == 2 and "bogus" in err
+    assert prepared == ["hydrostatic_table"] and not programs._PENDING
+
+
 @pytest.mark.parametrize("command", ["hydro", "stability"])
 def test_the_commands_build_their_program_while_a_mesh_is_read(command, cli, hulls, tmp_path, monkeypatch):
     from hullopt.study import load_hull, sections_like
@@ -294,7 +308,6 @@ def test_the_commands_build_their_program_while_a_mesh_is_read(command, cli, hul
     assert code in (0, 4), err
     # one program, built on the thread that prepared it while the mesh was read, and taken by the call
     assert built == [f"prepare-{'hydrostatic_table' if command == 'hydro' else 'stability'}"]
-    assert not programs._PENDING
     # the same output as a call that builds its program from the real sections (nothing prepared, nothing kept)
     monkeypatch.setattr(f"hullopt.app.commands.{command}.sections_like", lambda spec: None)
     monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "unprepared"))

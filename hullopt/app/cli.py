@@ -78,6 +78,11 @@ def main(argv: list[str] | None = None) -> int:
     except HullError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    finally:
+        if "hullopt.study._programs" in sys.modules:  # what this command prepared and did not take (an error)
+            from ..study import discard_prepared
+
+            discard_prepared()
     return 0
 
 

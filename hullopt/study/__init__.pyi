@@ -32,6 +32,7 @@ from ._problem import params_from_dict as params_from_dict
 from ._problem import params_to_dict as params_to_dict
 from ._problem import stack_params as stack_params
 from ._programs import cached_call as cached_call
+from ._programs import discard_prepared as discard_prepared
 from ._programs import prepare_call as prepare_call
 from ._study import STUDIES as STUDIES
 from ._study import VIOLATION as VIOLATION

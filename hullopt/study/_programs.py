@@ -181,6 +181,18 @@ def prepare_call(name: str, fn: Callable, args: tuple, static: tuple, key: objec
 _PENDING: dict[Path, Future] = {}  # programs being prepared (prepare_call), by their file
 
 
+def discard_prepared() -> None:
+    """Forget the programs :func:`prepare_call` started that no :func:`cached_call` took (a command that
+    failed before its call): a long-lived process (the tests, a notebook) would otherwise hold them, their
+    executables included. Those still building finish on their threads and are dropped.
+
+    Returns
+    -------
+    None
+    """
+    _PENDING.clear()
+
+
 def _is_input(x) -> bool:
     return eqx.is_array(x) or isinstance(x, jax.ShapeDtypeStruct)
 
