@@ -53,9 +53,10 @@ _PACKAGE = Path(__file__).resolve().parents[1]
 QUICK = {"xla_backend_optimization_level": 0}
 """XLA's compile options of a ``quick`` program on the CPU. Measured on 2 cores: the DTC's hydrostatic table
 (201 stations, 20 drafts) compiles in 1.6 s instead of 2.8 s and runs in 0.12 s instead of 0.03 s. Not quick:
-the demo fit (its cold run 26 → 20–22 s, but every warm run's solve 0.5 s slower), the GZ curve (its compile
-1.1 s shorter, its run 1.0 s longer), the KCS sweep's rescoring (47 s slower). Results agree with the default's
-to round-off (1e-12)."""
+the demo fit with XLA:CPU's default emitters (its cold run 26 → 20–22 s, but every warm run's solve 0.3 s slower;
+with the classic ones it is, see :func:`cached_call`), the GZ curve (its compile 1.1 s shorter, its run 1.0 s
+longer; with the classic emitters 1.2–1.6 s shorter and 1.2–2.0 s longer), the KCS sweep's rescoring (47 s
+slower). Results agree with the default's to round-off (1e-12)."""
 _LIBRARIES = ("jax", "jaxlib", "equinox", "optimistix", "lineax")
 # in XLA_FLAGS: the process compiles with XLA:CPU's classic emitters
 CLASSIC_EMITTERS_SET = re.compile(r"--xla_cpu_use_fusion_emitters=(false|0)\b")
