@@ -71,6 +71,23 @@ def test_fit_config_meets_its_targets_and_writes_the_run_folder(cli, fit_run, mo
 
 
 @pytest.mark.slow
+def test_a_fit_run_as_its_own_process_reports_what_the_optimised_program_does(cli_process, fit_run, tmp_path):
+    """``hullopt run`` of a fit as a user types it compiles with XLA:CPU's classic emitters and its solver
+    without LLVM's optimisation (``hullopt.app.cli``, ``quick="classic"``); the module's run is in-process,
+    with the default emitters and an optimised program. The same steps, the same report to round-off."""
+    import numpy as np
+
+    _, first = fit_run
+    code, stdout, err = cli_process("run", CONFIGS / "fit_cb_lcb.toml", "--json", "--out", tmp_path / "p")
+    assert code == 0, err
+    other = json.loads(stdout)
+    assert other["met"] and other["iterations"] == first["iterations"]
+    for key in ("achieved", "parent", "params"):
+        for k, v in first[key].items():
+            np.testing.assert_allclose(other[key][k], v, rtol=1e-9, atol=1e-9, err_msg=f"{key}.{k}")
+
+
+@pytest.mark.slow
 def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, tmp_path, monkeypatch):
     """The second run of a config neither traces nor compiles (kept program + compilation cache): the module's
     fit run again, with the export (trace and lower) forbidden."""
