@@ -15,12 +15,18 @@ from shapely.affinity import rotate
 from shapely.geometry import Polygon, box as sbox
 
 from hullopt.geometry import to_trimesh
+from hullopt.hydro._stability import _trim_residual
 from hullopt.hydro import (criteria_from_gz, criteria_heels, cross_curves, gz_curve, heeled_equilibrium, icll_sheer,
                            intact_criteria, stability, with_sheer)
 from hullopt.models import box
 
 L, B, D, T, KG = 100.0, 20.0, 10.0, 4.0, 6.0
 HEELS_DEG = np.array([0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 75.0, 90.0])
+
+
+def sheered_box(n: int = 41):
+    """A 60 × 10 × 5 m box with the ICLL sheer: fore–aft asymmetric, so it trims when heeled."""
+    return with_sheer(box(60.0, 10.0, 5.0, n=n), icll_sheer(box(60.0, 10.0, 5.0, n=n)))
 
 
 @pytest.fixture(scope="module")
@@ -166,7 +172,7 @@ def test_icll_standard_sheer():
 def test_sheer_heel_and_free_trim_against_a_mesh_cut():
     """Box with the ICLL sheer (fore–aft asymmetric: it trims when heeled) against trimesh: volume and
     centre of buoyancy of the closed mesh cut by the equilibrium waterplane, and the trim balance."""
-    s = with_sheer(box(60.0, 10.0, 5.0, n=41), icll_sheer(box(60.0, 10.0, 5.0, n=41)))
+    s = sheered_box()
     vol, kg, lcg, phi = 60 * 10 * 3.0, 4.0, 30.0, np.deg2rad(40.0)
     eq = eqx.filter_jit(heeled_equilibrium)(s, jnp.asarray(phi), jnp.asarray(vol), jnp.asarray(lcg),
                                             jnp.asarray(kg), True)
@@ -195,7 +201,7 @@ def test_stability_shares_the_criteria_grid_with_the_requested_heels():
     """The curve of :func:`stability` (its heels on the criteria's 1° grid: solved once, picked from the grid;
     off it: solved apart) against :func:`gz_curve` solved at those heels alone, on a sheered box that trims;
     the same with the way told by the caller (``on_grid``: one way compiled, as the CLI's kept program)."""
-    s = with_sheer(box(60.0, 10.0, 5.0, n=21), icll_sheer(box(60.0, 10.0, 5.0, n=21)))
+    s = sheered_box(21)
     vol, kg, lcg = 60 * 10 * 3.0, 4.0, 29.0
     run = jax.jit(lambda h: (stability(s, vol, kg, h, lcg), gz_curve(s, vol, kg, h, lcg)))
     told = jax.jit(lambda h, on: stability(s, vol, kg, h, lcg, on_grid=on), static_argnums=1)
@@ -238,7 +244,37 @@ def test_gz_gradient_matches_finite_differences():
     assert ad[0] == pytest.approx(-float(jnp.sum(jnp.sin(heels) * jnp.asarray([1.0, 2.0, 3.0]))) - 1.0, rel=1e-9)
 
 
+def test_free_trim_jacobian_from_the_waterline_breadths_is_jaxs():
+    """Newton's Jacobian of the free-trim residual, built from the waterline breadths (dA/dℓ = b,
+    d(∫z' dA)/dℓ = ℓ b), against jax's forward Jacobian: upright, heeled, past deck-edge immersion, trimmed
+    either way."""
+    s = sheered_box()
+    heels = jnp.deg2rad(jnp.array([0.0, 30.0, 60.0]))
+    y = jnp.array([[2.9, 0.01], [2.5, -0.02], [1.0, 0.03]])
+    args = (jnp.asarray(1800.0), jnp.asarray(30.0), jnp.asarray(4.0))
+    _, jac = _trim_residual(s, heels, y, *args)
+    full = jax.jacfwd(lambda y: _trim_residual(s, heels, y, *args)[0])(y)  # (k, 2, k, 2), block diagonal
+    np.testing.assert_allclose(jac, full[jnp.arange(3), :, jnp.arange(3), :], rtol=0, atol=1e-12)
+    assert float(jnp.max(jnp.abs(jac[:, :, 1]))) > 1e-2  # the trim's column is not trivially zero
+
+
 @pytest.mark.slow
+def test_free_trim_gz_gradient_matches_finite_differences():
+    """d(GZ at three heels, the trims)/d(KG, LCG, breadth scale) with free trim on a hull that trims when
+    heeled: the per-heel implicit (level, trim) tangent solve against central differences."""
+    base = sheered_box(21)
+    heels = jnp.deg2rad(jnp.asarray([10.0, 35.0, 60.0]))
+
+    @jax.jit
+    def f(p):
+        s = eqx.tree_at(lambda t: t.yz, base, base.yz * jnp.stack([p[2], 1.0]))
+        c = gz_curve(s, 60 * 10 * 3.0 * p[2], p[0], heels, lcg=p[1])
+        return jnp.sum(c.gz * jnp.asarray([1.0, 2.0, 3.0])) + 100.0 * jnp.sum(c.trim)
+
+    ad, _ = check_grad(f, np.array([4.0, 29.0, 1.1]), rtol=1e-5, h=1e-5)
+    assert abs(ad[1]) > 1e-2  # the LCG moves the trims
+
+
 @pytest.mark.slow
 def test_dtc_gz_against_navaltoolbox(hulls, tmp_path):
     """The DTC (model mesh ×59.407) at its design displacement, KG 20 m: GZ from our sections against

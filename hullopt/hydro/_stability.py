@@ -156,16 +156,136 @@ def heeled_integrals(sections: Sections, heel: Angle, level: Length, trim: Scala
     )
 
 
+class Equilibrium(eqx.Module):
+    """Floating position at a heel (fields scalars, or ``(k,)`` at ``k`` heels): ``level`` [m], ``trim`` (tan θ,
+    bow down positive), the buoyancy integrals there, and whether the solve converged."""
+
+    level: Float[Array, "*k"]
+    trim: Float[Array, "*k"]
+    integrals: HeeledIntegrals
+    converged: Bool[Array, "*k"]
+
+
 def _level_bounds(sections: Sections, heel) -> tuple[Array, Array]:
     z = _rotate(full_sections(sections.yz), heel)[..., 1]
     return jnp.min(z), jnp.max(z)
 
 
-def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = BISECTION_TOL,
-                 atol: float | None = None) -> Array:
-    """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad]
-    displaces ``volume`` [m³]. Bisection between the lowest and highest point of the hull (robust when the
-    deck or the bilge leaves the water), differentiable by the implicit function theorem.
+def _integrals(sections: Sections, heels: Array, levels: Array, trims: Array) -> HeeledIntegrals:
+    """:func:`heeled_integrals` at every heel ``(k,)`` with its level and trim ``(k,)``: fields ``(k,)``."""
+    return jax.vmap(heeled_integrals, in_axes=(None, 0, 0, 0))(sections, heels, levels, trims)
+
+
+def _levels(sections: Sections, heels: Array, volume: Array, tol: float) -> Array:
+    """Levels ``(k,)`` [m] at which the hull heeled by ``heels (k,)`` [rad] (no trim) displaces ``volume``:
+    |V/volume − 1| ≤ ``tol``, or a step below ``tol`` × the heeled hull's height. Newton's steps on the
+    waterplane area (dV/dlevel = A_wp), a bisection step wherever Newton's would leave the bracket (keel to deck:
+    robust where the deck or the bilge leaves the water). All heels advance in one loop, which jax traces
+    once (a ``vmap`` of a loop per heel costs seconds of tracing). Not differentiable: see :func:`_equilibria`."""
+    lo, hi = jax.vmap(_level_bounds, in_axes=(None, 0))(sections, heels)
+    step_tol = tol * (hi - lo)
+    trims = jnp.zeros_like(heels)
+
+    def body(carry):
+        level, lo, hi, done, i = carry
+        b = _integrals(sections, heels, level, trims)
+        err = b.volume / volume - 1.0
+        lo, hi = jnp.where(err < 0.0, level, lo), jnp.where(err > 0.0, level, hi)
+        wet = b.awp > 0.0
+        newton = level - (b.volume - volume) / jnp.where(wet, b.awp, 1.0)
+        nxt = jnp.where(wet & (newton > lo) & (newton < hi), newton, 0.5 * (lo + hi))
+        now = (jnp.abs(err) <= tol) | (jnp.abs(nxt - level) <= step_tol)
+        return jnp.where(done | now, level, nxt), lo, hi, done | now, i + 1
+
+    def more(carry):
+        return ~jnp.all(carry[3]) & (carry[4] < 200)
+
+    start = (0.5 * (lo + hi), lo, hi, jnp.zeros(heels.shape, bool), 0)
+    return jax.lax.while_loop(more, body, start)[0]
+
+
+def _cramer(jac: Array, r: Array) -> Array:
+    """``x (k, 2)`` with ``jac[i] @ x[i] = r[i]`` for ``jac (k, 2, 2)``, ``r (k, 2)`` (a singular block gives 0)."""
+    det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
+    det = jnp.where(det != 0.0, det, jnp.inf)
+    return jnp.stack([jac[:, 1, 1] * r[:, 0] - jac[:, 0, 1] * r[:, 1],
+                      jac[:, 0, 0] * r[:, 1] - jac[:, 1, 0] * r[:, 0]], -1) / det[:, None]
+
+
+def _solve_2x2(g, r: Array) -> Array:
+    """``x (k, 2)`` with ``g(x) = r`` for a linear ``g`` whose Jacobian is block diagonal in ``k`` (each heel's
+    residual depends on its own unknowns only): the blocks' columns from two evaluations."""
+    e0 = jnp.zeros_like(r).at[:, 0].set(1.0)
+    return _cramer(jnp.stack([g(e0), g(1.0 - e0)], -1), r)
+
+
+def _trim_residual(sections: Sections, heels: Array, y: Array, volume: Array, lcg: Array,
+                   kg: Array) -> tuple[Array, Array]:
+    """The free-trim residual ``(k, 2)`` at ``y = (level, trim) (k, 2)`` — the volume's relative error and B
+    off the vertical through G [Lpp] — and its Jacobian ``(k, 2, 2)`` from the waterline breadths: at a
+    station whose waterline is at ℓ = level + trim (x − Lpp/2), dA/dℓ = b and d(∫z' dA)/dℓ = ℓ b (one
+    evaluation of the sections, where jax's forward Jacobian takes three)."""
+    x, xm, w = sections.x, sections.x - 0.5 * sections.lpp, simpson_weights(sections.x)
+    full = full_sections(sections.yz)
+    lv = y[:, :1] + y[:, 1:] * xm  # (k, n)
+    st = jax.vmap(lambda heel, level: polygon_integrals(_rotate(full, heel), level))(heels, lv)
+    b, trim, zg = st.width, y[:, 1:], kg * jnp.cos(heels)[:, None]
+    v = st.area @ w
+    v_ = jnp.where(v > 0.0, v, 1.0)[:, None]
+    xb, zb = ((st.area * x) @ w)[:, None] / v_, (st.moment_z @ w)[:, None] / v_
+
+    def d(f):  # (k, 2): d(Σ w f A)/d(level, trim)
+        return jnp.stack([(f * b) @ w, (f * b * xm) @ w], -1)
+
+    dv = d(1.0)
+    dxb, dzb = (d(x) - xb * dv) / v_, (d(lv) - zb * dv) / v_
+    r = jnp.concatenate([v[:, None] / volume - 1.0, (xb - lcg + trim * (zb - zg)) / sections.lpp], -1)
+    j1 = (dxb + trim * dzb + jnp.concatenate([jnp.zeros_like(zb), zb - zg], -1)) / sections.lpp
+    return r, jnp.stack([dv / volume, j1], 1)
+
+
+def _equilibria(sections: Sections, heels: Array, volume: Array, lcg: Array, kg: Array,
+                free_trim: bool) -> Equilibrium:
+    """:func:`heeled_equilibrium` at every heel ``(k,)`` at once: fields ``(k,)``. The solves are not traced
+    for gradients: ``jax.lax.custom_root`` differentiates the residual at the root (implicit function theorem;
+    each heel's residual depends on its own unknowns only, so the tangent solve is per heel)."""
+    zeros = jnp.zeros_like(heels)
+    if not free_trim:
+        def volume_error(level):
+            return _integrals(sections, heels, level, zeros).volume / volume - 1.0
+
+        level = jax.lax.custom_root(volume_error, zeros, lambda f, _: _levels(sections, heels, volume, BISECTION_TOL),
+                                    lambda g, r: r / g(jnp.ones_like(r)))
+        b = _integrals(sections, heels, level, zeros)
+        return Equilibrium(level, zeros, b, jnp.abs(b.volume / volume - 1.0) < 1e-8)
+
+    def residual(y):
+        return _trim_residual(sections, heels, y, volume, lcg, kg)[0]
+
+    def solve(f, _):
+        # Newton's start: the level to a volume within 1e-4 without trim; Newton then converges as from the
+        # exact level (its result and implicit gradient do not depend on it)
+        y = jnp.stack([_levels(sections, heels, volume, 1e-4), zeros], -1)
+
+        def body(carry):
+            y, done, i = carry
+            dy = _cramer(*_trim_residual(sections, heels, y, volume, lcg, kg)[::-1])
+            small = jnp.all(jnp.abs(dy) <= 1e-11 * (sections.lpp + jnp.abs(y)), axis=-1)  # optimistix's test
+            return jnp.where(done[:, None], y, y - dy), done | small, i + 1
+
+        return jax.lax.while_loop(lambda c: ~jnp.all(c[1]) & (c[2] < 64), body,
+                                  (y, jnp.zeros(heels.shape, bool), 0))[0]
+
+    y = jax.lax.custom_root(residual, jnp.stack([zeros, zeros], -1), solve, _solve_2x2)
+    b = _integrals(sections, heels, y[:, 0], y[:, 1])
+    return Equilibrium(y[:, 0], y[:, 1], b, jnp.all(jnp.abs(residual(y)) < 1e-8, axis=-1))
+
+
+def heeled_level(sections: Sections, heel: Angle, volume: Volume) -> Array:
+    """The waterplane height [m] (heeled frame, no trim) at which the hull heeled by ``heel`` [rad] displaces
+    ``volume`` [m³]: Newton's steps on the waterplane area, bisection where they would leave the bracket (the
+    lowest and highest point of the hull; robust when the deck or the bilge leaves the water), to 1e-12 of
+    the volume or of the hull's height; differentiable by the implicit function theorem.
 
     Parameters
     ----------
@@ -175,11 +295,6 @@ def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = 
         Heel φ [rad], starboard down positive.
     volume : float or Array, scalar
         Displaced volume [m³], positive.
-    rtol : float
-        Relative tolerance of the bisection on the level (1e-12 by default).
-    atol : float or None
-        Absolute tolerance of the bisection: on the level [m] and on the volume's relative error (both must
-        be met); None (default): 1e-12 × the hull's heeled height.
 
     Returns
     -------
@@ -187,40 +302,19 @@ def heeled_level(sections: Sections, heel: Angle, volume: Volume, rtol: float = 
         Waterplane height [m] at midship in the heeled frame (the solve does not raise: a volume out of
         reach is not reported).
     """
-    import optimistix as optx  # here, not at import time (0.25 s of a one-off CLI call)
-
     dtype = sections.yz.dtype
-    heel = jnp.asarray(heel, dtype=dtype)
-    lo, hi = _level_bounds(sections, heel)
-
-    def residual(h, args):
-        sec, phi, target = args
-        return heeled_integrals(sec, phi, h).volume / target - 1.0
-
-    solver = optx.Bisection(rtol=rtol, atol=BISECTION_TOL * (hi - lo) if atol is None else atol, flip=False)
-    sol = optx.root_find(
-        residual, solver, 0.5 * (lo + hi), args=(sections, heel, jnp.asarray(volume, dtype=dtype)),
-        options={"lower": lo, "upper": hi}, max_steps=256, throw=False,
-    )
-    return sol.value
-
-
-class Equilibrium(eqx.Module):
-    """Floating position at one heel: ``level`` [m], ``trim`` (tan θ, bow down positive), the buoyancy
-    integrals there, and whether the solve converged."""
-
-    level: Float[Array, ""]
-    trim: Float[Array, ""]
-    integrals: HeeledIntegrals
-    converged: Bool[Array, ""]
+    heel, volume = jnp.asarray(heel, dtype=dtype), jnp.asarray(volume, dtype=dtype)
+    z = jnp.zeros((), dtype)
+    return _equilibria(sections, heel[None], volume, z, z, free_trim=False).level[0]
 
 
 def heeled_equilibrium(sections: Sections, heel: Angle, volume: Volume, lcg: Length, kg: Length,
                        free_trim: bool = True) -> Equilibrium:
     """Sink (and, with ``free_trim``, trim) the hull heeled by ``heel`` [rad] until it displaces ``volume``
     [m³] and, with free trim, B lies on the vertical through G = (lcg, 0, kg) in the longitudinal plane:
-    ``(x_B − x_G) + s (z'_B − z'_G) = 0``. Sinkage first by bisection (no trim; with free trim only to a volume
-    within 1e-4, Newton's start), then Newton on (level, trim) from there to 1e-11; both differentiable by the implicit function theorem.
+    ``(x_B − x_G) + s (z'_B − z'_G) = 0``. The level first (no trim; with free trim only to a volume within 1e-4,
+    Newton's start), then Newton on (level, trim) from there to 1e-11; differentiable by the implicit function
+    theorem.
 
     Parameters
     ----------
@@ -242,32 +336,9 @@ def heeled_equilibrium(sections: Sections, heel: Angle, volume: Volume, lcg: Len
     Equilibrium
         ``level`` [m] and ``trim`` (tan θ) as scalars, the :class:`HeeledIntegrals` there, ``converged`` (bool).
     """
-    import optimistix as optx  # here, not at import time (0.25 s of a one-off CLI call)
-
     dtype = sections.yz.dtype
     heel, volume, lcg, kg = (jnp.asarray(v, dtype=dtype) for v in (heel, volume, lcg, kg))
-    if not free_trim:
-        level0 = heeled_level(sections, heel, volume)
-        hi = heeled_integrals(sections, heel, level0)
-        return Equilibrium(level0, jnp.zeros_like(level0), hi, jnp.abs(hi.volume / volume - 1.0) < 1e-8)
-    # Newton's start: a coarse bisection (level and volume to 1e-4), about half the bisection steps of a full
-    # one; Newton then converges as from the exact level (its result and implicit gradient do not depend on it)
-    level0 = heeled_level(sections, heel, volume, rtol=1e-4, atol=1e-4)
-    lpp = sections.lpp
-
-    def residual(y, args):
-        sec, phi, target, xg, zg = args
-        b = heeled_integrals(sec, phi, y[0], y[1])
-        zg_heeled = zg * jnp.cos(phi)
-        return jnp.stack([b.volume / target - 1.0, (b.xb - xg + y[1] * (b.zb - zg_heeled)) / sec.lpp])
-
-    y0 = jnp.stack([level0, jnp.zeros_like(level0)])
-    solver = optx.Newton(rtol=1e-11, atol=1e-11 * lpp)
-    sol = optx.root_find(residual, solver, y0, args=(sections, heel, volume, lcg, kg), max_steps=64, throw=False)
-    level, trim = sol.value[0], sol.value[1]
-    hi = heeled_integrals(sections, heel, level, trim)
-    ok = (sol.result == optx.RESULTS.successful) & (jnp.abs(hi.volume / volume - 1.0) < 1e-8)
-    return Equilibrium(level, trim, hi, ok)
+    return jax.tree.map(lambda a: a[0], _equilibria(sections, heel[None], volume, lcg, kg, free_trim))
 
 
 class Upright(eqx.Module):
@@ -325,7 +396,7 @@ def gz_curve(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg:
              fsc: Length = 0.0, free_trim: bool = True) -> StabilityCurve:
     """Righting levers at ``heels (k,)`` [rad] for the loading ``volume`` [m³], ``kg`` [m above the
     baseline], ``lcg`` [m from the AP] (default: the upright LCB, so the hull floats on even keel upright)
-    and free-surface correction ``fsc`` [m]. One ``vmap`` over heels; differentiable in the geometry and
+    and free-surface correction ``fsc`` [m]. All heels solved in one loop; differentiable in the geometry and
     the loading.
 
     Parameters
@@ -370,9 +441,7 @@ def gz_curve(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg:
     up = upright(sections, volume)
     lcg = up.lcb if lcg is None else jnp.asarray(lcg, dtype=dtype)
     heels = jnp.asarray(heels, dtype=dtype)
-    eq = jax.vmap(heeled_equilibrium, in_axes=(None, 0, None, None, None, None))(
-        sections, heels, volume, lcg, kg, free_trim
-    )
+    eq = _equilibria(sections, heels, volume, lcg, kg, free_trim)
     s = jnp.sin(heels)
     gz_dry = -kg * s - eq.integrals.yb
     return StabilityCurve(
@@ -420,7 +489,7 @@ def stability(sections: Sections, volume: Volume, kg: Length, heels: Angles, lcg
               fsc: Length = 0.0, free_trim: bool = True, flooding_angle: Angle | None = None, n_grid: int = 91,
               tau: float = 0.01, on_grid: bool | None = None) -> Stability:
     """:func:`gz_curve` at ``heels`` [rad] and :func:`~hullopt.hydro.criteria_from_gz` (IS Code 2008
-    §2.2), from one ``vmap`` over the requested heels and the criteria's heels. Requested heels that all lie on
+    §2.2), from one solve of the requested heels and the criteria's heels. Requested heels that all lie on
     the criteria's uniform grid (within 1e-12 rad; e.g. 0…90° in 5° steps with the default grid) are not solved
     again: the curve takes the grid's equilibria. ``flooding_angle`` θf
     [rad] or None; ``n_grid`` heels on [0, 90°] for the maximum; ``tau`` [m] the soft-max temperature.
