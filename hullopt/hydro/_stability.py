@@ -205,18 +205,12 @@ def _levels(sections: Sections, heels: Array, volume: Array, tol: float) -> Arra
 
 
 def _cramer(jac: Array, r: Array) -> Array:
-    """``x (k, 2)`` with ``jac[i] @ x[i] = r[i]`` for ``jac (k, 2, 2)``, ``r (k, 2)`` (a singular block gives 0)."""
+    """``x (k, 2)`` with ``jac[i] @ x[i] = r[i]`` for ``jac (k, 2, 2)``, ``r (k, 2)`` (a singular block gives 0):
+    each heel's residual depends on its own unknowns only."""
     det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
     det = jnp.where(det != 0.0, det, jnp.inf)
     return jnp.stack([jac[:, 1, 1] * r[:, 0] - jac[:, 0, 1] * r[:, 1],
                       jac[:, 0, 0] * r[:, 1] - jac[:, 1, 0] * r[:, 0]], -1) / det[:, None]
-
-
-def _solve_2x2(g, r: Array) -> Array:
-    """``x (k, 2)`` with ``g(x) = r`` for a linear ``g`` whose Jacobian is block diagonal in ``k`` (each heel's
-    residual depends on its own unknowns only): the blocks' columns from two evaluations."""
-    e0 = jnp.zeros_like(r).at[:, 0].set(1.0)
-    return _cramer(jnp.stack([g(e0), g(1.0 - e0)], -1), r)
 
 
 def _trim_residual(sections: Sections, heels: Array, y: Array, volume: Array, lcg: Array,
@@ -244,41 +238,68 @@ def _trim_residual(sections: Sections, heels: Array, y: Array, volume: Array, lc
     return r, jnp.stack([dv / volume, j1], 1)
 
 
+@jax.custom_jvp
+def _level_root(sections: Sections, heels: Array, volume: Array) -> Array:
+    """:func:`_levels` to 1e-12, differentiable by the implicit function theorem: at the root
+    dℓ = −(∂V/∂p · dp − dvolume)/A_wp. A ``custom_jvp``, so that a program without gradients traces no
+    linearisation."""
+    return _levels(sections, heels, volume, BISECTION_TOL)
+
+
+@_level_root.defjvp
+def _level_root_jvp(primals, tangents):
+    level = _level_root(*primals)
+
+    def error(sections, heels, volume):  # [m³]
+        b = _integrals(sections, heels, level, jnp.zeros_like(heels))
+        return b.volume - volume, b.awp
+
+    (_, awp), (d_error, _) = jax.jvp(error, primals, tangents)
+    return level, -d_error / jnp.where(awp > 0.0, awp, jnp.inf)
+
+
+@jax.custom_jvp
+def _trim_root(sections: Sections, heels: Array, volume: Array, lcg: Array, kg: Array) -> Array:
+    """``(level, trim) (k, 2)`` with the free-trim residual of :func:`_trim_residual` zero: the level to a
+    volume within 1e-4 without trim (Newton's start), then Newton on both to 1e-11 (optimistix's test; its
+    result and implicit gradient do not depend on the start). Differentiable by the implicit function theorem
+    with the residual's own Jacobian (per heel, 2 × 2), traced only for gradients (a ``custom_jvp``)."""
+    args = (volume, lcg, kg)
+    y = jnp.stack([_levels(sections, heels, volume, 1e-4), jnp.zeros_like(heels)], -1)
+
+    def body(carry):
+        y, done, i = carry
+        dy = _cramer(*_trim_residual(sections, heels, y, *args)[::-1])
+        small = jnp.all(jnp.abs(dy) <= 1e-11 * (sections.lpp + jnp.abs(y)), axis=-1)
+        return jnp.where(done[:, None], y, y - dy), done | small, i + 1
+
+    return jax.lax.while_loop(lambda c: ~jnp.all(c[1]) & (c[2] < 64), body, (y, jnp.zeros(heels.shape, bool), 0))[0]
+
+
+@_trim_root.defjvp
+def _trim_root_jvp(primals, tangents):
+    y = _trim_root(*primals)
+    sections, heels, *args = primals
+
+    def residual(sections, heels, *args):
+        return _trim_residual(sections, heels, y, *args)
+
+    (_, jac), (dr, _) = jax.jvp(residual, primals, tangents)
+    return y, -_cramer(jac, dr)
+
+
 def _equilibria(sections: Sections, heels: Array, volume: Array, lcg: Array, kg: Array,
                 free_trim: bool) -> Equilibrium:
-    """:func:`heeled_equilibrium` at every heel ``(k,)`` at once: fields ``(k,)``. The solves are not traced
-    for gradients: ``jax.lax.custom_root`` differentiates the residual at the root (implicit function theorem;
-    each heel's residual depends on its own unknowns only, so the tangent solve is per heel)."""
+    """:func:`heeled_equilibrium` at every heel ``(k,)`` at once: fields ``(k,)``."""
     zeros = jnp.zeros_like(heels)
     if not free_trim:
-        def volume_error(level):
-            return _integrals(sections, heels, level, zeros).volume / volume - 1.0
-
-        level = jax.lax.custom_root(volume_error, zeros, lambda f, _: _levels(sections, heels, volume, BISECTION_TOL),
-                                    lambda g, r: r / g(jnp.ones_like(r)))
+        level = _level_root(sections, heels, volume)
         b = _integrals(sections, heels, level, zeros)
         return Equilibrium(level, zeros, b, jnp.abs(b.volume / volume - 1.0) < 1e-8)
-
-    def residual(y):
-        return _trim_residual(sections, heels, y, volume, lcg, kg)[0]
-
-    def solve(f, _):
-        # Newton's start: the level to a volume within 1e-4 without trim; Newton then converges as from the
-        # exact level (its result and implicit gradient do not depend on it)
-        y = jnp.stack([_levels(sections, heels, volume, 1e-4), zeros], -1)
-
-        def body(carry):
-            y, done, i = carry
-            dy = _cramer(*_trim_residual(sections, heels, y, volume, lcg, kg)[::-1])
-            small = jnp.all(jnp.abs(dy) <= 1e-11 * (sections.lpp + jnp.abs(y)), axis=-1)  # optimistix's test
-            return jnp.where(done[:, None], y, y - dy), done | small, i + 1
-
-        return jax.lax.while_loop(lambda c: ~jnp.all(c[1]) & (c[2] < 64), body,
-                                  (y, jnp.zeros(heels.shape, bool), 0))[0]
-
-    y = jax.lax.custom_root(residual, jnp.stack([zeros, zeros], -1), solve, _solve_2x2)
+    y = _trim_root(sections, heels, volume, lcg, kg)
     b = _integrals(sections, heels, y[:, 0], y[:, 1])
-    return Equilibrium(y[:, 0], y[:, 1], b, jnp.all(jnp.abs(residual(y)) < 1e-8, axis=-1))
+    r = _trim_residual(sections, heels, y, volume, lcg, kg)[0]
+    return Equilibrium(y[:, 0], y[:, 1], b, jnp.all(jnp.abs(r) < 1e-8, axis=-1))
 
 
 def heeled_level(sections: Sections, heel: Angle, volume: Volume) -> Array:
