@@ -641,6 +641,14 @@ def design_margins(model: FeatureModel, params: FeatureParams) -> dict[str, Arra
     return {"apex": apex, "aux": aux, "warp": warp}
 
 
+@eqx.filter_jit
+def _evaluated(model: FeatureModel, params: FeatureParams) -> tuple[dict[str, Array], FeatureHull, Sections]:
+    """The margins, the deformed feature hull and its sections, in one compiled program (one executable
+    loaded from the compilation cache by a warm CLI call, where operation by operation took seconds)."""
+    f = model.features(params)
+    return design_margins(model, params), f, f.sections()
+
+
 def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
     """The deformed hull, or :class:`HullError` saying what is wrong: an apex outside its segment, a folded
     frame (knots out of order, a frame crossing itself or the centreline, feature lines crossing), a
@@ -666,11 +674,11 @@ def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
             raise HullError(f"parameters: {name} has shape {p[name].shape}, expected {shape}")
     if not all(np.all(np.isfinite(v)) for v in p.values()):
         raise HullError("parameters: every value must be a finite number")
-    m = {k: np.asarray(v) for k, v in design_margins(model, params).items()}
+    margins, f, sec = _evaluated(model, params)
+    m = {k: np.asarray(v) for k, v in margins.items()}
     if m["warp"].size and m["warp"].min() <= 0:
         g = int(np.argmin(m["warp"]))
         raise HullError(f"distribution {g}: Σ|c| = {1 - m['warp'][g]:.3g} must stay below 1 (the warp would fold)")
-    f = model.features(params)
     x = np.asarray(f.x)
     beta = np.asarray(f.apex[..., 0])
     real = np.asarray(f.real)
@@ -681,7 +689,6 @@ def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
                         "expected 0 < β < 1): reduce the apex move")
     if m["aux"] <= 0:
         raise HullError("an auxiliary apex passed its apex or inflection point: the deformation folds a frame")
-    sec = f.sections()
     yz = np.asarray(sec.yz)
     floor = min(0.0, float(np.asarray(model.hull.sections().yz)[..., 0].min())) - 1e-3 * float(f.lpp)
     if yz[..., 0].min() < floor:

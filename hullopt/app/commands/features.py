@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
+import equinox as eqx
 import numpy as np
 import typer
 
@@ -116,7 +117,8 @@ def deform(
     sec = check_design(model, p)
     t = draft if draft is not None else model.hull.design_draft
     if t is not None:
-        before, after = hydrostatics(model.hull.sections(), t), hydrostatics(sec, t)
+        hydro = eqx.filter_jit(hydrostatics)  # one program for both (a warm call loads it from the cache)
+        before, after = hydro(model.hull.sections(), t), hydro(sec, t)
         for key, label in (("volume", "∇ [m³]"), ("cb", "Cb"), ("lcb_pct", "LCB [% Lpp fwd of midship]")):
             console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}",
                           markup=False)  # "[m³]" is no style tag
