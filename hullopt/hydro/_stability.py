@@ -296,10 +296,10 @@ def _equilibria(sections: Sections, heels: Array, volume: Array, lcg: Array, kg:
         level = _level_root(sections, heels, volume)
         b = _integrals(sections, heels, level, zeros)
         return Equilibrium(level, zeros, b, jnp.abs(b.volume / volume - 1.0) < 1e-8)
-    y = _trim_root(sections, heels, volume, lcg, kg)
-    b = _integrals(sections, heels, y[:, 0], y[:, 1])
-    r = _trim_residual(sections, heels, y, volume, lcg, kg)[0]
-    return Equilibrium(y[:, 0], y[:, 1], b, jnp.all(jnp.abs(r) < 1e-8, axis=-1))
+    level, trim = jnp.moveaxis(_trim_root(sections, heels, volume, lcg, kg), -1, 0)
+    b = _integrals(sections, heels, level, trim)
+    off = (b.xb - lcg + trim * (b.zb - kg * jnp.cos(heels))) / sections.lpp  # the residual, from b
+    return Equilibrium(level, trim, b, (jnp.abs(b.volume / volume - 1.0) < 1e-8) & (jnp.abs(off) < 1e-8))
 
 
 def heeled_level(sections: Sections, heel: Angle, volume: Volume) -> Array:
