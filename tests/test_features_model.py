@@ -132,7 +132,8 @@ def test_zero_parameters_give_the_parent_exactly(dtc_model):
     # alone, and against the parent's evaluated operation by operation to rounding (XLA fuses multiply-adds)
     yz = np.asarray(check_design(dtc_model, zeros).yz)
     assert np.array_equal(yz, np.asarray(eqx.filter_jit(lambda h: h.sections())(dtc_model.hull).yz))
-    np.testing.assert_allclose(yz, np.asarray(dtc_model.hull.sections().yz), rtol=0, atol=1e-14 * float(dtc_model.hull.lpp))
+    np.testing.assert_allclose(yz, np.asarray(dtc_model.hull.sections().yz), rtol=0,
+                               atol=1e-14 * float(dtc_model.hull.lpp))
 
 
 def test_claim5_ratios(dtc_model):

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import REPO
+from helpers import check_grad
 from hullopt.geometry import to_trimesh
 from hullopt.hydro import draft_for_volume, hydrostatic_table, hydrostatics, sectional_areas
 from hullopt.models import box, offset_surface, read_offsets, wigley
@@ -83,6 +84,10 @@ def test_draft_for_volume_inverts_and_differentiates(seed003):
     assert float(jax.jit(draft_for_volume)(hull, v)) == pytest.approx(4.1, abs=1e-9)
     dT = jax.jit(jax.grad(draft_for_volume, argnums=1))(hull, v)
     assert float(dT) == pytest.approx(1 / float(hydro(hull, 4.1).awp), rel=1e-6)
+    # in the geometry (a breadth scale) against central differences, and a volume out of reach gives the deck
+    check_grad(jax.jit(lambda p: draft_for_volume(eqx.tree_at(lambda t: t.yz, hull, hull.yz * jnp.stack([p[0], 1.0])),
+                                                  v)), np.array([1.1]), rtol=1e-6, h=1e-6)
+    assert float(jax.jit(draft_for_volume)(hull, 10 * v)) == pytest.approx(float(hull.depth), abs=1e-9)
 
 
 @pytest.mark.slow

@@ -14,6 +14,7 @@ from jaxtyping import Array, Float
 from .._types import Draft, Drafts, Volume
 from ..constants import RHO_SEA
 from ..geometry import Sections, longitudinal_integrals, section_integrals, wetted_surface
+from ._roots import level_for_volume
 from ._tolerances import BISECTION_TOL
 
 
@@ -182,12 +183,13 @@ def volume_at(sections: Sections, draft: Draft) -> Array:
     return longitudinal_integrals(sections, draft).volume
 
 
-def draft_for_volume(sections: Sections, volume: Volume, rtol: float = BISECTION_TOL) -> Array:
+def draft_for_volume(sections: Sections, volume: Volume) -> Array:
     """The draft [m] at which the hull displaces ``volume`` [m³].
 
-    A bracketed root find (optimistix bisection between keel and deck: the volume curve is monotone but
-    flat above the deck, where Newton would stall); differentiable by the implicit function theorem,
-    so ``d draft / d volume = 1 / Awp``.
+    Newton's steps on the waterplane area between keel and deck, a bisection step wherever one would leave the
+    bracket (the volume curve is flat above the deck, where Newton alone would stall), to 1e-12
+    (:func:`~._roots.level_for_volume`); differentiable by the implicit function theorem, so
+    ``d draft / d volume = 1 / Awp``.
 
     Parameters
     ----------
@@ -195,8 +197,6 @@ def draft_for_volume(sections: Sections, volume: Volume, rtol: float = BISECTION
         The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m].
     volume : float or Array, scalar
         Target displaced volume [m³], positive.
-    rtol : float
-        Relative tolerance of the bisection on the draft (1e-12 by default).
 
     Returns
     -------
@@ -204,21 +204,26 @@ def draft_for_volume(sections: Sections, volume: Volume, rtol: float = BISECTION
         The draft [m above the baseline], between the keel and the deck (the solve does not raise: a volume
         out of reach is not reported).
     """
-    import optimistix as optx  # here, not at import time (0.25 s of a one-off CLI call)
+    return _draft_root(sections, jnp.asarray(volume, dtype=sections.yz.dtype))
 
-    lo, hi = sections.keel, sections.depth
 
-    def residual(t, target):
-        return (volume_at(sections, t) - target) / target
+@jax.custom_jvp
+def _draft_root(sections: Sections, volume: Array) -> Array:
+    """:func:`draft_for_volume`'s solve; its derivative at the root dT = −(∂V/∂p · dp − dvolume)/A_wp."""
+    def integrate(t):
+        li = longitudinal_integrals(sections, t[0])
+        return li.volume[None], li.awp[None]
 
-    solver = optx.Bisection(rtol=rtol, atol=BISECTION_TOL * (hi - lo), flip="detect")
-    sol = optx.root_find(
-        residual,
-        solver,
-        0.5 * (lo + hi),
-        args=jnp.asarray(volume, dtype=sections.yz.dtype),
-        options={"lower": lo, "upper": hi},
-        max_steps=256,
-        throw=False,
-    )
-    return sol.value
+    return level_for_volume(integrate, sections.keel[None], sections.depth[None], volume, BISECTION_TOL)[0]
+
+
+@_draft_root.defjvp
+def _draft_root_jvp(primals, tangents):
+    draft = _draft_root(*primals)
+
+    def error(sections, volume):  # [m³]
+        li = longitudinal_integrals(sections, draft)
+        return li.volume - volume, li.awp
+
+    (_, awp), (d_error, _) = jax.jvp(error, primals, tangents)
+    return draft, -d_error / jnp.where(awp > 0.0, awp, jnp.inf)

@@ -32,6 +32,7 @@ from jaxtyping import Array, Bool, Float
 from .._types import Angle, Angles, Length, Lengths, Scalar, Volume, Volumes
 from ..geometry import Sections, polygon_integrals, safe_div, simpson_weights
 from ._criteria import Criteria, criteria_from_gz, criteria_heels
+from ._roots import level_for_volume
 from ._tolerances import ANGLE_TOL, BISECTION_TOL
 
 
@@ -177,31 +178,16 @@ def _integrals(sections: Sections, heels: Array, levels: Array, trims: Array) ->
 
 
 def _levels(sections: Sections, heels: Array, volume: Array, tol: float) -> Array:
-    """Levels ``(k,)`` [m] at which the hull heeled by ``heels (k,)`` [rad] (no trim) displaces ``volume``:
-    |V/volume − 1| ≤ ``tol``, or a step below ``tol`` × the heeled hull's height. Newton's steps on the
-    waterplane area (dV/dlevel = A_wp), a bisection step wherever Newton's would leave the bracket (keel to deck:
-    robust where the deck or the bilge leaves the water). All heels advance in one loop, which jax traces
-    once (a ``vmap`` of a loop per heel costs seconds of tracing). Not differentiable: see :func:`_equilibria`."""
+    """Levels ``(k,)`` [m] at which the hull heeled by ``heels (k,)`` [rad] (no trim) displaces ``volume``, to
+    ``tol`` (:func:`~._roots.level_for_volume`). Not differentiable: see :func:`_level_root`."""
     lo, hi = jax.vmap(_level_bounds, in_axes=(None, 0))(sections, heels)
-    step_tol = tol * (hi - lo)
     trims = jnp.zeros_like(heels)
 
-    def body(carry):
-        level, lo, hi, done, i = carry
+    def integrate(level):
         b = _integrals(sections, heels, level, trims)
-        err = b.volume / volume - 1.0
-        lo, hi = jnp.where(err < 0.0, level, lo), jnp.where(err > 0.0, level, hi)
-        wet = b.awp > 0.0
-        newton = level - (b.volume - volume) / jnp.where(wet, b.awp, 1.0)
-        nxt = jnp.where(wet & (newton > lo) & (newton < hi), newton, 0.5 * (lo + hi))
-        now = (jnp.abs(err) <= tol) | (jnp.abs(nxt - level) <= step_tol)
-        return jnp.where(done | now, level, nxt), lo, hi, done | now, i + 1
+        return b.volume, b.awp
 
-    def more(carry):
-        return ~jnp.all(carry[3]) & (carry[4] < 200)
-
-    start = (0.5 * (lo + hi), lo, hi, jnp.zeros(heels.shape, bool), 0)
-    return jax.lax.while_loop(more, body, start)[0]
+    return level_for_volume(integrate, lo, hi, volume, tol)
 
 
 def _cramer(jac: Array, r: Array) -> Array:

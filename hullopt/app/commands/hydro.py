@@ -1,13 +1,15 @@
 """``hullopt hydro`` (hydrostatics at a draft, a displacement or over drafts) and ``hullopt export``.
 
 The table is one kept program (:func:`~hullopt.study.cached_call`): a warm ``hullopt hydro`` neither
-imports the hydrostatics nor traces or compiles them."""
+imports the hydrostatics nor traces or compiles them. A displacement's draft is solved by one compiled program
+too (kept by jax's compilation cache; it traces each call)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Annotated
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -48,13 +50,15 @@ def resolve_drafts(hull, draft, displacement, drafts, rho) -> np.ndarray:
     if drafts is not None:
         return np.array([hull.check_draft(t, "--drafts value") for t in parse_range(drafts, "--drafts")])
     if displacement is not None:
-        from ...hydro import draft_for_volume, hydrostatic_table
+        from ...hydro import draft_for_volume, volume_at
 
         volume = parse_displacement(displacement) / rho
-        full = float(hydrostatic_table(hull.sections, np.array([float(hull.sections.depth)]), rho).volume[0])
-        if volume >= full:
-            raise HullError(f"--displacement {displacement}: more than the hull displaces at its deck ({rho * full / 1e3:,.0f} t)")
-        return np.array([float(draft_for_volume(hull.sections, volume))])
+        # one compiled program (kept by the compilation cache), not the solve operation by operation
+        full, t = eqx.filter_jit(lambda s, v: (volume_at(s, s.depth), draft_for_volume(s, v)))(hull.sections, volume)
+        if volume >= float(full):
+            raise HullError(f"--displacement {displacement}: more than the hull displaces at its deck "
+                            f"({rho * float(full) / 1e3:,.0f} t)")
+        return np.array([float(t)])
     if draft is None:
         if hull.design_draft is None:
             raise HullError("give --draft, --displacement or --drafts (this hull has no design draft)")
