@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
@@ -13,7 +13,7 @@ import typer
 from ...constants import KNOT, RHO_SEA, G
 from ...errors import HullError
 from ...models import blunt_bow as blunt_bow_modification
-from ...study import load_hull
+from ...study import cached_call, load_hull
 from ...waves import (
     AFT_OPTIONS,
     METHODS,
@@ -54,12 +54,24 @@ def includes(method: str, motion: bool = True) -> str:
     return WAVE_METHODS[method]().label(motion)
 
 
-@eqx.filter_jit
-def _regular(method, sections, draft, speed, omega, heading, kyy, smooth, aft, motion=True):
+def _waves_program(sections, draft, speed, omega, heading, kyy, smooth, sea, methods, aft, motion, spectrum,
+                   spreading):
+    """The NMRI quantities at ``omega (w,)`` [rad/s], each of ``methods``' R_AW [N per m² of ζ_a²] in those
+    regular waves and, with a sea state ``sea = (hs [m], tp [s], γ)``, its mean [N]: dicts of arrays (a kept
+    program's outputs, read back without the waves' classes)."""
     nm = nmri_added_resistance(sections, draft, speed, omega, heading, 1.0, smooth=smooth, aft=aft)
-    r = method_resistance(method, sections, draft, speed, omega, heading, 1.0, kyy=kyy, smooth=smooth, aft=aft,
-                          motion=motion)
-    return nm, r
+    out = {"nmri": {k: getattr(nm, k) for k in ("beam", "fn", "bf", "c_u", "k_aw_short", "alpha_t")},
+           "regular": {}, "mean": {}}
+    for m in methods:
+        r = method_resistance(m, sections, draft, speed, omega, heading, 1.0, kyy=kyy, smooth=smooth, aft=aft,
+                              motion=motion)
+        out["regular"][m] = {"total": r.total, "reflection": r.reflection, "motion": r.motion}
+        if sea is not None:
+            hs, tp, gamma = sea
+            mean = mean_added_resistance(m, sections, draft, speed, hs, tp, heading, spectrum=spectrum, gamma=gamma,
+                                         spreading_s=spreading, kyy=kyy, smooth=smooth, aft=aft, motion=motion)
+            out["mean"][m] = {"total": mean.total, "reflection": mean.reflection, "motion": mean.motion}
+    return out
 
 
 @app.command()
@@ -122,27 +134,37 @@ def waves(
         lpp = float(s.lpp)
         alpha = np.radians(heading)
         omega = np.asarray(omega_from_wavelength(ratios * lpp))
+        methods = METHODS if method == "all" else (method,)
+
+        def arr(v):  # arrays, not Python floats: a float would be baked into the program
+            return None if v is None else jnp.asarray(v, dtype=float)
+
+        sea = None if hs is None else (arr(hs), arr(tp), arr(gamma))
+        args = (s, arr(t), arr(u), arr(omega), arr(alpha), arr(kyy), arr(smooth), sea)
+        res = jax.device_get(cached_call(
+            "waves", _waves_program, args, (methods, aft, motion, spectrum, spreading),
+            key={"smooth": smooth is not None, "sea": hs is not None, "v": 1}))
+        nm = res["nmri"]
+        half = 0.5 * RHO_SEA * G * float(nm["beam"])
         per = {}
-        for m in METHODS if method == "all" else (method,):
-            nm, r = _regular(m, s, t, u, jnp.asarray(omega), jnp.asarray(alpha), kyy, smooth, aft, motion)
-            half = 0.5 * RHO_SEA * G * float(nm.beam)
+        for m in methods:
+            r = res["regular"][m]
             per[m] = {
-                "includes": includes(m, motion), "k_aw_per_wave": np.asarray(r.total) / half,
-                "r_awr": amplitude**2 * np.asarray(r.reflection), "r_awm": amplitude**2 * np.asarray(r.motion),
-                "r_aw": amplitude**2 * np.asarray(r.total),
+                "includes": includes(m, motion), "k_aw_per_wave": np.asarray(r["total"]) / half,
+                "r_awr": amplitude**2 * np.asarray(r["reflection"]), "r_awm": amplitude**2 * np.asarray(r["motion"]),
+                "r_aw": amplitude**2 * np.asarray(r["total"]),
             }
             if hs is not None:
-                mean = eqx.filter_jit(mean_added_resistance)(
-                    m, s, t, u, hs, tp, alpha, spectrum=spectrum, gamma=gamma, spreading_s=spreading, kyy=kyy,
-                    smooth=smooth, aft=aft, motion=motion)
-                per[m].update(mean_raw=float(mean.total), mean_raw_motion=float(mean.motion),
-                              mean_raw_reflection=float(mean.reflection))
+                mean = res["mean"][m]
+                per[m].update(mean_raw=float(mean["total"]), mean_raw_motion=float(mean["motion"]),
+                              mean_raw_reflection=float(mean["reflection"]))
         out = {
             "hull": h.name, "method": method, "draft": t, "speed": u, "speed_kn": speed, "heading_deg": heading,
-            "lpp": lpp, "beam": float(nm.beam), "fn": float(nm.fn), "bf": float(nm.bf), "c_u": float(nm.c_u),
-            "k_aw": float(nm.k_aw_short), "r_awr_short": float(half * amplitude**2 * nm.k_aw_short),
+            "lpp": lpp, "beam": float(nm["beam"]), "fn": float(nm["fn"]), "bf": float(nm["bf"]),
+            "c_u": float(nm["c_u"]), "k_aw": float(nm["k_aw_short"]),
+            "r_awr_short": float(half * amplitude**2 * nm["k_aw_short"]),
             "amplitude": amplitude, "lambda_over_l": ratios, "omega": omega,
-            "alpha_t": np.asarray(nm.alpha_t),
+            "alpha_t": np.asarray(nm["alpha_t"]),
         }
         if hs is not None:
             out.update(hs=hs, tp=tp, spectrum=spectrum, spreading=spreading)
