@@ -5,14 +5,14 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
 
 from ...constants import KNOT, RHO_SEA, G
 from ...errors import HullError
-from ...study import load_hull
+from ...study import cached_call, load_hull
 from ...waves import (
     motion_validity_warning,
     nmri_added_resistance,
@@ -38,11 +38,13 @@ def _lambdas(text: str) -> np.ndarray:
     return vals
 
 
-@eqx.filter_jit
-def _compute(sections, draft, speed, omega, heading, kg, kyy):
+def _motions_program(sections, draft, speed, omega, heading, kg, kyy):
+    """The strip-theory motions and the NMRI reflection part at ``omega (w,)`` [rad/s]: dicts of arrays (a kept
+    program's outputs, read back without the waves' classes)."""
     m = strip_motions(sections, draft, speed, omega, heading, kg=kg, kyy=kyy)
     nm = nmri_added_resistance(sections, draft, speed, omega, heading)
-    return m, nm
+    return ({k: getattr(m, k) for k in ("r_awm", "omega_e", "heave_rao", "pitch_rao")},
+            {k: getattr(nm, k) for k in ("beam", "r_awr", "fn", "bf")})
 
 
 @app.command()
@@ -79,16 +81,17 @@ def motions(
     u = speed * KNOT
     alpha = np.radians(heading)
     omega = np.asarray(omega_from_wavelength(ratios * lpp))
-    m, nm = _compute(s, t, u, jnp.asarray(omega), jnp.asarray(alpha), None if kg is None else float(kg), kyy)
-    beam = float(nm.beam)
+    args = tuple(None if v is None else jnp.asarray(v, dtype=float) for v in (t, u, omega, alpha, kg, kyy))
+    m, nm = jax.device_get(cached_call("motions", _motions_program, (s, *args), (), key={"kg": kg is not None}))
+    beam = float(nm["beam"])
     scale = RHO_SEA * G * beam**2 / lpp
-    sig_m = np.asarray(m.r_awm) / scale
-    sig_r = np.ravel(np.asarray(nm.r_awr)) / scale
+    sig_m = np.asarray(m["r_awm"]) / scale
+    sig_r = np.ravel(np.asarray(nm["r_awr"])) / scale
     out = {
-        "hull": h.name, "draft": t, "speed": u, "speed_kn": speed, "fn": float(nm.fn), "heading_deg": heading,
-        "lpp": lpp, "beam": beam, "kg": t if kg is None else float(kg), "kyy": kyy, "bf": float(nm.bf),
-        "lambda_over_l": ratios, "omega": omega, "omega_e": np.asarray(m.omega_e),
-        "heave": np.asarray(m.heave_rao), "pitch": np.asarray(m.pitch_rao),
+        "hull": h.name, "draft": t, "speed": u, "speed_kn": speed, "fn": float(nm["fn"]), "heading_deg": heading,
+        "lpp": lpp, "beam": beam, "kg": t if kg is None else float(kg), "kyy": kyy, "bf": float(nm["bf"]),
+        "lambda_over_l": ratios, "omega": omega, "omega_e": np.asarray(m["omega_e"]),
+        "heave": np.asarray(m["heave_rao"]), "pitch": np.asarray(m["pitch_rao"]),
         "sigma_aw": sig_m + sig_r, "sigma_aw_motion": sig_m, "sigma_aw_reflection": sig_r,
     }
     if plot is not None:
