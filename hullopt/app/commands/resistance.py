@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
@@ -25,7 +25,7 @@ from ...resistance import (
     transom_caveat,
     wave_pattern,
 )
-from ...study import load_hull
+from ...study import cached_call, load_hull
 from .._app import app
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP
@@ -67,12 +67,12 @@ def parse_methods(text: str) -> tuple[str, ...]:
     return names
 
 
-@eqx.filter_jit
 def _evaluate(sections, draft, speeds, methods, n_levels, pattern=False, attitude=0):
     """The calm-water parts by each method, the hull's particulars and Holtrop–Mennen's own parts, and with
     ``pattern`` Dawson's wave pattern at the first speed (None otherwise; its solve is the calm-water one's,
-    merged by XLA); ``attitude``: Dawson's sinkage-and-trim iterations. All in one program: the particulars
-    evaluated op by op took ~270 small compiles (11 s) of a cold call."""
+    merged by XLA); ``attitude``: Dawson's sinkage-and-trim iterations. All in one kept program: the
+    particulars evaluated op by op took ~270 small compiles (11 s) of a cold call, and tracing the panel
+    methods ~2.7 s of every warm one."""
     out = {m: calm_water(sections, draft, speeds, m, n_levels=n_levels, lambda_panels=256, attitude=attitude)
            for m in methods}
     waves = dawson_wave_resistance(sections, draft, speeds[:1], attitude=attitude) if pattern else None
@@ -138,8 +138,9 @@ def resistance(
         draft = h.design_draft
     t = h.check_draft(draft)
     u = knots * KNOT
-    out, particulars, hm, dawson = _evaluate(h.sections, t, jnp.asarray(u), methods, levels,
-                                             pattern is not None and "dawson" in methods, FREE_STEPS if free else 0)
+    static = (methods, levels, pattern is not None and "dawson" in methods, FREE_STEPS if free else 0)
+    args = (h.sections, jnp.asarray(t, dtype=float), jnp.asarray(u, dtype=float))
+    out, particulars, hm, dawson = jax.device_get(cached_call("resistance", _evaluate, args, static, key={"v": 1}))
     s = float(particulars.S)
     records = []
     for i, kn in enumerate(knots):
