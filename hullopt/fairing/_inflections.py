@@ -20,6 +20,9 @@ Two views of the same thing:
 
 from __future__ import annotations
 
+from functools import partial
+
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
@@ -33,6 +36,7 @@ FLOOR_FRACTION = 0.02  # the dead band, as a fraction of the largest |κ| of a l
 _EPS = 0.05  # smoothing of |Δσ| in sign_variation
 
 
+@partial(jax.jit, static_argnames="end")  # one program, not operation by operation (a CLI call's seconds)
 def line_curvatures(x: Lengths, z: Lengths, y: Table, end: str = "not-a-knot") -> tuple[Array, Array]:
     """Curvature at the knots of every frame line (``y(z)`` at a station) and every waterline (``y(x)``).
 

@@ -210,7 +210,7 @@ def _frames(x, z, y0, end) -> _Frames:
     weights = np.broadcast_to(knot_weights(z), y0.shape)
     frames = _Frames(knots=jnp.asarray(knots), weights=jnp.asarray(weights), floor=jnp.asarray(floor),
                      v0=jnp.zeros(len(x)), m0=jnp.zeros(len(x)))
-    v0, m0 = frames.measures(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), end)
+    v0, m0 = eqx.filter_jit(_Frames.measures)(frames, jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), end)
     return eqx.tree_at(lambda f: (f.v0, f.m0), frames, (v0, m0))
 
 

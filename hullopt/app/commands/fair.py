@@ -81,6 +81,7 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
 
     fields = [_curvature_fields(x, z, y) for y in (before, after)]
     zf = fields[0][1]
@@ -89,6 +90,7 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
     fig.suptitle(title)
     scale = 0.08 * float(np.max(before)) / max(np.percentile(np.abs(fields[0][6][fields[0][5] > 0]), 95), 1e-12)
     for ax, (_, _, _, _, _, frames, kappa), label in zip(axes, fields, ("before", "after")):
+        bristles = [np.zeros((0, 2, 2))]
         for i, xi in enumerate(x):
             side = -1.0 if xi < lpp / 2 else 1.0
             yv, kv = frames[i], kappa[i]
@@ -102,8 +104,9 @@ def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
             nrm = np.hypot(ty, tz) + 1e-300
             ny, nz = side * tz / nrm, -side * ty / nrm  # outward normal on either side of the plan
             b = scale * kv[hull]
-            for yy0, zz0, dy, dz in zip(yp, zp, b * ny, b * nz):
-                ax.plot([yy0, yy0 + dy], [zz0, zz0 + dz], color="tab:red", lw=0.5)
+            bristles.append(np.stack([np.stack([yp, zp], -1), np.stack([yp + b * ny, zp + b * nz], -1)], 1))
+        # one collection, not a line per bristle (thousands of artists took seconds to build and draw)
+        ax.add_collection(LineCollection(np.concatenate(bristles), colors="tab:red", linewidths=0.5))
         ax.axvline(0, color="0.6", lw=0.5)
         ax.set_aspect("equal")
         ax.set_title(f"body plan and section curvature, {label}")
