@@ -159,7 +159,8 @@ def heeled_integrals(sections: Sections, heel: Angle, level: Length, trim: Scala
 
 class Equilibrium(eqx.Module):
     """Floating position at a heel (fields scalars, or ``(k,)`` at ``k`` heels): ``level`` [m], ``trim`` (tan θ,
-    bow down positive), the buoyancy integrals there, and whether the solve converged."""
+    bow down positive), the buoyancy integrals there, and whether the solve converged (the volume, and with free
+    trim the balance, met to 1e-8)."""
 
     level: Float[Array, "*k"]
     trim: Float[Array, "*k"]
@@ -259,7 +260,8 @@ def _trim_root(sections: Sections, heels: Array, volume: Array, lcg: Array, kg: 
         small = jnp.all(jnp.abs(dy) <= 1e-11 * (sections.lpp + jnp.abs(y)), axis=-1)
         return jnp.where(done[:, None], y, y - dy), done | small, i + 1
 
-    return jax.lax.while_loop(lambda c: ~jnp.all(c[1]) & (c[2] < 64), body, (y, jnp.zeros(heels.shape, bool), 0))[0]
+    start = (y, jnp.zeros(heels.shape, bool), 0)
+    return jax.lax.while_loop(lambda c: ~jnp.all(c[1]) & (c[2] < 64), body, start)[0]
 
 
 @_trim_root.defjvp
@@ -341,7 +343,8 @@ def heeled_equilibrium(sections: Sections, heel: Angle, volume: Volume, lcg: Len
     Returns
     -------
     Equilibrium
-        ``level`` [m] and ``trim`` (tan θ) as scalars, the :class:`HeeledIntegrals` there, ``converged`` (bool).
+        ``level`` [m] and ``trim`` (tan θ) as scalars, the :class:`HeeledIntegrals` there, ``converged`` (bool:
+        the volume, and with free trim the balance, met to 1e-8).
     """
     dtype = sections.yz.dtype
     heel, volume, lcg, kg = (jnp.asarray(v, dtype=dtype) for v in (heel, volume, lcg, kg))
