@@ -118,6 +118,13 @@ class HeeledIntegrals(eqx.Module):
     it: Float[Array, ""]
 
 
+def _stations(sections: Sections, heel: Array, level: Array, trim: Array):
+    """Each station's immersed-area integrals (:class:`~hullopt.geometry.EdgeIntegrals`, fields ``(n,)``) below
+    the waterplane ``z' = level + trim·(x − Lpp/2)`` at ``heel``, and that waterplane's height there ``(n,)``."""
+    levels = level + trim * (sections.x - 0.5 * sections.lpp)
+    return polygon_integrals(_rotate(full_sections(sections.yz), heel), levels), levels
+
+
 def heeled_integrals(sections: Sections, heel: Angle, level: Length, trim: Scalar = 0.0) -> HeeledIntegrals:
     """Volume and centre of buoyancy below the waterplane ``z' = level + trim·(x − Lpp/2)`` at ``heel``
     [rad] (see the module docstring). Exact per section, Simpson along x; differentiable in everything.
@@ -140,10 +147,7 @@ def heeled_integrals(sections: Sections, heel: Angle, level: Length, trim: Scala
         ``it`` [m⁴].
     """
     dtype = sections.yz.dtype
-    heel, level, trim = (jnp.asarray(v, dtype=dtype) for v in (heel, level, trim))
-    poly = _rotate(full_sections(sections.yz), heel)
-    levels = level + trim * (sections.x - 0.5 * sections.lpp)
-    s = polygon_integrals(poly, levels)
+    s, _ = _stations(sections, *(jnp.asarray(v, dtype=dtype) for v in (heel, level, trim)))
     w = simpson_weights(sections.x)
     volume = w @ s.area
     wet = volume > 0.0
@@ -207,9 +211,7 @@ def _trim_residual(sections: Sections, heels: Array, y: Array, volume: Array, lc
     station whose waterline is at ℓ = level + trim (x − Lpp/2), dA/dℓ = b and d(∫z' dA)/dℓ = ℓ b (one
     evaluation of the sections, where jax's forward Jacobian takes three)."""
     x, xm, w = sections.x, sections.x - 0.5 * sections.lpp, simpson_weights(sections.x)
-    full = full_sections(sections.yz)
-    lv = y[:, :1] + y[:, 1:] * xm  # (k, n)
-    st = jax.vmap(lambda heel, level: polygon_integrals(_rotate(full, heel), level))(heels, lv)
+    st, lv = jax.vmap(_stations, in_axes=(None, 0, 0, 0))(sections, heels, y[:, 0], y[:, 1])  # (k, n) each
     b, trim, zg = st.width, y[:, 1:], kg * jnp.cos(heels)[:, None]
     v = st.area @ w
     v_ = jnp.where(v > 0.0, v, 1.0)[:, None]
