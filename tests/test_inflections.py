@@ -8,7 +8,7 @@ import pytest
 from scipy.interpolate import RectBivariateSpline
 
 from conftest import REPO
-from hullopt.app.commands.fair import _curvature_fields
+from hullopt.app.commands.fair import _fields
 from hullopt.fairing import (
     count_inflections,
     floors,
@@ -60,7 +60,7 @@ def test_curvature_maps_have_no_checkerboard_on_a_fair_hull():
     ns, nw, L, B, T = 21, 9, 100.0, 10.0, 6.25
     x, z = np.linspace(0, L, ns), np.linspace(0, T, nw)
     y = (B / 2) * (1 - (2 * (x[:, None] - L / 2) / L) ** 2) * (1 - ((T - z[None, :]) / T) ** 2)
-    xf, zf, yy, h, *_ = _curvature_fields(x, z, y)
+    xf, zf, yy, h, *_ = (np.asarray(a) for a in _fields(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y)))
     fore = (xf[:, None] > 0.55 * L) & (yy > 0.05)
     inside = fore[1:-1] & fore[2:] & fore[:-2]
     d2 = np.abs(np.diff(h, 2, axis=0))[inside]

@@ -1,5 +1,6 @@
 """Kept programs (jax.export) of the app layer: a warm run reuses the traced program, never a stale one."""
 
+import json
 import os
 import subprocess
 import sys
@@ -385,3 +386,24 @@ def test_a_kept_program_bypasses_the_compilation_cache_on_its_own_thread_only(fo
     done.set()
     thread.join()
     assert seen == [False, True]
+
+
+def test_a_warm_fair_traces_nothing_and_new_numbers_keep_its_programs(cli, tmp_path, monkeypatch):
+    """``hullopt fair`` runs its solve, its frame lines and its report's measures as kept programs: a second
+    call with another draft, move cap and pull traces none of them, and faires to its own numbers (the held
+    displacement is the new draft's)."""
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path))
+    spec = "builtin:wigley?L=100&B=10&T=6.25&D=6.25&n=9&m=9"
+    base = ("fair", spec, "--stations", "7", "--waterlines", "5", "--noise", "0.05", "--json")
+    built = []
+    real = programs._export
+    monkeypatch.setattr(programs, "_export", lambda *a: built.append(a[0]) or real(*a))
+    code, out, err = cli(*base)
+    assert code in (0, 5), err
+    assert len(built) == 4, built  # fairing-lines, fairing-frames, fairing, fair-measures
+    monkeypatch.setattr(programs, "_export", lambda *a: pytest.fail("traced again for new numbers"))
+    code2, out2, err2 = cli(*base, "--draft", "5", "--max-move", "0.4", "--proximity", "0.01")
+    assert code2 in (0, 5), err2
+    first, second = json.loads(out), json.loads(out2)
+    assert first["draft"] == 6.25 and second["draft"] == 5.0 and second["move_cap"] == 0.4
+    assert second["volume_before"] < 0.85 * first["volume_before"]

@@ -203,18 +203,22 @@ class _Frames(eqx.Module):
         return jnp.concatenate([(v - self.v0) / V_TOL, (m - self.m0) / (self.floor**2 * depth)])
 
 
-def _frames(x, z, y0, end) -> _Frames:
+def _frames(x, z, y0, end, call) -> _Frames:
     knots = hull_knots(y0)
-    kappa = line_curvatures(x, z, y0, end)
+    kappa = call("fairing-lines", line_curvatures, (x, z, y0), (end,))
     floor, knots = floors(*kappa, *knots)[0], knots[0]
     weights = np.broadcast_to(knot_weights(z), y0.shape)
     frames = _Frames(knots=jnp.asarray(knots), weights=jnp.asarray(weights), floor=jnp.asarray(floor),
                      v0=jnp.zeros(len(x)), m0=jnp.zeros(len(x)))
-    v0, m0 = eqx.filter_jit(_Frames.measures)(frames, jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), end)
+    v0, m0 = call("fairing-frames", _Frames.measures, (frames, x, z, y0), (end,))
     return eqx.tree_at(lambda f: (f.v0, f.m0), frames, (v0, m0))
 
 
-@eqx.filter_jit
+def _jitted(name: str, fn: Callable, args: tuple, static: tuple):
+    """``fn(*args, *static)`` compiled (``name`` unused: the signature of :func:`fair_offsets`' ``call``)."""
+    return eqx.filter_jit(fn)(*args, *static)
+
+
 def _solve(x, z, y0, idx, lower, upper, bound, lpp, draft, proximity, frames: _Frames, measure: str, end: str,
            to_sections: Callable | None, outer: int, max_steps: int, rtol: float) -> _Solved:
     """The fairing problem as one pure computation of the offsets ``y0`` (jit; vmap-able over ``y0``)."""
@@ -262,6 +266,7 @@ def fair_offsets(
     free=None, max_move: float | None = None, proximity: float = 1e-3,
     to_sections: Callable[[jax.Array], Sections] | None = None,
     end: str = "not-a-knot", max_steps: int = 2000, rtol: float = 1e-7, outer: int = 6,
+    call: Callable | None = None,
 ) -> FairResult:
     """Fair an offset table: minimise an unfairness measure with displacement and LCB held.
 
@@ -301,6 +306,10 @@ def fair_offsets(
         BFGS relative and absolute tolerance.
     outer : int, optional
         Augmented-Lagrangian rounds.
+    call : callable, optional
+        How the compiled parts run: ``call(name, fn, args, static)`` returns ``fn(*args, *static)`` for a pure
+        ``fn``, ``args`` a pytree of arrays; default ``eqx.filter_jit``. The CLI passes
+        :func:`hullopt.study.cached_call` (with its ``key``), so that a warm call traces nothing.
 
     Returns
     -------
@@ -318,10 +327,12 @@ def fair_offsets(
     q0 = y0.ravel()[idx]
     # no offset below zero or beyond the table's widest: fairing must not widen the ship
     lower, upper = np.maximum(q0 - bound, 0.0), np.minimum(q0 + bound, y0.max())
-    s = _solve(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0), jnp.asarray(idx), jnp.asarray(lower),
-               jnp.asarray(upper), jnp.asarray(bound), jnp.asarray(float(lpp)), jnp.asarray(float(draft)),
-               jnp.asarray(float(proximity)), _frames(x, z, y0, end), measure, end, to_sections, outer, max_steps, rtol)
-    s = jax.device_get(s)
+    call = call or _jitted
+    xj, zj, yj = jnp.asarray(x), jnp.asarray(z), jnp.asarray(y0)
+    args = (xj, zj, yj, jnp.asarray(idx), jnp.asarray(lower), jnp.asarray(upper), jnp.asarray(bound),
+            jnp.asarray(float(lpp)), jnp.asarray(float(draft)), jnp.asarray(float(proximity)),
+            _frames(xj, zj, yj, end, call))
+    s = jax.device_get(call("fairing", _solve, args, (measure, end, to_sections, outer, max_steps, rtol)))
     (v0, lcb0), (v, lcb) = (float(a) for a in s.particulars0), (float(a) for a in s.particulars)
     yy = np.asarray(s.y)
     return FairResult(

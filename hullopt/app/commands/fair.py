@@ -1,5 +1,9 @@
 """``hullopt fair``: automatic fairing of an offset table (the Coons surface of seed 001; the unfairness
-measures and the fairing problem are hullopt's own) with a before/after report and plots."""
+measures and the fairing problem are hullopt's own) with a before/after report and plots.
+
+Its solve, the given frame lines and the report's measures and curvature fields are kept programs
+(:func:`~hullopt.study.cached_call`): a warm call traces nothing, and a new draft, move cap or pull is an
+argument, not a new program."""
 
 from __future__ import annotations
 
@@ -17,10 +21,10 @@ from ...errors import HullError
 from ...fairing import RESIDUALS, curve_curvature, graph_curvatures, measure
 from ...geometry import coons_surface
 from ...hydro import hydrostatics
-from ...models import OffsetTable, offset_surface, read_offsets
+from ...models import OffsetSurface, OffsetTable, offset_surface, read_offsets
 from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
 from ...report import fmt, quantity, write_json
-from ...study import load_hull
+from ...study import cached_call, load_hull
 from .._app import app
 from ..output import EXIT_NOT_CONVERGED, busy, print_json, say, table, warn
 
@@ -55,8 +59,9 @@ def hull_offsets(spec: str, stations: int, waterlines: int):
     return x, z, np.maximum(y, 0.0), float(s.lpp), h.design_draft, h.name
 
 
-@partial(jax.jit, static_argnums=(3, 4))
-def _fields(x, z, y, n, m):
+def _fields(x, z, y, n=161, m=81):
+    """Mean and Gaussian curvature on a fine ``n × m`` (x, z) grid, and the frame lines with their curvature:
+    ``(xf, zf, y on the grid, H, K, frame lines, their κ)``."""
     s = coons_surface(x, z, y, twist="spline")  # C²: curvature continuous across patch edges
     xf, zf = jnp.linspace(x[0], x[-1], n), jnp.linspace(z[0], z[-1], m)
     xx, zz, xs = xf[:, None], zf[None, :], x[:, None]
@@ -65,25 +70,29 @@ def _fields(x, z, y, n, m):
     return xf, zf, s(xx, zz), h, k, s(xs, zz), kappa
 
 
-def _curvature_fields(x, z, y, n=161, m=81):
-    """Mean and Gaussian curvature on a fine (x, z) grid, and the frame lines with their curvature."""
-    return [np.asarray(a) for a in _fields(jnp.asarray(x), jnp.asarray(z), jnp.asarray(y), n, m)]
+def _measured(x, z, tables, surface: OffsetSurface, draft):
+    """What the report and the plots show of each table ``(k, s, w)``: ``particulars`` ``(k, 3)`` (∇ [m³],
+    LCB [m from the AP], Bwl [m] of the table's spline surface, as ``hullopt hydro`` reads the written table),
+    every unfairness ``measures`` ``(k,)`` and the curvature ``fields`` (:func:`_fields`, each with a leading
+    ``k``). One kept program (:func:`~hullopt.study.cached_call`)."""
+    def one(y):
+        h = hydrostatics(surface(y), draft)
+        s = coons_surface(x, z, y)
+        return {"particulars": jnp.stack([h.volume, h.lcb, h.bwl]),
+                "measures": {name: measure(s, name) for name in RESIDUALS}, "fields": _fields(x, z, y)}
+
+    return jax.vmap(one)(tables)
 
 
-@jax.jit
-def _all_measures(x, z, y):
-    s = coons_surface(x, z, y)
-    return {name: measure(s, name) for name in RESIDUALS}
-
-
-def _plots(out: Path, x, z, before, after, lpp, title) -> list[str]:
+def _plots(out: Path, fields, x, before, lpp, title) -> list[str]:
+    """``body_plan.png`` and ``curvature.png`` of the given and the faired table (``fields``: the two tables'
+    :func:`_fields`); their paths."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
 
-    fields = [_curvature_fields(x, z, y) for y in (before, after)]
     zf = fields[0][1]
     # body plan: aft half on the left (mirrored), fore half on the right; porcupines along the normals
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5), sharey=True)
@@ -199,19 +208,16 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
         raise HullError("no offset is free to move (all are fixed: zero, contour, flat of side, or outside --region)")
     given = aft_body_noise(x, y, noise, seed, lpp=lpp, free=free) if noise > 0 else y
     stage(f"fairing {int(free.sum())} offsets ({measure_name}; BFGS in augmented-Lagrangian rounds)")
-    res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity)
+    call = partial(cached_call, key={"v": 1})  # kept programs: a warm call traces nothing
+    res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity,
+                       call=call)
     stage("measuring the faired surface")
-    # hydrostatics of the spline surface the offsets define (as `hullopt hydro` reads the written table)
     surface = offset_surface(OffsetTable(x=x, z=z, y=y, lpp=lpp))
-    hydro = jax.jit(lambda yy: hydrostatics(surface(yy), t))
-
-    def particulars(yy):
-        h = hydro(jnp.asarray(yy))
-        return float(h.volume), float(h.lcb), float(h.bwl)
-
-    (v0, lcb0, b0), (v1, lcb1, b1) = particulars(given), particulars(res.y)
-    before, after = (_all_measures(jnp.asarray(x), jnp.asarray(z), jnp.asarray(yy)) for yy in (given, res.y))
-    all_measures = {m: {"before": float(before[m]), "after": float(after[m])} for m in RESIDUALS}
+    got = jax.device_get(call("fair-measures", _measured, (jnp.asarray(x), jnp.asarray(z),
+                                                           jnp.asarray(np.stack([given, res.y])), surface,
+                                                           jnp.asarray(float(t))), ()))
+    (v0, lcb0, b0), (v1, lcb1, b1) = got["particulars"].tolist()
+    all_measures = {m: {"before": float(v[0]), "after": float(v[1])} for m, v in got["measures"].items()}
     move = res.y - given
     report = {
         "hull": name, "measure": measure_name, "draft": t, "lpp": lpp,
@@ -238,7 +244,7 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
         out.mkdir(parents=True, exist_ok=True)
         write_offset_grid(out / "faired_offsets.csv", x, z, res.y, lpp, f"{name} faired by hullopt ({measure_name})")
         report["files"] = [str(out / "report.json"), str(out / "faired_offsets.csv"),
-                           *_plots(out, x, z, given, res.y, lpp, name)]
+                           *_plots(out, [[a[i] for a in got["fields"]] for i in (0, 1)], x, given, lpp, name)]
         write_json(out / "report.json", report)
     return report
 
