@@ -4,6 +4,7 @@ colours), checked on the matplotlib figures the plot functions save, built from 
 
 from pathlib import Path
 
+import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -78,6 +79,24 @@ def test_hydrostatic_curves_in_panels_by_unit(hull, tmp_path, drawn):
     assert line.get_xdata()[list(t).index(T)] == pytest.approx(closed, rel=1.5e-3)
     assert any(s.startswith("DWL 6.25") for s in texts(fig))
     assert "Hydrostatic curves — wigley" in texts(fig)
+
+
+def test_a_curve_constant_but_for_round_off_is_drawn_as_constant(hull, tmp_path, drawn):
+    """The symmetric Wigley's LCB and LCF are L/2 at every draft to round-off: their panel spans ±5 % of L/2,
+    not the last digits on an axis offset by 50 m (how one compiled table drew it)."""
+    import jax
+
+    from hullopt.drawing import plot_hydrostatic_curves
+    from hullopt.hydro import hydrostatic_table
+
+    table = jax.jit(hydrostatic_table)(hull, jnp.asarray([2.0, 4.0, T, 8.0]))
+    noisy = eqx.tree_at(lambda h: h.lcb, table, table.lcb + jnp.asarray([0.0, 1e-11, -2e-11, 3e-11]))
+    plot_hydrostatic_curves(noisy, tmp_path / "h.png", "wigley", depth=D)
+    (fig,) = drawn
+    (ax,) = [ax for ax in fig.axes if ax.get_xlabel() == "x from AP [m]"]
+    assert ax.get_xlim() == pytest.approx((0.95 * L / 2, 1.05 * L / 2))
+    varying = next(ax for ax in fig.axes if ax.get_xlabel() == "Δ [t]")
+    assert varying.get_xlim()[1] - varying.get_xlim()[0] > 0.5 * float(table.displacement[-1]) / 1e3
 
 
 def test_cross_curves_distinct_colours_legend_outside(tmp_path, drawn):

@@ -124,9 +124,11 @@ def plot_hydrostatic_curves(table: HydrostaticTable, path: str | os.PathLike, na
     keep = t < depth - TINY_LENGTH if depth is not None else np.ones(t.shape, bool)
     t = t[keep]
     for ax, (title, xlabel, curves) in zip(axes.flat, _HYDRO_PANELS):
+        drawn = []
         for j, (key, label, s) in enumerate(curves):
-            v = np.asarray(getattr(table, key), dtype=float)[keep] * s
+            drawn.append(v := np.asarray(getattr(table, key), dtype=float)[keep] * s)
             ax.plot(v, t, lw=1.4, color=f"C{j}", label=label)
+        _span_beyond_round_off(ax, np.concatenate(drawn))
         ax.set_title(title, fontsize=9, loc="left", pad=16 if curves[0][0] == "displacement" else 6)
         ax.set_xlabel(xlabel, fontsize=8)
         ax.tick_params(labelsize=7)
@@ -148,6 +150,16 @@ def plot_hydrostatic_curves(table: HydrostaticTable, path: str | os.PathLike, na
     fig.suptitle(f"Hydrostatic curves — {name}" if name else "Hydrostatic curves", x=0.01, ha="left")
     fig.tight_layout()
     return _save(plt, fig, path)
+
+
+def _span_beyond_round_off(ax, v: np.ndarray) -> None:
+    """A panel whose values are constant but for round-off (a symmetric hull's LCB) spans ±5 % of them, as
+    matplotlib draws an exactly constant curve, not its last digits on an axis offset by the value."""
+    v = v[np.isfinite(v)]
+    if v.size and np.ptp(v) <= 1e-9 * max(np.abs(v).max(), 1.0):
+        mid = float(np.mean(v))
+        half = 0.05 * abs(mid) or 0.05
+        ax.set_xlim(mid - half, mid + half)
 
 
 def plot_gz(curve: GZCurve, path: str | os.PathLike, criteria: GZCriteria | None = None, name: str = "",

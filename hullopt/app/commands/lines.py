@@ -4,9 +4,9 @@ scale, or in DXF at full scale, and, optionally, the hydrostatic curves and the 
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Annotated
 
-import equinox as eqx
 import numpy as np
 import typer
 
@@ -75,7 +75,14 @@ def lines(
             raise HullError(f"{h.name} has no design draft: give the DWL with --draft T [m above the baseline]")
         draft = h.design_draft
     draft = h.check_draft(float(draft))
-    particulars = hydro_table(h.sections, np.array([draft]), RHO_SEA)
+    drafts = [draft]
+    if curves is not None:
+        lo = max(0.0, float(h.sections.keel))
+        drafts += np.linspace(lo, float(h.sections.depth), 22)[1:-1].tolist()  # 20 drafts, the deck left out
+        for t in drafts[1:]:
+            h.check_draft(t, "draft")
+    # one kept program: the title block's particulars at the DWL, then the curves' drafts
+    particulars = hydro_table(h.sections, np.array(drafts), RHO_SEA)
     plan = lines_plan(h.sections, h.name, draft=draft, stations=stations, spacing=spacing, n_buttocks=buttocks,
                       n_diagonals=diagonals, displacement=particulars["displacement"][0] / 1e3,
                       cb=particulars["cb"][0])
@@ -83,14 +90,8 @@ def lines(
         save_lines(plan, p, sheet, dpi)
         say(f"wrote {p}")
     if curves is not None:
-        lo = max(0.0, float(h.sections.keel))
-        drafts = np.linspace(lo, float(h.sections.depth), 22)[1:-1]  # 20 drafts, the deck left out
-        for t in drafts:
-            h.check_draft(float(t), "draft")
-        from ...hydro import hydrostatic_table
-
-        plot_hydrostatic_curves(eqx.filter_jit(hydrostatic_table)(h.sections, drafts), curves, h.name,
-                                depth=float(h.sections.depth), design_draft=draft)
+        table = SimpleNamespace(**{k: np.asarray(v[1:]) for k, v in particulars.items()})  # a HydrostaticTable
+        plot_hydrostatic_curves(table, curves, h.name, depth=float(h.sections.depth), design_draft=draft)
         say(f"wrote {curves}")
     if offsets is not None:
         if layout == "wide":
