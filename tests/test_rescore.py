@@ -128,8 +128,9 @@ def test_conditions_at_one_speed_share_their_strip_theory():
 
 
 def test_calm_water_is_rescored_once_a_speed(monkeypatch):
-    """Two sea states at one speed: calm water's R_T is computed at that speed once a condition, not once a
-    point, and the profile's value is R_T there (the weights sum to one speed's)."""
+    """Two sea states at one speed: calm water's R_T is computed at that speed once a speed factor (the
+    conditions of ±2 s T_p take the profile's), not once a point or a condition, in one call; the profile's
+    value is R_T there (the weights sum to one speed's)."""
     from hullopt.optimise import point_groups
     from hullopt.resistance import calm_water
     from hullopt.study import load_config, load_study
@@ -144,7 +145,7 @@ def test_calm_water_is_rescored_once_a_speed(monkeypatch):
             np.array([9.0, 8.0]), np.zeros(2))
     values = _rescore._program(*args, False, ("holtrop",), _rescore._groups(speeds, np.zeros(2)),
                                point_groups(speeds, np.zeros(2)))
-    assert seen == [(1,)]
+    assert seen == [(3, 1)]  # the speed factors 1, 0.9, 1.1 × the one speed
     s = prob.design.model(prob.p0)
     direct = [float(calm_water(s, 6.25, f * 15.0 * KNOT).total) for f in (1.0, 0.9, 1.1, 1.0, 1.0)]
     np.testing.assert_allclose(values["calm_holtrop"], [direct, direct], rtol=1e-12)

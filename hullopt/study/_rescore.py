@@ -132,6 +132,8 @@ def conditions(cfg: RunConfig) -> dict:
 CONDITIONS = ((1.0, 0.0), *((f, 0.0) for f in SPEED_FACTORS if f != 1.0), *((1.0, t) for t in TP_SHIFTS if t))
 """(speed factor, T_p shift [s]) of the conditions every design is re-scored in: the profile, ±10 % speed, ±2 s
 T_p (calm water sees only the first three)."""
+_CALM_FACTORS = tuple(dict.fromkeys(f for f, _ in CONDITIONS))  # the distinct speed factors, in order
+_CALM_OF = np.array([_CALM_FACTORS.index(f) for f, _ in CONDITIONS])  # each condition's calm water among them
 
 
 def calm_methods(hull: HoltropHull, fn: float) -> tuple[tuple[str, ...], dict[str, str]]:
@@ -153,20 +155,21 @@ def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves:
     the profile's points by speed (:func:`~hullopt.optimise.point_groups`), which share calm water's R_T."""
     params = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), p0, stacked)
     factors = jnp.asarray([c[0] for c in CONDITIONS])
+    calm_factors = jnp.asarray(_CALM_FACTORS)
     shifts = jnp.asarray([c[1] for c in CONDITIONS])
     w = weights / jnp.sum(weights)
     n = len(CONDITIONS)
     # every condition's points in one flat list: speed, heading (shared within a group), H_s, T_p
     shared = ((factors[:, None] * speeds).ravel(), jnp.tile(heading, n))
     each = (jnp.tile(hs, n), (tp + shifts[:, None]).ravel())
-    # calm water once a speed (a profile's sea states at one speed share it; the panel methods' cost is per speed)
+    # calm water once a speed and speed factor: a profile's sea states at one speed share it, and a T_p shift has
+    # its speed's (the panel methods' cost is per speed)
     u = speeds[np.array([g[0] for g in by_speed])]
     w_u = jnp.stack([w[np.array(g)].sum() for g in by_speed])
 
     def one(p):
         s = model(p)
-        out = {f"calm_{m}": jax.vmap(lambda f, m=m: calm_water(s, draft, f * u, m).total @ w_u)(factors)
-               for m in calm}
+        out = {f"calm_{m}": (calm_water(s, draft, calm_factors[:, None] * u, m).total @ w_u)[_CALM_OF] for m in calm}
         if waves:
             for m in RESCORE_WAVES:
                 def point(u, a, h, t, m=m):
