@@ -120,6 +120,15 @@ def test_natural_spline_matches_scipy_and_matrix_form():
     np.testing.assert_allclose(spline_matrix(knots, at) @ values, ref(at), rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.parametrize("k", [2, 3, 4, 41])
+def test_spline_matrix_is_scipys_natural_spline_inside_and_beyond_the_knots(k):
+    """The numpy matrix form against scipy's natural spline of each unit vector, the end cubics continued."""
+    knots = np.cumsum(np.random.default_rng(k).uniform(0.2, 2.0, k))
+    at = np.linspace(knots[0] - 1.0, knots[-1] + 1.0, 97)
+    ref = scipy.interpolate.CubicSpline(knots, np.eye(k), bc_type="natural")(at)
+    np.testing.assert_allclose(spline_matrix(knots, at), ref, rtol=0, atol=1e-11 * max(1.0, np.abs(ref).max()))
+
+
 @pytest.mark.slow
 def test_wetted_surface_of_a_box_and_a_tilted_plate():
     L, B, D = 10.0, 4.0, 3.0
