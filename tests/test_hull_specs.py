@@ -86,9 +86,14 @@ def test_drafts_above_the_deck_are_refused_and_curves_stop_below_it(cli, tmp_pat
     assert code == 0 and json.loads(out)["cb"] == pytest.approx(1.0)
     import hullopt.drawing
 
-    seen = []
+    seen, block = [], []
     monkeypatch.setattr(hullopt.drawing, "plot_hydrostatic_curves", lambda t, path, name="", **kw: seen.append(t.draft))
+    real_plan = hullopt.drawing.lines_plan
+    monkeypatch.setattr(hullopt.drawing, "lines_plan", lambda *a, **kw: block.append(kw) or real_plan(*a, **kw))
     code, _, err = cli("lines", "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=21", "--out", tmp_path / "l.png",
                        "--curves", tmp_path / "c.png")
     assert code == 0, err
     assert len(seen) == 1 and len(seen[0]) == 20 and float(np.max(seen[0])) < 10.0
+    # the title block's particulars are the DWL's (one table with the curves' drafts): the Wigley's closed form
+    assert block[0]["displacement"] == pytest.approx(1.025 * 4 / 9 * 100 * 10 * 6.25, rel=2e-3)
+    assert block[0]["cb"] == pytest.approx(4 / 9, rel=2e-3)
