@@ -102,9 +102,24 @@ def save(name: str, data: dict) -> Path:
     """Write ``results/<name><suffix>.json`` (:func:`suffix`: ``design.json`` on the CPU, ``design-gpu.json`` on
     a GPU): the machine info and ``data`` (which may hold ``"goals"``: a list of :func:`goal` rows for the
     summary table), atomically."""
-    RESULTS.mkdir(exist_ok=True)
+    return _write(RESULTS / f"{name}{suffix()}.json", {"machine": machine(), **data})
+
+
+def merge(name: str, data: dict) -> Path:
+    """Merge a partial run's ``data`` into ``results/<name><suffix>.json``: its keys replace the file's, its
+    ``"goals"`` replace the rows of the same name and each carries this run's date and load (``"when"``), while
+    the file's other rows keep the machine they were measured on."""
     path = RESULTS / f"{name}{suffix()}.json"
+    kept = json.loads(path.read_text()) if path.exists() else {"machine": machine(), "goals": []}
+    m = machine()
+    goals = [g | {"when": f"{m['date']}; load {m['load_at_start']}"} for g in data.get("goals", [])]
+    names = {g["name"] for g in goals}
+    return _write(path, kept | data | {"goals": [g for g in kept.get("goals", []) if g["name"] not in names] + goals})
+
+
+def _write(path: Path, data: dict) -> Path:
+    RESULTS.mkdir(exist_ok=True)
     tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps({"machine": machine(), **data}, indent=2) + "\n")
+    tmp.write_text(json.dumps(data, indent=2) + "\n")
     tmp.replace(path)
     return path

@@ -1,9 +1,10 @@
 """The panel methods' validation and speed (Kelvin's hull-panel method and Dawson's): the Wigley against
 Michell's integral (and the thin-ship limit) and against Insel's (1990) measured C_WP and C_T, the KCS and DTMB
 5415 models against towing-tank C_T, sinkage and trim (tests/data, see SOURCES.md there), Dawson's KCS C_W on
-three free-surface grids, and the time of one evaluation at the default grid (value; value + gradient;
-compile) and of a design in a vmapped batch (64 on a GPU, 4 on the CPU), with a figure. ``--speed`` or
-``--quick``: the speed rows alone, merged into the results file (a GPU's run: the validation's numbers do not
+three free-surface grids, the Series 60 C_B 0.60 by every method side by side (no tank figure was reachable),
+and the time of one evaluation at the default grid (value; value + gradient; compile) and of a design in a
+vmapped batch (64 on a GPU, 4 on the CPU), with a figure. ``--speed`` or ``--quick``: the speed rows alone,
+``--series60`` its rows alone, merged into the results file (a GPU's run: the validation's numbers do not
 depend on the device).
 
 Model-scale totals: C_T = (1 + k1)·C_F(ITTC-57, the model's Re) + C_W(method), Holtrop's 1 + k1, no C_A (a
@@ -21,7 +22,7 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
-from _common import HULLS, RESULTS, goal, quick, save, suffix, timeit
+from _common import HULLS, RESULTS, goal, merge, quick, save, suffix, timeit
 
 jax.config.update("jax_enable_x64", True)
 
@@ -193,16 +194,33 @@ def plot(w, tank, rows, path):
     fig.savefig(path, dpi=110)
 
 
+def series60(fns=(0.28, 0.316, 0.35)):
+    """The Series 60 C_B 0.60 parent (Todd's offsets, examples/hulls; full scale, fixed: its table has no
+    freeboard): C_W by each method at ``fns`` (0.316, the IIHR's tests' speed). Todd's own resistance tables
+    were not reachable, so this records the methods beside each other, not against the tank."""
+    h = load_hull(f"{HULLS}/series60_cb060_todd1963.csv").sections
+    draft, u = 6.5024, np.asarray(fns) * np.sqrt(G * float(h.lpp))
+    s = wetted_surface(h, draft)
+    cw = {m: [float(c) for c in wave_resistance_coefficient(calm_water(h, draft, jnp.asarray(u), m).r_wave, u, s)]
+          for m in ("holtrop", "michell", "panel", "dawson")}
+    return {"fn": list(fns), "cw": cw}
+
+
+def series60_goal(s6):
+    k = lambda m: [round(c * 1e3, 3) for c in s6["cw"][m]]  # noqa: E731
+    return goal(f"dawson: Series 60 C_B 0.60 C_W × 10³ at Fn {', '.join(map(str, s6['fn']))} (fixed; no tank data)",
+                k("dawson"), "-", "—", None, peer=f"H-M {k('holtrop')}, Michell {k('michell')}, panel {k('panel')}")
+
+
 def main():
+    if "--series60" in sys.argv[1:]:
+        s6 = series60()
+        merge("panel", {"series60": s6, "goals": [series60_goal(s6)]})
+        print(s6)
+        return
     if "--speed" in sys.argv[1:] or quick():  # the speed rows alone (the validation is not the device's)
         t, td, tb = speed(), speed(dawson_wave_resistance), batch(n=64 if suffix() else 4)
-        old = RESULTS / f"panel{suffix()}.json"  # the validation's rows, kept where they were recorded
-        kept = json.loads(old.read_text()) if old.exists() else {"goals": []}
-        kept.pop("machine", None)
-        goals = speed_goals(t, td, tb)
-        names = {g["name"] for g in goals}
-        save("panel", kept | {"speed": t, "speed_dawson": td, "batch_dawson": tb,
-                              "goals": [g for g in kept["goals"] if g["name"] not in names] + goals})
+        merge("panel", {"speed": t, "speed_dawson": td, "batch_dawson": tb, "goals": speed_goals(t, td, tb)})
         print(t, td, tb)
         return
     w = wigley_curves()
@@ -244,10 +262,12 @@ def main():
     goals.append(goal("dawson: KCS Fn 0.26 C_W × 10³ on 64, 96, 128 free-surface columns",
                       [round(c * 1e3, 3) for c in grid["cw"]], "-", "—", None,
                       peer=f"tank − (1+k1)·C_F {(rows[0]['ct_tank'] - rows[0]['form_factor'] * rows[0]['cf_model']) * 1e3:.3f}"))
+    s6 = series60()
+    goals.append(series60_goal(s6))
     tb = batch(n=64 if suffix() else 4)
     goals += speed_goals(t, td, tb)
-    save("panel", {"wigley": w, "wigley_tank": tank, "models": rows, "speed": t, "speed_dawson": td,
-                   "batch_dawson": tb, "dawson_grid_kcs": grid, "goals": goals})
+    save("panel", {"wigley": w, "wigley_tank": tank, "models": rows, "series60": s6, "speed": t,
+                   "speed_dawson": td, "batch_dawson": tb, "dawson_grid_kcs": grid, "goals": goals})
     for r in rows:
         print(r["hull"], r["fn"], {k: round(v * 1e3, 3) for k, v in r.items() if k.startswith("ct_")})
     print(t, td, grid)

@@ -192,7 +192,7 @@ def summary(started: str | None = None, failed: dict | None = None, run_machine:
         load = m.get("load_at_start")
         when = f"{m.get('date', '?')}{stale}; load {'not recorded' if load is None else load}"
         for g in goals:
-            table.setdefault((name, g["name"]), {})[dev] = g | {"when": when}
+            table.setdefault((name, g["name"]), {})[dev] = {"when": when} | g  # a merged row keeps its own
     devices = sorted({dev for _, dev in machines}, key=lambda d: (d != "CPU", d))
     rows = []
     for (name, goal_name), by_dev in table.items():

@@ -62,3 +62,21 @@ def test_a_gpu_run_names_its_own_machine_and_the_cards_it_mixes(run_module, tmp_
     cpu, gpu = (next(x for x in lines if x.startswith(f"- {d}:")) for d in ("CPU", "GPU"))
     assert "2 cores" in cpu and "device cpu" in cpu
     assert "16 cores" in gpu and "mix devices NVIDIA H100, NVIDIA H200" in gpu
+
+
+def test_a_merged_row_keeps_its_own_date(run_module, tmp_path, monkeypatch):
+    """A partial run (``_common.merge``: one benchmark's extra rows) dates its rows; the file's other rows keep
+    the date they were measured on."""
+    spec = importlib.util.spec_from_file_location("bench_common", BENCH / "_common.py")
+    common = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(common)
+    monkeypatch.setattr(common, "RESULTS", tmp_path)
+    monkeypatch.setattr(common, "machine", lambda: {"date": "2026-11-29 18:42 UTC", "load_at_start": 0.6,
+                                                    "device": {"platform": "cpu"}})
+    _result(tmp_path / "panel.json", "cpu", "cpu", [_goal("one evaluation", 0.7, True)])
+    common.merge("panel", {"extra": [1], "goals": [_goal("a new row", 1.5, None)]})
+    text = run_module.summary()
+    rows = {line.split(" | ")[1]: line for line in text.splitlines() if line.startswith("| panel")}
+    assert rows["one evaluation"].endswith("| 2026-11-26 12:00 UTC; load 0.5 |")
+    assert rows["a new row"].endswith("| 2026-11-29 18:42 UTC; load 0.6 |")
+    assert json.loads((tmp_path / "panel.json").read_text())["extra"] == [1]

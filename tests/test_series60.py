@@ -1,0 +1,42 @@
+"""The Series 60 C_B 0.60 parent read from Todd's (1963) offsets (examples/hulls/series60_cb060_todd1963.csv)
+against the form coefficients Todd published for it (DTMB Report 1712; examples/hulls/SOURCES.md)."""
+
+import numpy as np
+import pytest
+from conftest import HULLS
+
+from hullopt.hydro import hydrostatics, sectional_areas
+from hullopt.models import load_hull
+
+FT = 0.3048
+LPP, T = 400 * FT, 400 * FT / 7.5 / 2.5
+
+
+@pytest.fixture(scope="module")
+def series60():
+    return load_hull(f"{HULLS}/series60_cb060_todd1963.csv").sections
+
+
+def test_the_offsets_have_todds_coefficients(series60):
+    """C_P, C_W and the LCB to Todd's three decimals; C_M and with it C_B 0.004 low: the natural splines
+    through the table's waterlines at 0, 0.075 and 0.25 T cut inside the bilge's circle. The LWL ends where
+    Todd's does, 406.7 ft, and nothing is left of a transom at the AP."""
+    hs = hydrostatics(series60, T)
+    assert float(hs.cp) == pytest.approx(0.614, abs=1e-3)
+    assert float(hs.cwp) == pytest.approx(0.706, abs=2e-3)
+    assert float(hs.lcb_pct) == pytest.approx(-1.5, abs=0.05)  # per cent of Lpp, aft of amidships
+    assert -0.006 < float(hs.cm) - 0.977 < -0.002
+    assert -0.005 < float(hs.cb) - 0.600 < -0.001
+    assert float(hs.lwl) == pytest.approx(406.7 * FT, abs=0.01)
+    assert float(hs.a_transom) == 0.0
+
+
+def test_the_entrance_and_run_have_todds_prismatics(series60):
+    """The prismatic coefficients of the fore and aft bodies, each over Lpp/2 and the midship area: Todd's
+    0.581 and 0.646 (a fuller run than entrance puts the LCB aft)."""
+    x, a = np.asarray(series60.x), np.asarray(sectional_areas(series60, T))
+    xf = np.linspace(0.0, LPP, 4001)
+    af = np.interp(xf, x, a) / a.max()
+    fore = xf >= LPP / 2
+    assert np.trapezoid(af[fore], xf[fore]) / (LPP / 2) == pytest.approx(0.581, abs=1.5e-3)
+    assert np.trapezoid(af[~fore], xf[~fore]) / (LPP / 2) == pytest.approx(0.646, abs=1.5e-3)
