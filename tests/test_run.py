@@ -183,6 +183,8 @@ def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_pa
         (lambda t: t.replace("cb = 0.48", "cb = 1.4"), "cb = 1.4 is outside the physical range"),
         (lambda t: t.replace("[targets]", "[targetz]"), "targetz"),
         (lambda t: t.replace("draft = 6.25", "draft = 12.0"), "hull.draft = 12 m is above the deck of 'wigley'"),
+        # a draft at the deck edge (an offset table that stops at the DWL) with frames re-read along the length
+        (lambda t: t.replace("draft = 6.25", "draft = 10.0"), "design.distribution[0]: 'wigley' has no freeboard"),
     ],
 )
 def test_bad_configs_fail_fast(cli, tmp_path, edit, message):

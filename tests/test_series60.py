@@ -1,6 +1,8 @@
 """The Series 60 C_B 0.60 parent read from Todd's (1963) offsets (examples/hulls/series60_cb060_todd1963.csv)
 against the form coefficients Todd published for it (DTMB Report 1712; examples/hulls/SOURCES.md)."""
 
+import json
+
 import numpy as np
 import pytest
 from conftest import HULLS
@@ -40,3 +42,44 @@ def test_the_entrance_and_run_have_todds_prismatics(series60):
     fore = xf >= LPP / 2
     assert np.trapezoid(af[fore], xf[fore]) / (LPP / 2) == pytest.approx(0.581, abs=1.5e-3)
     assert np.trapezoid(af[~fore], xf[~fore]) / (LPP / 2) == pytest.approx(0.646, abs=1.5e-3)
+
+
+@pytest.mark.slow
+def test_a_fit_from_the_offsets(cli, tmp_path):
+    """A naval architect's parent from an offset table that stops at the DWL: its feature curves, then a fit to
+    C_B 0.62 and LCB −0.5 % with the frames moved along the length. Re-reading the frames instead (curves =
+    "all") would move the deck edge off the waterline; that is refused with the way out, not run."""
+    code, _, err = cli("features", f"{HULLS}/series60_cb060_todd1963.csv", "--out", tmp_path / "f")
+    assert code == 0, err
+    cfg = tmp_path / "fit.toml"
+    cfg.write_text(f"""kind = "fit"
+[hull]
+parent = "{tmp_path / 'f' / 'features.json'}"
+draft = {T}
+[[design.apex_move]]
+segment = -1
+x_fixed1 = 60.96
+x_moved = 97.5
+x_fixed2 = 121.92
+bound = 1.0
+[[design.distribution]]
+x_a = 0.0
+x_b = 121.92
+modes = 2
+bound = 0.4
+curves = "stations"
+[targets]
+cb = 0.62
+lcb_pct = -0.5
+[solver]
+fairness = 0.2
+""")
+    code, out, err = cli("run", cfg, "--out", tmp_path / "r", "--json")
+    assert code == 0, err
+    r = json.loads(out)
+    assert r["met"] and not [w for w in r["warnings"] if "rougher" in w], r["warnings"]
+    parent, design = r["parent"], r["achieved"]
+    assert design["cwp"] > parent["cwp"]  # a fuller fore body: the waterplane grows with C_B, never collapses
+    cfg.write_text(cfg.read_text().replace('curves = "stations"\n', ""))
+    code, _, err = cli("run", cfg, "--out", tmp_path / "r2")
+    assert code == 2 and "design.distribution[0]" in err and "no freeboard" in err, err

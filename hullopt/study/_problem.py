@@ -104,6 +104,7 @@ def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: 
         where = "above the deck" if draft > deck else "outside the hull"
         raise HullError(f"hull.draft = {draft:g} m is {where} of {cfg.hull.parent!r}: expected a draft in "
                         f"({lo:g}, {deck:g}] m (keel or baseline to deck)")
+    check_freeboard(cfg, parent, float(draft))
     model, p0, half = design_params(cfg.design, parent)
     lower = jax.tree.map(lambda h: -h, half)
     try:
@@ -115,6 +116,26 @@ def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: 
                     smoothness=cfg.solver.smoothness, param_scale=half, fairness=float(fairness),
                     limits=limits_from(cfg) if limits else None)
     return Problem(design, p0, lower, half, cfg.hull.parent)
+
+
+def check_freeboard(cfg: RunConfig, parent: FeatureHull, draft: float) -> None:
+    """:class:`HullError` naming the distribution that would re-read frames whose deck edge is at the draft (an
+    offset table that stops at the DWL). Re-read frames blend the parent's feature points along the length
+    (:mod:`hullopt.models._features`), which moves the deck edge by centimetres: where it sinks below the
+    draft the waterline leaves the hull, its breadth there reads zero and the optimiser takes the lost
+    waterplane as a design change (a Series 60 fit lost 18 % of C_W so)."""
+    x, deck = np.asarray(parent.x), np.asarray(parent.deck)[:, 1]
+    flush = deck <= draft + 1e-9 * max(1.0, draft)
+    for i, g in enumerate(cfg.design.distribution):
+        inside = flush & (x > g.x_a) & (x < g.x_b)
+        if g.curves != "stations" and inside.any():
+            at = x[inside]
+            raise HullError(
+                f"design.distribution[{i}]: {cfg.hull.parent!r} has no freeboard at x = {at.min():.4g}…"
+                f"{at.max():.4g} m (its deck edge is at hull.draft = {draft:g} m: offsets that stop at the DWL); "
+                f"re-reading its frames along the length (curves = {g.curves!r}) moves that edge by centimetres "
+                "and the waterline off the hull. Move the frames themselves (curves = \"stations\") or give "
+                "the parent sections above the waterline")
 
 
 def constraint_measure(cfg: RunConfig, name: str):
