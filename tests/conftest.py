@@ -28,7 +28,7 @@ DATA = REPO / "tests" / "data"  # reference tables, with their provenance in SOU
 
 @pytest.fixture(scope="session")
 def hulls() -> Path:
-    """The example hull files (``examples/hulls``: DTC, KCS, KVLCC2, DTMB 5415, Wigley)."""
+    """The example hull files (``examples/hulls``: DTC, KCS, KVLCC2, DTMB 5415, Wigley, Series 60)."""
     return HULLS
 
 

@@ -5,8 +5,10 @@ import json
 
 import numpy as np
 import pytest
+import trimesh
 from conftest import HULLS
 
+from hullopt.geometry import export_mesh, hull_mesh
 from hullopt.hydro import hydrostatics, sectional_areas
 from hullopt.models import load_hull
 
@@ -31,6 +33,16 @@ def test_the_offsets_have_todds_coefficients(series60):
     assert -0.005 < float(hs.cb) - 0.600 < -0.001
     assert float(hs.lwl) == pytest.approx(406.7 * FT, abs=0.01)
     assert float(hs.a_transom) == 0.0
+
+
+def test_the_exported_mesh_holds_the_same_volume(series60, tmp_path):
+    """A second method: trimesh's mass properties of the STL hullopt writes (closed at the table's top, the DWL)
+    against the section integrals, volume and LCB."""
+    rep = export_mesh(hull_mesh(series60), tmp_path / "s60.stl")
+    mesh = trimesh.load_mesh(tmp_path / "s60.stl")
+    hs = hydrostatics(series60, T)
+    assert rep.ok and mesh.volume == pytest.approx(float(hs.volume), rel=2e-4)  # 3e-5 measured
+    assert mesh.center_mass[0] == pytest.approx(float(hs.lcb), abs=0.01)  # m; 0.5 mm measured
 
 
 def test_the_entrance_and_run_have_todds_prismatics(series60):
