@@ -14,7 +14,6 @@ model has none). Writes ``results/panel.json`` and ``results/panel.png``.
 from __future__ import annotations
 
 import csv
-import json
 import sys
 import time
 from pathlib import Path

@@ -123,7 +123,7 @@ def check_freeboard(cfg: RunConfig, parent: FeatureHull, draft: float) -> None:
     offset table that stops at the DWL). Re-read frames blend the parent's feature points along the length
     (:mod:`hullopt.models._features`), which moves the deck edge by centimetres: where it sinks below the
     draft the waterline leaves the hull, its breadth there reads zero and the optimiser takes the lost
-    waterplane as a design change (a Series 60 fit lost 18 % of C_W so)."""
+    waterplane as a design change (a Series 60 fit lost 18 % of its waterplane so)."""
     x, deck = np.asarray(parent.x), np.asarray(parent.deck)[:, 1]
     flush = deck <= draft + 1e-9 * max(1.0, draft)
     for i, g in enumerate(cfg.design.distribution):
