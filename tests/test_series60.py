@@ -56,6 +56,20 @@ def test_the_entrance_and_run_have_todds_prismatics(series60):
     assert np.trapezoid(af[~fore], xf[~fore]) / (LPP / 2) == pytest.approx(0.646, abs=1.5e-3)
 
 
+def test_stability_warns_that_the_hull_has_no_topsides(cli):
+    """Floating at its DWL, the table's top, the hull has no reserve buoyancy: heeled, it goes under whole and
+    its GZ is a submerged body's, (KB − KG) sin φ. The numbers are right for that body; the warning says why
+    they are not the ship's."""
+    code, out, err = cli("stability", f"{HULLS}/series60_cb060_todd1963.csv", "--kg", "6.0",
+                         "--displacement", "7898", "--heels", "0:40:5", "--json")
+    assert code == 4 and "reserve buoyancy is 0.01%" in err and "without topsides" in err, err
+    r = json.loads(out)
+    kb = 3.493  # hullopt hydro at the DWL
+    assert r["gz"][-1] == pytest.approx((kb - 6.0) * np.sin(np.deg2rad(40.0)), abs=0.01)
+    code, _, err = cli("stability", "parent:wigley", "--kg", "4", "--displacement", "2800", "--heels", "0:40:5")
+    assert "reserve buoyancy" not in err  # 10 m deck over a 6.25 m draft
+
+
 @pytest.mark.slow
 def test_a_fit_from_the_offsets(cli, tmp_path):
     """A naval architect's parent from an offset table that stops at the DWL: its feature curves, then a fit to

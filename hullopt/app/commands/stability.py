@@ -35,6 +35,9 @@ from ..output import (
 )
 from .hydro import HULL_HELP, parse_displacement
 
+RESERVE_MIN = 0.05
+"""Below this reserve buoyancy (the hull's volume above the waterline up to its deck edge, over its
+displacement) a GZ curve is that of a hull without topsides: ``hullopt stability`` warns."""
 SHEER_HELP = "Deck line: 'none' (the sections' deck edge) or 'icll' (ICLL standard sheer added)."
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 WIND_PRESSURE = 504.0  # Pa: hullopt.hydro.WIND_PRESSURE (IS Code §2.3.2), here so that --help loads no hydro
@@ -206,6 +209,11 @@ def stability_cmd(
     if not bool(np.all(np.asarray(solved.converged))):
         bad = solve_deg[~np.asarray(solved.converged)]
         warn(f"no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°")
+    if float(full) / volume - 1 < RESERVE_MIN:  # a ship has ~15 % and more; this hull's deck is at its waterline
+        warn(f"the hull's reserve buoyancy is {float(full) / volume - 1:.2%} of its displacement (its volume above "
+             "this waterline up to the deck edge): heeled, its deck goes under at once, and the GZ curve is that of "
+             "a hull without topsides, as from offsets that stop at the DWL; give the hull its sections above the "
+             "waterline")
     if wx is not None and out["weather"]["outside"]:
         warn("the weather criterion's roll-angle tables rest on ships with B/d < 3.5, −0.3 ≤ KG/d − 1 ≤ 0.5 and "
              f"T < 20 s (IS Code 2008 §2.3.4); this loading has {'; '.join(out['weather']['outside'])}")
