@@ -84,10 +84,15 @@ def test_free_runs_dawson_free_to_sink_and_trim(capsys):
     the API's ``attitude``); the record says so. On the Wigley at Fn 0.43 it sinks deeper and trims further bow
     up than fixed (the tank's free model: tests/test_dawson.py), and its R_W grows."""
     args = ("builtin:wigley?L=100&B=10&T=6.25&D=10&n=41&m=17", "--speed", "26.5", "--method", "dawson", "--json")
-    fixed, free = (json.loads(run(capsys, *args, *extra)[1])[0] for extra in ((), ("--free",)))
+    (fixed, _), (free, err) = ((json.loads(o)[0], e) for _, o, e in (run(capsys, *args, *x) for x in ((), ("--free",))))
     assert (fixed["dawson_free"], free["dawson_free"]) == (False, True)
     assert free["sinkage_dawson"] > fixed["sinkage_dawson"] > 0 and free["trim_dawson"] > fixed["trim_dawson"] > 0
     assert free["r_wave_dawson"] > 1.1 * fixed["r_wave_dawson"]
+    assert "above the hull's top" not in err  # 3.75 m of freeboard
+    # its deck at the draft (offsets that stop at the DWL): sunk, the waterline leaves the hull's sides
+    _, _, err = run(capsys, args[0].replace("D=10", "D=6.25"), *args[1:], "--free")
+    err = " ".join(err.split())
+    assert "dawson --free at 26.5 kn: sunk" in err and "above the hull's top" in err, err
 
 
 @pytest.mark.parametrize("args,needle", [

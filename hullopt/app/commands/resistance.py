@@ -80,6 +80,28 @@ def _evaluate(sections, draft, speeds, methods, n_levels, pattern=False, attitud
     return out, particulars, holtrop_mennen(particulars, speeds), waves
 
 
+def above_the_sides(sections, draft: float, records: list[dict]) -> list[str]:
+    """Warnings where Dawson's free hull, sunk and trimmed (``sinkage_dawson`` [m, down] at the centre of
+    flotation, ``trim_dawson`` [rad, bow up]), has the waterline above a section's top: the hull has no sides
+    there (offsets that stop at the DWL), so the flow sees an open hull."""
+    from ...hydro import hydrostatics
+
+    x, y, z = (np.asarray(a) for a in (sections.x, sections.yz[..., 0], sections.yz[..., 1]))
+    real = np.any(y > 0.0, axis=-1)  # stations with a surface (not an end's closing row)
+    xf = float(hydrostatics(sections, draft).lcf)
+    msgs = []
+    for r in records:
+        top = z.max(axis=-1) - r["sinkage_dawson"] + (x - xf) * r["trim_dawson"]
+        gap = np.where(real, draft - top, -np.inf)
+        if gap.max() > 1e-6 * max(1.0, draft):
+            i, deg = int(np.argmax(gap)), float(np.degrees(r["trim_dawson"]))
+            msgs.append(f"dawson --free at {r['speed_kn']:g} kn: sunk {r['sinkage_dawson']:.3g} m and trimmed "
+                        f"{abs(deg):.3g}° bow {'up' if deg >= 0 else 'down'}, the waterline is {gap[i]:.3g} m "
+                        f"above the hull's top at x = {x[i]:.4g} m: it has no sides there (offsets that stop at the "
+                        "DWL), so its R_W, sinkage and trim are not the ship's; give the sections above the waterline")
+    return msgs
+
+
 def disagreements(records: list[dict], methods, invalid: dict[str, str]) -> list[str]:
     """Warnings where two methods' R_W differ by more than :data:`DISAGREE` at a speed whose wave part matters
     (≥ 5 % of R_T by either), naming the method outside its validity."""
@@ -165,7 +187,8 @@ def resistance(
         warn(f"dawson is outside its validity ({invalid['dawson']})")
     if "dawson" in methods and (caveat := transom_caveat(particulars)):
         warn(caveat)
-    for msg in disagreements(records, methods, invalid):
+    for msg in disagreements(records, methods, invalid) + (above_the_sides(h.sections, t, records)
+                                                           if free and "dawson" in methods else []):
         warn(msg)
     if plot is not None:
         from ...report import plot_resistance
