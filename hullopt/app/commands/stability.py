@@ -209,8 +209,8 @@ def stability_cmd(
     if not bool(np.all(np.asarray(solved.converged))):
         bad = solve_deg[~np.asarray(solved.converged)]
         warn(f"no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°")
-    if float(full) / volume - 1 < RESERVE_MIN:  # a ship has ~15 % and more; this hull's deck is at its waterline
-        warn(f"the hull's reserve buoyancy is {float(full) / volume - 1:.2%} of its displacement (its volume above "
+    if (reserve := float(full) / volume - 1) < RESERVE_MIN:  # a ship has ~15 % and more
+        warn(f"the hull's reserve buoyancy is {reserve:.2%} of its displacement (its volume above "
              "this waterline up to the deck edge): heeled, its deck goes under at once, and the GZ curve is that of "
              "a hull without topsides, as from offsets that stop at the DWL; give the hull its sections above the "
              "waterline")
