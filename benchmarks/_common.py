@@ -69,12 +69,16 @@ def run_process(cmd: list[str], cache: str | os.PathLike, ok: tuple[int, ...] = 
     """Wall time [s] of one whole ``hullopt`` process with its own cache folder ``cache``. It inherits this
     process's environment (a GPU machine's CUDA paths, XLA flags) and, when it exits with a code not in ``ok``,
     raises with that code and the end of its stderr: a benchmark never dies on an unexplained
-    ``CalledProcessError``."""
+    ``CalledProcessError``. With ``HULLOPT_BENCH_LOG`` set, each process's stderr is appended to that file (with
+    ``JAX_LOG_COMPILES=1``: what it traced and compiled, and how long each took)."""
     import subprocess
 
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True, env=os.environ | {"HULLOPT_CACHE": str(cache)})
     dt = time.perf_counter() - t0
+    if log := os.environ.get("HULLOPT_BENCH_LOG"):
+        with open(log, "a") as f:
+            f.write(f"$ {' '.join(map(str, cmd))}  # exit {p.returncode}, {dt:.1f} s\n{p.stderr}\n")
     if p.returncode not in ok:
         raise RuntimeError(f"{' '.join(map(str, cmd))} exited {p.returncode}:\n{p.stderr[-3000:]}")
     return dt
