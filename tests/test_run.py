@@ -233,3 +233,20 @@ def test_a_fit_by_lbfgsb_from_the_config(cli, tmp_path):
     code, _, err = cli("run", CONFIGS / "min_added_resistance.toml", "--set", 'solver.method="lbfgsb"',
                        "--out", tmp_path / "m")
     assert code == 2 and "solver.method = 'lbfgsb' applies to fits" in err, err
+
+
+def test_a_sweeps_design_writers_start_before_its_designs(tmp_path):
+    """A sweep of four designs or more has its writers (a process per core, at most one a design) spawned, with
+    their imports, when the pool is made, before the solve hands them any design; fewer designs are written in
+    the run's own process. (The writers' output: tests/test_pareto_run.py.)"""
+    import os
+
+    from hullopt.app import run as app
+
+    with app._writers(3) as pool:
+        assert pool is None
+    if (os.cpu_count() or 1) < 2:
+        pytest.skip("one core: no writer processes")
+    with app._writers(4) as pool:
+        assert len(pool._processes) == min(4, os.cpu_count())  # already spawned
+        app._write_designs(pool, [], 1.0, tmp_path)()

@@ -196,8 +196,8 @@ def _writers(designs: int):
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_writer_process)
     ok = False
     try:
-        for _ in range(workers):  # each submit without an idle worker spawns one
-            pool.submit(_writer_process)
+        for _ in range(workers):  # each submit without an idle worker spawns one, which runs the initializer
+            pool.submit(int)
         yield pool
         ok = True
     finally:
