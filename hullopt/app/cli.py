@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import socket
 import sys
 import tomllib
@@ -25,16 +26,37 @@ from ..errors import HullError  # noqa: E402
 # sweeps and minimisations (their large programs). With them a fit's solver also compiles without LLVM's
 # optimisation (hullopt.study's quick="classic"): the demo's cold run 21-25 -> 17-18 s, its warm run unchanged.
 # Kept programs are keyed by XLA_FLAGS (hullopt.study), so each kind has its own; the user's XLA_FLAGS decide
-# where they name the option.
+# where they name the option. jaxlib 0.11.1 removed the option, and XLA aborts a process whose XLA_FLAGS name an
+# unknown one: it is set only where jaxlib is older (classic_emitters_available).
 CLASSIC_EMITTERS = "--xla_cpu_use_fusion_emitters=false"
 SMALL_PROGRAM_COMMANDS = frozenset({"hydro", "stability", "motions", "waves", "wind", "lines", "deform", "fair"})
 SMALL_PROGRAM_RUNS = frozenset({"fit"})  # `hullopt run` of a config of these kinds
 
 
-def xla_flags_for(argv: list[str], current: str) -> str:
+def classic_emitters_available(jaxlib_version: str | None = None) -> bool:
+    """Whether XLA:CPU takes :data:`CLASSIC_EMITTERS`: jaxlib before 0.11.1 (``jaxlib_version``; None: the
+    installed one, read from its metadata without importing it)."""
+    if jaxlib_version is None:
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            jaxlib_version = version("jaxlib")
+        except PackageNotFoundError:
+            return False
+    release = []
+    for part in jaxlib_version.split(".")[:3]:
+        digits = re.match(r"\d+", part)
+        if digits is None:
+            break
+        release.append(int(digits.group()))
+    return bool(release) and tuple(release) < (0, 11, 1)
+
+
+def xla_flags_for(argv: list[str], current: str, classic: bool | None = None) -> str:
     """``XLA_FLAGS`` for a process that runs the command ``argv``: ``current`` with :data:`CLASSIC_EMITTERS`
     appended where the command builds only small programs (:data:`SMALL_PROGRAM_COMMANDS`, or ``run`` of a config
-    whose ``kind`` is in :data:`SMALL_PROGRAM_RUNS`) and ``current`` does not choose the emitters itself."""
+    whose ``kind`` is in :data:`SMALL_PROGRAM_RUNS`), ``current`` does not choose the emitters itself and XLA has
+    them (``classic``; None: :func:`classic_emitters_available`)."""
     words = [a for a in argv if not a.startswith("-")]
     command = words[0] if words else None
     small = command in SMALL_PROGRAM_COMMANDS
@@ -44,7 +66,8 @@ def xla_flags_for(argv: list[str], current: str) -> str:
             small = tomllib.loads(Path(config).read_text()).get("kind") in SMALL_PROGRAM_RUNS
         except (TypeError, OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
             small = False
-    if not small or "xla_cpu_use_fusion_emitters" in current:
+    if not small or "xla_cpu_use_fusion_emitters" in current or not (
+            classic_emitters_available() if classic is None else classic):
         return current
     return f"{current} {CLASSIC_EMITTERS}".strip()
 
