@@ -187,7 +187,7 @@ def _writers(designs: int):
     """A pool of processes, one per core, that write ``designs`` design folders (:func:`_write_designs`), or
     None when there are fewer than four or one core. Spawned, not forked (jax's threads do not survive a fork),
     on the CPU backend (they only draw and write), and started at once with their imports, so that they are ready
-    when the solve ends (on the GPU's 64-design sweep their start was 3–4 s of the files' 19 s). Closed on
+    when the solve ends (the GPU's 64-design KCS sweep: its files phase 18.7 → 12.2 s). Closed on
     leaving, its unfinished work cancelled when the run failed."""
     workers = min(designs, os.cpu_count() or 1)
     if workers < 2 or designs < 4:
