@@ -83,59 +83,53 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     clock("setup")
     # a sweep's design folders are written by other processes; they start (and import) while it solves
     with _writers(cfg.sweep.count if cfg.kind == "pareto" else 1) as pool:
-        return _solve_and_write(cfg, study, out, title, quiet, clock, pool, options)
-
-
-def _solve_and_write(cfg, study, out, title, quiet, clock, pool, options) -> dict:
-    """The rest of :func:`run`: solve, assess, re-score, write; ``pool`` (:func:`_writers`) writes a sweep's
-    design folders."""
-    d = study.problem.design
-    with _progress(quiet, study.units(options), title) as (bar, task):
-        solution = study.solve(out, progress=lambda n: bar.update(task, advance=n), **options)
-    clock("solve")
-    report = solution.report
-    report["seconds"] = clock.seconds
-    if solution.partial:
-        write_json(out / "report.json", report)
+        with _progress(quiet, study.units(options), title) as (bar, task):
+            solution = study.solve(out, progress=lambda n: bar.update(task, advance=n), **options)
+        clock("solve")
+        report = solution.report
+        report["seconds"] = clock.seconds
+        if solution.partial:
+            write_json(out / "report.json", report)
+            return report
+        m = solution.outcome
+        # the design folders are written while the designs are assessed and re-scored
+        designs_written = None if solution.final else _write_designs(pool, solution.outcomes, float(d.draft),
+                                                                     out / "designs")
+        report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
+        report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
+        report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
+        clock("assess")
+        rescored, doubts = study.rescore(solution.designs)
+        clock("rescore")
+        if rescored is not None:
+            report["rescored"], report["rescored_warnings"] = rescored, doubts
+            report["warnings"] += doubts
+            met = [d["met"] for d in report["designs"]] if not solution.final else None
+            plot_rescored_fronts(rescored, out / FRONTS_NAME, met)
+        if "history" in report:
+            h = report["history"]
+            # the PNG: the first series (a fit's cost, a minimum's objective), the violation below
+            series = dict(h["series"])
+            violation = series.pop(VIOLATION, None)
+            plot_convergence(next(iter(series.values())), out / "convergence.png", h["iteration"], violation=violation,
+                             fit=cfg.kind == "fit")
+        if solution.final:
+            _write_hull(m, d.draft, out)
+            hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
+        else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
+            designs_written()
+            o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
+            where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
+                              for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
+            plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds),
+                        conditions=where)
+            hulls = None
+        write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
+        write_json(out / "report.json", report)  # before report.html: a failure there loses no result
+        write_report(out, report, hulls)
+        clock("files")
+        write_json(out / "report.json", report)  # again, with the files' time (report.html's included)
         return report
-    m = solution.outcome
-    # the design folders are written while the designs are assessed and re-scored
-    designs_written = None if solution.final else _write_designs(pool, solution.outcomes, float(d.draft),
-                                                                 out / "designs")
-    report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
-    report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
-    report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
-    clock("assess")
-    rescored, doubts = study.rescore(solution.designs)
-    clock("rescore")
-    if rescored is not None:
-        report["rescored"], report["rescored_warnings"] = rescored, doubts
-        report["warnings"] += doubts
-        met = [d["met"] for d in report["designs"]] if not solution.final else None
-        plot_rescored_fronts(rescored, out / FRONTS_NAME, met)
-    if "history" in report:
-        h = report["history"]
-        series = dict(h["series"])  # the PNG: the first series (a fit's cost, a minimum's objective), violation below
-        violation = series.pop(VIOLATION, None)
-        plot_convergence(next(iter(series.values())), out / "convergence.png", h["iteration"], violation=violation,
-                         fit=cfg.kind == "fit")
-    if solution.final:
-        _write_hull(m, d.draft, out)
-        hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
-    else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
-        designs_written()
-        o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
-        where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
-                          for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
-        plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds),
-                    conditions=where)
-        hulls = None
-    write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
-    write_json(out / "report.json", report)  # before report.html: a failure there loses no result
-    write_report(out, report, hulls)
-    clock("files")
-    write_json(out / "report.json", report)  # again, with the files' time (report.html's included)
-    return report
 
 
 def _warm_up_in_background() -> None:
