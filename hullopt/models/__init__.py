@@ -12,6 +12,11 @@ from ._specs import mesh_sections_shape as mesh_sections_shape
 from ._specs import split_spec as split_spec
 from ._specs import take_param as take_param
 from ._modifications import blunt_bow as blunt_bow
+from ._bow import BowAttachment as BowAttachment
+from ._bow import attach_bow as attach_bow
+from ._bow import attachment_plan as attachment_plan
+from ._bow import band_weight as band_weight
+from ._bow import stem_station as stem_station
 from ._offsets import OffsetSurface as OffsetSurface
 from ._offsets import OffsetTable as OffsetTable
 from ._offsets import offset_surface as offset_surface

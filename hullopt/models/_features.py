@@ -54,6 +54,7 @@ from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ..errors import HullError
 from ..geometry import TINY_LENGTH, Sections, atomic_write_bytes, hermite, pchip_slopes, safe_div
+from ._bow import BowAttachment, attach_bow, attachment_plan, stem_station
 from ._feature_frame import apex_points, aux_points, rebuild_frames
 
 PARENTS_DIR = Path(__file__).resolve().parents[1] / "data" / "parents"
@@ -282,11 +283,14 @@ CONTOUR_LINES = ("keel_z", "fob_y", "fos_z", "deck_y", "deck_z")
 class FeatureParams(eqx.Module):
     """Design parameters (zero = the parent): ``apex (K, 2)`` move vectors (dy, dz) [m] of the model's apex
     moves; ``distribution (G, modes)`` warp coefficients (|Σ c| < 1 keeps the warp monotone); ``contour (E,)``
-    contour-edit amplitudes [m]."""
+    contour-edit amplitudes [m]; ``bow (W,)`` bow-attachment amplitudes [m] (:mod:`._bow`); ``beam (P,)``
+    (P = 0 or 1) the relative change of every half-breadth, y ↦ (1 + beam)·y (Lpp and heights kept)."""
 
     apex: Float[ArrayLike, "K 2"]  # numpy for a config's start and bounds, JAX when solved
     distribution: Float[ArrayLike, "G J"]
     contour: Float[ArrayLike, " E"]
+    bow: Float[ArrayLike, " W"] = eqx.field(default_factory=lambda: np.zeros(0))
+    beam: Float[ArrayLike, " P"] = eqx.field(default_factory=lambda: np.zeros(0))
 
 
 def _smoothstep(r):
@@ -313,12 +317,17 @@ class FeatureModel(eqx.Module):
     dist_range: Float[ArrayLike, "G 2"]
     edit_w: Float[ArrayLike, "E n C"]
     design: tuple[tuple[ApexMove, ...], tuple[Distribution, ...], tuple[ContourEdit, ...]] = eqx.field(static=True)
+    bow_plan: Float[ArrayLike, "W n"] = eqx.field(default_factory=lambda: np.zeros((0, 0)))  # plan forms W(x)
+    bow_band: Float[ArrayLike, "W 3"] = eqx.field(default_factory=lambda: np.zeros((0, 3)))  # (z_lo, z_hi, blend)
+    bows: tuple[BowAttachment, ...] = eqx.field(static=True, default=())
+    beam_scale: bool = eqx.field(static=True, default=False)
 
     def zeros(self) -> FeatureParams:
         """The parameters that give back the parent exactly."""
         k, g, e = len(self.move_seg), self.dist_mask.shape[0], self.edit_w.shape[0]
         modes = max([d.modes for d in self.design[1]], default=0)
-        return FeatureParams(jnp.zeros((k, 2)), jnp.zeros((g, modes)), jnp.zeros((e,)))
+        return FeatureParams(jnp.zeros((k, 2)), jnp.zeros((g, modes)), jnp.zeros((e,)), jnp.zeros(len(self.bows)),
+                             jnp.zeros(int(self.beam_scale)))
 
     def features(self, params: FeatureParams) -> FeatureHull:
         """The deformed feature hull (steps 1–3 of the module docstring)."""
@@ -362,7 +371,15 @@ class FeatureModel(eqx.Module):
         return out
 
     def __call__(self, params: FeatureParams) -> Sections:
-        return self.features(params).sections()
+        return self.finish(self.features(params).sections(), params)
+
+    def finish(self, s: Sections, params: FeatureParams) -> Sections:
+        """Steps 5–6 on the rebuilt frames ``s`` of :meth:`features`."""
+        if self.bows:  # 5. bow attachments, on the rebuilt frames (they widen collapsed segments too)
+            s = attach_bow(s, params.bow, self.bow_plan, self.bow_band)
+        if self.beam_scale:  # 6. the beam, every half-breadth alike
+            s = Sections(x=s.x, yz=s.yz.at[..., 0].multiply(1.0 + params.beam[0]), lpp=s.lpp)
+        return s
 
 
 def _used_modes(model: FeatureModel, params: FeatureParams) -> Array:
@@ -540,9 +557,12 @@ def _edit_weights(h: FeatureHull, ed: ContourEdit) -> np.ndarray:
 
 
 def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributions: Sequence[Distribution] = (),
-                  edits: Sequence[ContourEdit] = ()) -> FeatureModel:
+                  edits: Sequence[ContourEdit] = (), bows: Sequence[BowAttachment] = (), beam: bool = False,
+                  draft: float | None = None) -> FeatureModel:
     """Precompute a design on ``hull`` (numpy, once): ``moves`` :class:`ApexMove`, ``distributions``
-    :class:`Distribution` (each feature curve in at most one), ``edits`` :class:`ContourEdit`.
+    :class:`Distribution` (each feature curve in at most one), ``edits`` :class:`ContourEdit`, ``bows``
+    :class:`BowAttachment` (their stem found at ``draft`` [m], default the hull's design draft: one eager
+    evaluation of the parent), ``beam`` whether the beam is a parameter.
     Raises :class:`HullError` on an inconsistent design (fixed ends not on the apex line, …).
 
     Parameters
@@ -593,6 +613,14 @@ def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributio
         raise HullError(f"distribution: station shifts {shifts} overlap; give each station to one shift")
     c = base.shape[1]
     chain = _chain(hull)
+    bows = tuple(bows)
+    plan = np.zeros((0, len(x)))
+    if bows:
+        t = hull.design_draft if draft is None else draft
+        if t is None:
+            raise HullError("bow attachment: the parent has no design draft; give the draft its stem is found at")
+        stem = stem_station(hull.sections(), float(t))
+        plan = np.array([attachment_plan(x, b, stem) for b in bows])
     return FeatureModel(
         hull=hull,
         base=base,
@@ -605,6 +633,10 @@ def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributio
         dist_range=np.array([[d.x_a, d.x_b] for d in distributions], float).reshape(len(distributions), 2),
         edit_w=np.array([_edit_weights(hull, e) for e in edits]).reshape(len(edits), len(x), c),
         design=(moves, distributions, edits),
+        bow_plan=plan,
+        bow_band=np.array([[b.z_lo, b.z_hi, b.blend] for b in bows], float).reshape(len(bows), 3),
+        bows=bows,
+        beam_scale=bool(beam),
     )
 
 
@@ -646,7 +678,7 @@ def _evaluated(model: FeatureModel, params: FeatureParams) -> tuple[dict[str, Ar
     """The margins, the deformed feature hull and its sections, in one compiled program (one executable
     loaded from the compilation cache by a warm CLI call, where operation by operation took seconds)."""
     f = model.features(params)
-    return design_margins(model, params), f, f.sections()
+    return design_margins(model, params), f, model.finish(f.sections(), params)
 
 
 def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
@@ -669,7 +701,8 @@ def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
     from shapely.geometry import LineString
 
     p = {k: np.asarray(v) for k, v in vars(params).items()}
-    for name, shape in (("apex", (len(model.move_seg), 2)), ("contour", (model.edit_w.shape[0],))):
+    for name, shape in (("apex", (len(model.move_seg), 2)), ("contour", (model.edit_w.shape[0],)),
+                        ("bow", (len(model.bows),)), ("beam", (int(model.beam_scale),))):
         if p[name].shape != shape:
             raise HullError(f"parameters: {name} has shape {p[name].shape}, expected {shape}")
     if not all(np.all(np.isfinite(v)) for v in p.values()):

@@ -88,16 +88,45 @@ class ContourEditConfig(_Strict):
     bound: float = Field(default=1.0, gt=0, description="|amplitude| ≤ bound [m]")
 
 
+class BowConfig(_Strict):
+    """``[[design.bow]]``: a bow attachment (JP2009-286166 claims 4–5; :mod:`hullopt.models._bow`)."""
+
+    x_blend: float = Field(description="m from the AP: where the attachment starts (zero slope)")
+    z_lo: float = Field(description="m above the baseline: the band's lower end (full width from here up)")
+    z_hi: float | None = Field(default=None, description="m: the band's upper end; default none (to the deck)")
+    blend: float = Field(default=1.0, gt=0, description="m: height of the smooth ramps outside the band")
+    x_peak: float | None = Field(default=None, description="m: full width here; default the station aft of the stem")
+    x_stem: float | None = Field(default=None, description="m: the nose closes here; default the stem at the draft")
+    a: float = Field(default=0.0, description="start: half-breadth added at x_peak [m] (negative: finer)")
+    bound: float = Field(default=5.0, gt=0, description="|a| ≤ bound [m]")
+
+    @model_validator(mode="after")
+    def _band(self):
+        if self.z_hi is not None and self.z_hi <= self.z_lo:
+            raise ValueError(f"z_hi = {self.z_hi:g} m must be above z_lo = {self.z_lo:g} m")
+        return self
+
+
+class BeamConfig(_Strict):
+    """``[design.beam]``: every half-breadth scaled by 1 + s, Lpp and heights kept (with a ∇ target the fit
+    takes the volume back elsewhere)."""
+
+    s: float = Field(default=0.0, description="start: the relative change of the beam")
+    bound: float = Field(default=0.05, gt=0, lt=0.5, description="|s| ≤ bound (0.05: ±5 %)")
+
+
 class DesignConfig(_Strict):
     apex_move: list[ApexMoveConfig] = []
     distribution: list[DistributionConfig] = []
     contour_edit: list[ContourEditConfig] = []
+    bow: list[BowConfig] = []
+    beam: BeamConfig | None = None
 
     @model_validator(mode="after")
     def _some(self):
-        if not (self.apex_move or self.distribution or self.contour_edit):
-            raise ValueError("the design has no parameters: give [[design.apex_move]], [[design.distribution]] "
-                             "or [[design.contour_edit]]")
+        if not (self.apex_move or self.distribution or self.contour_edit or self.bow or self.beam):
+            raise ValueError("the design has no parameters: give [[design.apex_move]], [[design.distribution]], "
+                             "[[design.contour_edit]], [[design.bow]] or [design.beam]")
         return self
 
 

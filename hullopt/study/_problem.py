@@ -12,6 +12,7 @@ from ..errors import HullError
 from ..fairing import SHAPE_MEASURES
 from ..models import (
     ApexMove,
+    BowAttachment,
     ContourEdit,
     Distribution,
     FeatureHull,
@@ -33,7 +34,7 @@ class Problem:
     parent: str  # the config's ``[hull] parent``
 
 
-def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") -> tuple:
+def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.", draft: float | None = None) -> tuple:
     """The feature model of a design's tables on ``hull``, its start parameters and the half-widths of its bounds.
 
     Shared by ``hullopt run`` and ``hullopt deform``. The parameters are numpy leaves: no JAX op runs.
@@ -66,6 +67,9 @@ def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") ->
         [Distribution(g.x_a, g.x_b, g.curves if isinstance(g.curves, str) else tuple(g.curves), g.modes)
          for g in d.distribution],
         [ContourEdit(e.line, e.x_a, e.x_b, e.shape) for e in d.contour_edit],
+        [BowAttachment(b.x_blend, b.z_lo, np.inf if b.z_hi is None else b.z_hi, b.blend, b.x_peak, b.x_stem)
+         for b in d.bow],
+        beam=d.beam is not None, draft=draft,
     )
     modes = max((g.modes for g in d.distribution), default=0)
     dist0 = np.zeros((len(d.distribution), modes))
@@ -77,12 +81,16 @@ def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.") ->
         dist0[i, : len(c)] = c
         dist_b[i] = g.bound
     # numpy leaves: building a problem runs no JAX op (each eager op costs a compile or a cache read)
+    beam = [] if d.beam is None else [d.beam]
     p0 = FeatureParams(np.array([m.d for m in d.apex_move], float).reshape(-1, 2), dist0,
-                       np.array([e.amplitude for e in d.contour_edit], float))
+                       np.array([e.amplitude for e in d.contour_edit], float), np.array([b.a for b in d.bow], float),
+                       np.array([b.s for b in beam], float))
     half = FeatureParams(np.array([[m.bound] * 2 for m in d.apex_move], float).reshape(-1, 2), dist_b,
-                         np.array([e.bound for e in d.contour_edit], float))
+                         np.array([e.bound for e in d.contour_edit], float), np.array([b.bound for b in d.bow], float),
+                         np.array([b.bound for b in beam], float))
     for name, v, b in (("apex_move d", p0.apex, half.apex), ("distribution c", p0.distribution, half.distribution),
-                       ("contour_edit amplitude", p0.contour, half.contour)):
+                       ("contour_edit amplitude", p0.contour, half.contour), ("bow a", p0.bow, half.bow),
+                       ("beam s", p0.beam, half.beam)):
         if np.any(np.abs(np.asarray(v)) >= np.asarray(b)):
             raise HullError(f"{where.rstrip('.') or 'design'}: a start value of {name} is not inside its bound")
     return model, p0, half
@@ -105,7 +113,7 @@ def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: 
         raise HullError(f"hull.draft = {draft:g} m is {where} of {cfg.hull.parent!r}: expected a draft in "
                         f"({lo:g}, {deck:g}] m (keel or baseline to deck)")
     check_freeboard(cfg, parent, float(draft))
-    model, p0, half = design_params(cfg.design, parent)
+    model, p0, half = design_params(cfg.design, parent, draft=float(draft))
     lower = jax.tree.map(lambda h: -h, half)
     try:
         targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg)
@@ -178,7 +186,7 @@ def limits_from(cfg: RunConfig) -> Limits:
                   bulge=c.bulge == "forbid", frozen=frozen, tol=c.tolerance)
 
 
-PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude")
+PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude", "bow_a", "beam_s")
 """The keys of a report's ``params``: the leaves of :class:`~hullopt.models.FeatureParams` in order."""
 
 
@@ -197,7 +205,11 @@ def params_to_dict(p: FeatureParams) -> dict:
         ``{key: nested list}`` under :data:`PARAM_KEYS` (``apex_move_d``, ``distribution_c``,
         ``contour_edit_amplitude``).
     """
-    return {k: np.asarray(v).tolist() for k, v in zip(PARAM_KEYS, (p.apex, p.distribution, p.contour))}
+    return {k: np.asarray(v).tolist() for k, v in zip(PARAM_KEYS, _leaves(p))}
+
+
+def _leaves(p: FeatureParams) -> tuple:
+    return p.apex, p.distribution, p.contour, p.bow, p.beam
 
 
 def stack_params(params: list[FeatureParams]) -> FeatureParams:
@@ -243,8 +255,9 @@ def params_from_dict(values: dict, like: FeatureParams) -> FeatureParams:
         When a key is missing or the values do not fit the problem's shapes.
     """
     try:
-        leaves = [np.asarray(values[k], float).reshape(np.shape(ref)) for k, ref in
-                  zip(PARAM_KEYS, (like.apex, like.distribution, like.contour))]
+        # a report written before a leaf existed has no key for it: an empty leaf
+        leaves = [np.asarray(values[k] if k in values or np.size(ref) else [], float).reshape(np.shape(ref))
+                  for k, ref in zip(PARAM_KEYS, _leaves(like))]
     except (KeyError, ValueError, TypeError) as e:
         raise HullError(f"the report's params do not fit the run's design ({type(e).__name__}: {e})") from None
     return FeatureParams(*leaves)
@@ -256,8 +269,7 @@ def bound_warnings(prob: Problem, params: list[FeatureParams], who: str = "") ->
     out = []
     half = prob.upper
     for k, p in enumerate(params):
-        for name, v, b in (("apex_move", p.apex, half.apex), ("distribution", p.distribution, half.distribution),
-                           ("contour_edit", p.contour, half.contour)):
+        for name, v, b in zip(("apex_move", "distribution", "contour_edit", "bow", "beam"), _leaves(p), _leaves(half)):
             v, b = np.asarray(v, float), np.asarray(b, float)
             for idx in zip(*np.nonzero(np.abs(v) >= 0.99 * b)):
                 out.append(f"{who.format(k=k)}design.{name}[{idx[0]}]"

@@ -31,7 +31,7 @@ def read_design(path: Path, parent: str | None = None, draft: float | None = Non
     name = parent or cfg.parent
     if not name:
         raise HullError(f"{path}: give the parent (a key 'parent = \"dtc\"' or the PARENT argument)")
-    model, params, _ = design_params(cfg, run_parent(name, draft), where="")
+    model, params, _ = design_params(cfg, run_parent(name, draft), where="", draft=draft)
     return model, params, name
 
 
