@@ -34,6 +34,33 @@ def test_bad_bounds_name_the_constraint(text):
 ONE_CONDITION = Path(__file__).resolve().parent / "data" / "rescore_wigley.toml"  # a single-condition minimise run
 
 
+@pytest.mark.parametrize("value, expected", [
+    (">= 0.98 * parent", ((-1, 0.98, True, 0.0),)),
+    ([">= 0.95 * parent", "<= 1.05 * parent"], ((-1, 0.95, True, 0.0), (1, 1.05, True, 0.0))),
+    (["<= 1.05 * parent", ">= parent - 0.5"], ((-1, 1.0, True, -0.5), (1, 1.05, True, 0.0))),  # lower first
+    ([">= 19.0", "<= 21"], ((-1, 19.0, False, 0.0), (1, 21.0, False, 0.0))),
+])
+def test_two_sided_bounds_parse(value, expected):
+    from hullopt.study import parse_bounds
+
+    assert parse_bounds("bwl", value) == expected
+
+
+@pytest.mark.parametrize("value, message", [
+    ([">= 0.95 * parent"], r"constraints.bwl = \['>= 0.95 \* parent'\]: a two-sided bound is a list of two"),
+    ([">= 0.9 * parent", "<= parent", "<= 2"], "constraints.bwl = .*: a two-sided bound is a list of two"),
+    ([">= 0.95 * parent", 1.05], "constraints.bwl = .*: a two-sided bound is a list of two bound strings"),
+    ([">= 0.95 * parent", ">= 19"], r"constraints.bwl = .*: both bounds are '>='; a two-sided bound takes one"),
+    ([">= 0.95 * parent", "<= 1.05 * parents"], r"constraints.bwl\[1\] = '<= 1.05 \* parents': expected"),
+    ([">= 21", "<= 19"], "constraints.bwl = .*: no value is both >= 21 and <= 19"),
+])
+def test_bad_two_sided_bounds_name_the_constraint(value, message):
+    from hullopt.study import parse_bounds
+
+    with pytest.raises(ValueError, match=message):
+        parse_bounds("bwl", value)
+
+
 def _raw(**constraints) -> dict:
     raw = tomllib.loads(ONE_CONDITION.read_text())
     raw["constraints"] = constraints
@@ -46,6 +73,9 @@ def _raw(**constraints) -> dict:
     ({"max_half_breadth": -1.0}, "constraints.max_half_breadth = -1.0: expected a positive half-breadth"),
     ({"bulge": "sometimes"}, "constraints.bulge"),
     ({"tolerance": 0.5}, "constraints.tolerance"),
+    ({"bwl": [">= 0.95 * parent", ">= 0.9 * parent"]}, "constraints.bwl = ['>= 0.95 * parent', '>= 0.9 * parent']: "
+                                                        "both bounds are '>='"),
+    ({"cb": [">= 0.5"]}, "constraints.cb = ['>= 0.5']: a two-sided bound is a list of two bound strings"),
 ])
 def test_bad_constraints_fail_with_the_field(constraints, message):
     with pytest.raises(ValueError, match="1 validation error") as e:
@@ -74,7 +104,7 @@ def test_an_option_of_another_objective_kind_is_an_error_naming_the_kind(overrid
 def test_objective_constraints_take_the_objectives_options():
     cfg = RunConfig.model_validate(_raw(calm_resistance="<= parent", wetted_surface="<= 1.01 * parent"))
     own = {k: v for k, v in cfg.constraints.bounds().items() if k not in DEFAULT_LIMITS}
-    assert own == {"calm_resistance": (1, 1.0, True, 0.0), "wetted_surface": (1, 1.01, True, 0.0)}
+    assert own == {"calm_resistance": ((1, 1.0, True, 0.0),), "wetted_surface": ((1, 1.01, True, 0.0),)}
     assert cfg.constraint_options("calm_resistance").speed_kn == cfg.objective.speed_kn
     raw = _raw(mean_added_resistance="<= parent")
     raw["objective"] = {"kind": "calm_resistance", "speed_kn": 15.0}  # no sea state for the constraint
@@ -148,7 +178,7 @@ def test_roughness_constraints_are_parsed_and_reach_the_limits():
 
     cfg = RunConfig.model_validate(_raw(sac_roughness="<= 2 * parent", section_roughness="<= 2 * parent",
                                         unfairness="<= 1.5 * parent"))
-    assert cfg.constraints.bounds()["sac_roughness"] == (1, 2.0, True, 0.0)
+    assert cfg.constraints.bounds()["sac_roughness"] == ((1, 2.0, True, 0.0),)
     lim = limits_from(cfg)
     named = dict(zip(lim.names, lim.measures))
     assert {"sac_roughness", "section_roughness", "unfairness"} <= set(named)
@@ -372,3 +402,34 @@ def test_local_shape_measures_are_constraints():
     named = {k: (m, float(v)) for k, m, v in zip(lim.names, lim.measures, lim.values)}
     assert named["waterline_angles"] == (fairing.waterline_angles, 1.1)
     assert named["sac_regions"] == (fairing.sac_regions, 3.0)
+
+
+def test_a_two_sided_bound_holds_both_sides_in_the_limits_and_the_report():
+    """``bwl = [">= 0.95 * parent", "<= 1.05 * parent"]``: two entries of one name in the limits, the measure
+    measured once and its group both sides' g (the worse side is the one a report and its warnings show), both
+    sides in the bound the report writes (its table too); a default limit may be given both sides."""
+    from hullopt.geometry import Sections
+    from hullopt.models import box
+    from hullopt.report._html import limits_table
+    from hullopt.study import limits_from
+
+    cfg = RunConfig.model_validate(_raw(bwl=[">= 0.95 * parent", "<= 1.05 * parent"],
+                                        kmt=[">= parent - 0.05", "<= parent + 1"]))
+    written = cfg.constraints.written()
+    assert written["bwl"] == ">= 0.95 * parent and <= 1.05 * parent"
+    assert written["kmt"] == ">= parent - 0.05 and <= parent + 1"
+    lim = limits_from(cfg)
+    k = [i for i, n in enumerate(lim.names) if n == "bwl"]
+    assert len(k) == 2 and lim.measures[k[0]] is lim.measures[k[1]]
+    np.testing.assert_array_equal(np.asarray(lim.sense)[k], [-1.0, 1.0])
+    np.testing.assert_array_equal(np.asarray(lim.values)[k], [0.95, 1.05])
+    bwl = type(lim)(names=("bwl", "bwl"), measures=tuple(lim.measures[i] for i in k), sense=np.asarray(lim.sense)[k],
+                    values=np.asarray(lim.values)[k], relative=(True, True), max_half_breadth=None, bulge=False)
+    parent = box(100.0, 10.0, 8.0)
+    bwl = bwl.at_parent(parent, 5.0)
+    for scale, g in ((1.0, (-0.05 / 0.95, -0.05 / 1.05)), (1.1, (-0.15 / 0.95, 0.05 / 1.05)),
+                     (0.9, (0.05 / 0.95, -0.15 / 1.05))):
+        design = Sections(parent.x, parent.yz * jnp.array([scale, 1.0]), parent.lpp)
+        np.testing.assert_allclose(bwl.groups(design, 5.0)["bwl"], g, rtol=1e-12)
+    report = {"limits": {"bwl": {"parent": -0.0476, "design": 0.0, "bound": written["bwl"], "tolerance": 1e-3}}}
+    assert ">= 0.95 * parent and <= 1.05 * parent" in limits_table(report).replace("&gt;", ">").replace("&lt;", "<")

@@ -129,7 +129,7 @@ def test_the_default_limits_are_on_and_one_can_be_switched_off():
     assert set(DEFAULT_LIMITS) <= set(cfg.constraints.bounds()) and cfg.constraints.frozen == "auto"
     off = RunConfig.model_validate({**base, "constraints": {"dwl_turns": "none", "kmt": ">= parent - 0.1"}})
     b = off.constraints.bounds()
-    assert "dwl_turns" not in b and b["kmt"].margin == -0.1
+    assert "dwl_turns" not in b and b["kmt"][0].margin == -0.1
     with pytest.raises(ValueError, match=r"constraints.frozen: range \[5.0, 1.0\]"):
         RunConfig.model_validate({**base, "constraints": {"frozen": [[5.0, 1.0]]}})
 

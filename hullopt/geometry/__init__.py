@@ -7,7 +7,9 @@ from ._coons import spline_slopes as spline_slopes
 from ._coons import spline_curvatures as spline_curvatures
 from ._integrate import LongitudinalIntegrals as LongitudinalIntegrals
 from ._integrate import longitudinal_integrals as longitudinal_integrals
+from ._integrate import region_volume as region_volume
 from ._integrate import simpson_weights as simpson_weights
+from ._integrate import simpson_weights_between as simpson_weights_between
 from ._integrate import transom_area as transom_area
 from ._integrate import volume_lcb as volume_lcb
 from ._mesh import EXPORT_FORMATS as EXPORT_FORMATS

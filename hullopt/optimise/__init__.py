@@ -34,6 +34,7 @@ from ._problems import Limits as Limits
 from ._problems import bulb_stations as bulb_stations
 from ._problems import frozen_stations as frozen_stations
 from ._problems import Particular as Particular
+from ._problems import RegionVolume as RegionVolume
 from ._problems import Targets as Targets
 from ._problems import achieved as achieved
 from ._problems import make_targets as make_targets

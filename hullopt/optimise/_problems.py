@@ -37,7 +37,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array, ArrayLike, Float, PyTree
 
-from ..geometry import Sections, safe_div, section_integrals
+from ..geometry import Sections, region_volume, safe_div, section_integrals
 from ..hydro import Hydrostatics, hydrostatics
 from ..waves import bluntness
 from ._jaxopt import minimise_lbfgsb_traced
@@ -255,6 +255,22 @@ class Particular(eqx.Module):
         return target.measure(sections, draft)
 
 
+class RegionVolume(eqx.Module):
+    """The displaced volume [m³] of a region of the hull as a measure, called like an objective:
+    ``region(sections, draft)`` → :func:`hullopt.geometry.region_volume`, the part forward of ``x_a`` and aft
+    of ``x_b`` [m from the AP] below ``z_top`` [m above the baseline] and the waterline (a sonar dome's,
+    a bulb's). The region's numbers are arrays (a run with other numbers reuses its programs); ``inf``
+    (``-inf`` for ``x_a``) is no bound."""
+
+    x_a: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: np.asarray(-np.inf))
+    x_b: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: np.asarray(np.inf))
+    z_top: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: np.asarray(np.inf))
+    unit: ClassVar[str] = "m³"
+
+    def __call__(self, sections: Sections, draft) -> Array:
+        return region_volume(sections, draft, self.x_a, self.x_b, self.z_top)
+
+
 FROZEN = 0.01
 """m: how far a frozen station (:class:`Limits`) or any of its offsets may move."""
 
@@ -326,7 +342,8 @@ class Limits(eqx.Module):
     * ``measures[j](sections, draft)`` (an :class:`~hullopt.optimise.Objective` or a :class:`Particular`) at
       most (``sense[j] = +1``) or at least (``−1``) a bound: ``values[j]`` itself, or ``values[j]`` times the
       parent's value where ``relative[j]``; ``g = sense·(q − b)/|b|`` (elementwise for a measure with one value
-      per station, each against the parent's at that station).
+      per station, each against the parent's at that station). A name given twice is one measure bounded on
+      both sides (``"bwl" ≥ 0.95·parent`` and ``≤ 1.05·parent``): measured once, its group holds both sides' ``g``.
     * ``max_half_breadth`` [m] (``NaN``: the parent's largest half-breadth; ``None``: no limit): every
       offset's ``y`` at most it, ``g = (y − y_max)/y_max``, one per offset (n·m).
     * ``bulge`` (forbid): below the waterline no offset wider than its section's waterline half-breadth ``w``
@@ -361,11 +378,11 @@ class Limits(eqx.Module):
 
     def at_parent(self, sections: Sections, draft) -> Limits:
         """These limits with the parent's values resolved (``sections`` the parent at ``draft``)."""
-        q = [m(sections, draft) for m in self.measures]
+        q = self._measured(sections, draft)
         values = jnp.asarray(self.values, float)
         margins = jnp.zeros_like(values) if self.margins is None else jnp.asarray(self.margins, float)
-        # one bound per measure; a measure may be an array (one value per station), bounded elementwise
-        bounds = tuple(jnp.where(r, v * qi + o, v) for r, v, o, qi in zip(self.relative, values, margins, q))
+        # one bound per side; a measure may be an array (one value per station), bounded elementwise
+        bounds = tuple(jnp.where(r, v * q[k] + o, v) for k, r, v, o in zip(self.names, self.relative, values, margins))
         y = sections.yz[..., 0]
         y_ref = jnp.max(y)
         y_max = None if self.max_half_breadth is None else \
@@ -378,6 +395,14 @@ class Limits(eqx.Module):
                                         lim.reference), self,
                            (bounds, y_ref, allowance, y_max, held, reference), is_leaf=lambda v: v is None)
 
+    def _measured(self, sections: Sections, draft) -> dict[str, Array]:
+        """Each named measure's value, once a name (a two-sided bound names its measure twice)."""
+        q = {}
+        for name, m in zip(self.names, self.measures):
+            if name not in q:
+                q[name] = m(sections, draft)
+        return q
+
     @staticmethod
     def _excess(sections: Sections, draft) -> Array:
         """``y − w`` of every offset below the waterline [m], ``−∞``-like (−1e3 m) above it."""
@@ -386,11 +411,14 @@ class Limits(eqx.Module):
         return jnp.where(below, sections.yz[..., 0] - w[:, None], -1e3)
 
     def groups(self, sections: Sections, draft) -> dict[str, Array]:
-        """The normalised constraints by name: each measure's (a scalar), ``"max_half_breadth"`` and
-        ``"bulge"`` (each ``(n·m,)``), those there are."""
+        """The normalised constraints by name: each measure's (a scalar, or its value per station; a measure
+        bounded on both sides both sides' concatenated), ``"max_half_breadth"`` and ``"bulge"`` (each
+        ``(n·m,)``), those there are."""
         out = {}
-        for name, m, s, b in zip(self.names, self.measures, jnp.asarray(self.sense, float), self.bounds):
-            out[name] = s * safe_div(m(sections, draft) - b, jnp.abs(b))
+        q = self._measured(sections, draft)
+        for name, s, b in zip(self.names, jnp.asarray(self.sense, float), self.bounds):
+            g = s * safe_div(q[name] - b, jnp.abs(b))
+            out[name] = jnp.concatenate([jnp.ravel(out[name]), jnp.ravel(g)]) if name in out else g
         if self.max_half_breadth is not None:
             out["max_half_breadth"] = (sections.yz[..., 0].ravel() - self.max_half_breadth) / self.y_ref
         if self.bulge:

@@ -16,6 +16,8 @@ from ._config import objective_options as objective_options
 from ._config import DEFAULT_LIMITS as DEFAULT_LIMITS
 from ._config import Bound as Bound
 from ._config import parse_bound as parse_bound
+from ._config import parse_bounds as parse_bounds
+from ._config import RegionVolumeConfig as RegionVolumeConfig
 from ._config import resolve_spec as resolve_spec
 from ._hulls import cache_folder as cache_folder
 from ._hulls import folder_study as folder_study

@@ -11,9 +11,11 @@ targets, an objective, a solver and, for Pareto runs, a sweep.
     [objective]  kind, speed_kn, hs, tp, heading_deg
     [sweep]      start, stop, count, chunk, measure (an objective table: the second Pareto axis)
     [constraints]  calm_resistance = "<= parent", cwp = ">= 0.98 * parent", kmt = ">= parent - 0.05",
-                 wetted_surface = "<= 9000", dwl_turns = "none" (a default off), max_half_breadth = "parent" |
+                 wetted_surface = "<= 9000", dwl_turns = "none" (a default off), bwl = [">= 0.95 * parent",
+                 "<= 1.05 * parent"] (both sides), max_half_breadth = "parent" |
                  M | "none", bulge = "forbid" | "allow", frozen = "auto" | "none" | [[x_a, x_b], …],
                  tolerance = 1e-3
+    [[constraints.region_volume]]  name, x_a, x_b, z_top (m), bound: a region's displaced volume
     [solver]     max_steps, smoothness, fairness, outer
 """
 
@@ -312,6 +314,51 @@ def parse_bound(name: str, text) -> Bound:
     return bound
 
 
+def parse_bounds(name: str, value) -> tuple[Bound, ...]:
+    """A constraint's bound or bounds: one bound string (:func:`parse_bound`), or a list of two, one each way —
+    ``[">= 0.95 * parent", "<= 1.05 * parent"]``, the measure between them.
+
+    Parameters
+    ----------
+    name : str
+        The constraint's name (the ``[constraints]`` key), for the error message.
+    value : str or list of str
+        The bound as written.
+
+    Returns
+    -------
+    tuple of Bound
+        ``(bound,)``, or ``(lower, upper)`` for a two-sided bound.
+
+    Raises
+    ------
+    ValueError
+        When a bound is malformed, a list is not two bound strings, both point the same way, or two bounds in
+        SI units leave no value between them; the message names the constraint (and the list's item).
+    """
+    if not isinstance(value, list | tuple):
+        return (parse_bound(name, value),)
+    if len(value) != 2 or not all(isinstance(v, str) for v in value):
+        raise ValueError(f"constraints.{name} = {list(value)!r}: a two-sided bound is a list of two bound strings, "
+                         "one '>=' and one '<=' (e.g. ['>= 0.95 * parent', '<= 1.05 * parent'])")
+    sides = tuple(parse_bound(f"{name}[{i}]", v) for i, v in enumerate(value))
+    if sides[0].sense == sides[1].sense:
+        way = "'<='" if sides[0].sense > 0 else "'>='"
+        raise ValueError(f"constraints.{name} = {list(value)!r}: both bounds are {way}; a two-sided bound takes one "
+                         "'>=' and one '<='")
+    lower, upper = sorted(sides, key=lambda b: b.sense)
+    if not (lower.relative or upper.relative) and lower.value > upper.value:
+        raise ValueError(f"constraints.{name} = {list(value)!r}: no value is both >= {lower.value:g} and <= "
+                         f"{upper.value:g}")
+    return lower, upper
+
+
+def bound_text(value) -> str:
+    """A bound as a report writes it: the string, or a two-sided bound's two joined
+    (``">= 0.95 * parent and <= 1.05 * parent"``)."""
+    return " and ".join(value) if isinstance(value, list | tuple) else value
+
+
 DEFAULT_LIMITS = {
     "station_knuckles": "<= 2 * parent",
     "section_roughness": "<= 2 * parent",
@@ -337,6 +384,26 @@ def measure_names() -> tuple[str, ...]:
     return (*OBJECTIVES, *(k for k in Hydrostatics.__dataclass_fields__ if k != "draft"), "bf", *SHAPE_MEASURES)
 
 
+class RegionVolumeConfig(_Strict):
+    """``[[constraints.region_volume]]``: the displaced volume of a region of the hull bounded — the part
+    forward of ``x_a`` and aft of ``x_b`` [m from the AP] below ``z_top`` [m above the baseline] and the
+    waterline (:func:`hullopt.geometry.region_volume`), e.g. a sonar dome's not below the parent's. Its
+    constraint (and measure in the report) is ``region_volume:<name>``."""
+
+    name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$", description="the region's name (letters, digits, _): "
+                      "the report's 'region_volume:<name>'")
+    x_a: float | None = Field(default=None, description="m from the AP: the region's aft end; default the hull's")
+    x_b: float | None = Field(default=None, description="m from the AP: its forward end; default the hull's")
+    z_top: float | None = Field(default=None, description="m above the baseline: its top; default the waterline "
+                                "(a higher one is clipped there)")
+    bound: str | list[str] = Field(description="'>= parent', '>= 0.98 * parent', '<= NUMBER' [m³], or a list of "
+                                   "two, one each way")
+
+
+REGION = "region_volume:"
+"""The prefix of a region's constraint and measure names: ``region_volume:<name>``."""
+
+
 class ConstraintsConfig(_Strict):
     """``[constraints]``: inequalities beside the targets, held by minimise and Pareto runs (a fit has
     none). Any objective or particular (:func:`measure_names`) as ``name = "<= parent"`` (an objective's
@@ -344,7 +411,9 @@ class ConstraintsConfig(_Strict):
     ``max_half_breadth``: no offset wider than this [m] (``"parent"``: the parent's largest half-breadth;
     ``"none"``: no limit); ``bulge = "forbid"``: no section wider below the waterline than its waterline
     half-breadth, beyond what the parent's is at the same offset; ``tolerance``: how far (relative to the
-    bound, or to the parent's half-breadth) a constraint may be exceeded and still be met."""
+    bound, or to the parent's half-breadth) a constraint may be exceeded and still be met. A measure may be
+    bounded on both sides by a list of two bounds, ``bwl = [">= 0.95 * parent", "<= 1.05 * parent"]``;
+    ``[[region_volume]]`` bounds the displaced volume of regions of the hull (:class:`RegionVolumeConfig`)."""
 
     model_config = ConfigDict(extra="allow")
 
@@ -354,6 +423,8 @@ class ConstraintsConfig(_Strict):
         default="auto", description="stations that must not change: 'auto' (a bulb at either end), 'none', or "
         "ranges [[x_a, x_b], …] [m from the AP] of the parent's stations")
     tolerance: float = Field(default=1e-3, gt=0, lt=0.1)
+    region_volume: list[RegionVolumeConfig] = Field(
+        default_factory=list, description="regions whose displaced volume is bounded (a sonar dome's, a bulb's)")
 
     @model_validator(mode="after")
     def _bounds(self):
@@ -361,9 +432,22 @@ class ConstraintsConfig(_Strict):
         for name, text in (self.model_extra or {}).items():
             if name not in names:
                 raise ValueError(f"constraints.{name}: unknown measure; expected one of {', '.join(names)}, "
-                                 "max_half_breadth, bulge, frozen or tolerance")
+                                 "max_half_breadth, bulge, frozen, tolerance or [[constraints.region_volume]]")
             if text != "none":
-                parse_bound(name, text)
+                parse_bounds(name, text)
+        seen = set()
+        for i, r in enumerate(self.region_volume):
+            where = f"constraints.region_volume[{i}]"
+            if r.name in seen:
+                raise ValueError(f"{where}: name {r.name!r} is given twice; each region needs its own")
+            seen.add(r.name)
+            parse_bounds(f"region_volume[{i}].bound", r.bound)
+            if r.x_a is None and r.x_b is None and r.z_top is None:
+                raise ValueError(f"{where} ({r.name}): give x_a, x_b or z_top (the whole hull's is the volume "
+                                 "constraint)")
+            if r.x_a is not None and r.x_b is not None and not r.x_a < r.x_b:
+                raise ValueError(f"{where} ({r.name}): x_a = {r.x_a:g}, x_b = {r.x_b:g}: expected x_a < x_b "
+                                 "[m from the AP]")
         for a, b in self.frozen if isinstance(self.frozen, list) else ():
             if not a < b:
                 raise ValueError(f"constraints.frozen: range [{a}, {b}]: expected x_a < x_b [m from the AP]")
@@ -372,14 +456,23 @@ class ConstraintsConfig(_Strict):
                              "half-breadth [m], 'parent' or 'none'")
         return self
 
-    def written(self) -> dict[str, str]:
-        """The bounds as the run holds them: :data:`DEFAULT_LIMITS` with the config's own over them, less
-        those set to ``"none"``."""
-        return {k: v for k, v in {**DEFAULT_LIMITS, **(self.model_extra or {})}.items() if v != "none"}
+    def held(self) -> dict[str, str | list[str]]:
+        """The bounds as the run holds them, as written: :data:`DEFAULT_LIMITS` with the config's own over
+        them, less those set to ``"none"``, and each region's (``region_volume:<name>``)."""
+        out = {k: v for k, v in {**DEFAULT_LIMITS, **(self.model_extra or {})}.items() if v != "none"}
+        return out | {REGION + r.name: r.bound for r in self.region_volume}
 
-    def bounds(self) -> dict[str, Bound]:
-        """``{measure: Bound}`` (:func:`parse_bound`) of :meth:`written`."""
-        return {k: parse_bound(k, v) for k, v in self.written().items()}
+    def written(self) -> dict[str, str]:
+        """:meth:`held` as text (:func:`bound_text`: a two-sided bound's two joined by "and")."""
+        return {k: bound_text(v) for k, v in self.held().items()}
+
+    def bounds(self) -> dict[str, tuple[Bound, ...]]:
+        """``{measure: (Bound,) or (lower, upper)}`` (:func:`parse_bounds`) of :meth:`held`."""
+        return {k: parse_bounds(k, v) for k, v in self.held().items()}
+
+    def regions(self) -> dict[str, RegionVolumeConfig]:
+        """``{"region_volume:<name>": region}`` of ``[[region_volume]]``."""
+        return {REGION + r.name: r for r in self.region_volume}
 
 
 class SolverConfig(_Strict):

@@ -19,7 +19,7 @@ from ..models import (
     FeatureParams,
     feature_model,
 )
-from ..optimise import OBJECTIVES, Design, Limits, Particular, make_targets
+from ..optimise import OBJECTIVES, Design, Limits, Particular, RegionVolume, make_targets
 from ._config import DesignConfig, RunConfig
 
 
@@ -113,6 +113,8 @@ def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: 
         raise HullError(f"hull.draft = {draft:g} m is {where} of {cfg.hull.parent!r}: expected a draft in "
                         f"({lo:g}, {deck:g}] m (keel or baseline to deck)")
     check_freeboard(cfg, parent, float(draft))
+    if limits:
+        check_regions(cfg, parent)
     model, p0, half = design_params(cfg.design, parent, draft=float(draft))
     lower = jax.tree.map(lambda h: -h, half)
     try:
@@ -146,12 +148,32 @@ def check_freeboard(cfg: RunConfig, parent: FeatureHull, draft: float) -> None:
                 "the parent sections above the waterline")
 
 
+def check_regions(cfg: RunConfig, parent: FeatureHull) -> None:
+    """:class:`HullError` naming a ``[[constraints.region_volume]]`` that holds none of the parent: forward of its
+    last station, aft of its first or below its keel (a bound on nothing would be met by any design)."""
+    x, keel = np.asarray(parent.x), float(np.min(np.asarray(parent.keel)[:, 1]))
+    for i, r in enumerate(cfg.constraints.region_volume):
+        where = f"constraints.region_volume[{i}] ({r.name})"
+        if r.x_a is not None and r.x_a >= x[-1] or r.x_b is not None and r.x_b <= x[0]:
+            raise HullError(f"{where}: x_a … x_b = {r.x_a if r.x_a is not None else '–'} … "
+                            f"{r.x_b if r.x_b is not None else '–'} m is off {cfg.hull.parent!r}, whose stations "
+                            f"run {x[0]:.4g} … {x[-1]:.4g} m from the AP")
+        if r.z_top is not None and r.z_top <= keel:
+            raise HullError(f"{where}: z_top = {r.z_top:g} m is at or below the keel of {cfg.hull.parent!r} "
+                            f"({keel:.4g} m): the region holds no volume")
+
+
 def constraint_measure(cfg: RunConfig, name: str):
     """The measure a ``[constraints]`` key names: an objective (with the options of
     :meth:`~hullopt.study.RunConfig.constraint_options`), a shape measure
-    (:data:`~hullopt.fairing.SHAPE_MEASURES`) or a :class:`~hullopt.optimise.Particular`."""
+    (:data:`~hullopt.fairing.SHAPE_MEASURES`), a region's volume (``region_volume:<name>``, a
+    :class:`~hullopt.optimise.RegionVolume`) or a :class:`~hullopt.optimise.Particular`."""
     if name in SHAPE_MEASURES:
         return SHAPE_MEASURES[name]
+    region = cfg.constraints.regions().get(name)
+    if region is not None:
+        ends = (region.x_a, -np.inf), (region.x_b, np.inf), (region.z_top, np.inf)
+        return RegionVolume(*(np.asarray(default if v is None else float(v)) for v, default in ends))
     return cfg.constraint_options(name).build() if name in OBJECTIVES else Particular(name)
 
 
@@ -159,7 +181,8 @@ def limits_from(cfg: RunConfig) -> Limits:
     """The :class:`~hullopt.optimise.Limits` of a config's ``[constraints]``.
 
     Defaults: half-breadths within the parent's, no new bulge below the waterline, the local shape limits
-    :data:`~hullopt.study.DEFAULT_LIMITS` and a bulb at either end frozen.
+    :data:`~hullopt.study.DEFAULT_LIMITS` and a bulb at either end frozen. A measure bounded on both sides is
+    two entries of one name (:class:`~hullopt.optimise.Limits`).
 
     Parameters
     ----------
@@ -175,13 +198,15 @@ def limits_from(cfg: RunConfig) -> Limits:
     """
     c = cfg.constraints
     bounds = c.bounds()
+    measures = {k: constraint_measure(cfg, k) for k in bounds}
+    sides = [(k, b) for k, both in bounds.items() for b in both]  # a two-sided bound: two entries of one name
     mhb = {"parent": np.nan, "none": None}.get(c.max_half_breadth, c.max_half_breadth)
     frozen = c.frozen if isinstance(c.frozen, str) else tuple(map(tuple, c.frozen))
-    return Limits(names=tuple(bounds), measures=tuple(constraint_measure(cfg, k) for k in bounds),
-                  sense=np.array([b.sense for b in bounds.values()], float),
-                  values=np.array([b.value for b in bounds.values()], float),
-                  relative=tuple(b.relative for b in bounds.values()),
-                  margins=np.array([b.margin for b in bounds.values()], float),
+    return Limits(names=tuple(k for k, _ in sides), measures=tuple(measures[k] for k, _ in sides),
+                  sense=np.array([b.sense for _, b in sides], float),
+                  values=np.array([b.value for _, b in sides], float),
+                  relative=tuple(b.relative for _, b in sides),
+                  margins=np.array([b.margin for _, b in sides], float),
                   max_half_breadth=None if mhb is None else np.asarray(float(mhb)),
                   bulge=c.bulge == "forbid", frozen=frozen, tol=c.tolerance)
 
