@@ -3,3 +3,9 @@
 
 class HullError(ValueError):
     """Bad input from a user: the message names the file, line, field or parameter and what was expected."""
+
+
+class HullWarning(UserWarning):
+    """A hull read that looks implausible (a mesh in millimetres, in the wrong axes, upside down): the message
+    names the hull, what looks wrong, the likely cause and the fix (:func:`hullopt.models.plausibility_warnings`).
+    The CLI prints it as one ``warning: …`` line; ``--strict`` makes it a one-line error (exit code 2)."""

@@ -151,10 +151,10 @@ def test_stability_exit_code_and_table(cli, wide):
     assert code == 0, err
     assert "GZ [m]" in out and "KN [m]" in out and "m·rad" in out and "pass" in out and "FAIL" not in out
     assert not SCI.search(out) and max(cell_len(line) for line in out.splitlines()) <= 100
-    code, out, err = cli(*args, "--kg", "12")  # GM₀ < 0: every criterion fails
+    code, out, err = cli(*args, "--kg", "12", "--kg-above-deck")  # GM₀ < 0: every criterion fails
     assert code == 4 and "FAIL" in out and "criteria fail" in out and "exit code 4" in out
     assert "GZmax 0.000 m" in out and "-0.000" not in out
-    code, out, _ = cli(*args, "--kg", "12", "--json")
+    code, out, _ = cli(*args, "--kg", "12", "--kg-above-deck", "--json")
     assert code == 4 and not all(c["pass"] for c in json.loads(out)["criteria"])  # stdout stays JSON
 
 

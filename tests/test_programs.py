@@ -292,7 +292,7 @@ def test_a_command_that_fails_after_preparing_its_program_leaves_none_prepared(c
 def test_the_commands_build_their_program_while_a_mesh_is_read(command, cli, hulls, tmp_path, monkeypatch):
     from hullopt.study import load_hull, sections_like
 
-    spec = f"{hulls / 'wigley_openfoam.stl.gz'}?n=31&m=24"
+    spec = f"{hulls / 'wigley_openfoam.stl.gz'}?scale=2&shift=1,0,0.125&n=31&m=24"  # a 2 m model, AP and keel at 0
     like = sections_like(spec)
     assert sections_like("builtin:wigley?L=100&B=10&T=6.25&D=10") is None  # quick to load: nothing to overlap
     monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path))  # nothing kept yet: the sections and programs

@@ -2,11 +2,13 @@
 
 Help texts are plain text: units in brackets (``help="Ship speed [kn]."``) must not be read as rich markup
 (rich would print ``Ship speed .``). Every command registered with ``@app.command()`` gets the
-:class:`PlainHelpCommand` class, which escapes its help, its parameters' help and its epilog once, here."""
+:class:`PlainHelpCommand` class, which escapes its help, its parameters' help and its epilog once, here. A command
+that reads a hull takes ``strict: Strict = False`` (``--strict``: its hull's plausibility warnings refused)."""
 
 from __future__ import annotations
 
 import inspect
+import warnings
 from importlib.metadata import PackageNotFoundError, version
 from typing import Annotated
 
@@ -14,6 +16,7 @@ import typer
 from rich.markup import escape
 from typer.core import HAS_RICH, TyperCommand, TyperGroup
 
+from ..errors import HullWarning
 from ..report import JSON_UNITS
 from .output import exit_code_help
 
@@ -51,6 +54,23 @@ class PlainHelpCommand(TyperCommand):
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
         _escape_help(self)
+
+
+STRICT_HELP = ("Refuse a hull that looks implausible (a mesh in millimetres, in the wrong axes, upside down): "
+               "its warning becomes a one-line error (exit code 2).")
+
+
+def _strict(value: bool) -> bool:
+    """``--strict``: every :class:`~hullopt.errors.HullWarning` of this command raised as an error (the CLI's
+    ``main`` prints it as one line, exit code 2, and restores the warning filters after the command)."""
+    if value:
+        warnings.simplefilter("error", HullWarning)
+    return value
+
+
+#: ``--strict``, the option of every command that reads a hull (``strict: Strict = False``): set while the
+#: arguments are parsed, before the command runs, so the command's body never reads it (not passed).
+Strict = Annotated[bool, typer.Option("--strict", help=STRICT_HELP, callback=_strict, expose_value=False)]
 
 
 class PlainHelpGroup(TyperGroup):

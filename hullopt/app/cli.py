@@ -7,13 +7,14 @@ import re
 import socket
 import sys
 import tomllib
+import warnings
 from pathlib import Path
 
 # XLA logs a false alarm about CPU features each time it loads a cached executable; keep the terminal for
 # the user (set TF_CPP_MIN_LOG_LEVEL yourself to see XLA's logs). It must be set before jax is imported.
 os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "3")
 
-from ..errors import HullError  # noqa: E402
+from ..errors import HullError, HullWarning  # noqa: E402
 
 # XLA:CPU emits its fused kernels one of two ways, for a whole process. Its MLIR emitters (the default) vectorise
 # better: the large vmapped programs of a sweep's chunks, of re-scoring and of the panel methods run 15-30 % faster.
@@ -87,25 +88,48 @@ def configure_jax() -> None:
         pass  # a read-only home: run without the cache
 
 
+def _warn_hull_warnings() -> None:
+    """Within a ``warnings.catch_warnings()`` block: print each distinct :class:`HullWarning` as one ``warning: …``
+    line on stderr (through ``output.warn``, as the commands' own warnings); other warnings as Python prints them."""
+    from .output import warn
+
+    warnings.simplefilter("default", HullWarning)
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        if issubclass(category, HullWarning):
+            warn(str(message))
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; a user's mistake (:class:`HullError`) is one line on stderr and exit code 2."""
+    """Run the CLI; a user's mistake (:class:`HullError`, or a :class:`HullWarning` under ``--strict``) is one line
+    on stderr and exit code 2; a hull that looks implausible is one ``warning: …`` line each finding."""
     configure_jax()
     from ._app import app
     from .commands import register
 
     register(sys.argv[1:] if argv is None else argv)
-    try:
-        app(args=argv)  # usage errors: the parser prints them and exits with code 2
-    except SystemExit as e:
-        return e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
-    except HullError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    finally:
-        if "hullopt.study._programs" in sys.modules:  # what this command prepared and did not take (an error)
-            from ..study import discard_prepared
+    with warnings.catch_warnings():  # the command's filters (--strict) end with it
+        _warn_hull_warnings()
+        try:
+            app(args=argv)  # usage errors: the parser prints them and exits with code 2
+        except SystemExit as e:
+            return e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+        except HullError as e:
+            print(f"error: {e}", file=sys.stderr)
+            return 2
+        except HullWarning as e:
+            print(f"error: {e} (refused by --strict)", file=sys.stderr)
+            return 2
+        finally:
+            if "hullopt.study._programs" in sys.modules:  # what this command prepared and did not take (an error)
+                from ..study import discard_prepared
 
-            discard_prepared()
+                discard_prepared()
     return 0
 
 

@@ -148,8 +148,9 @@ def say(text: str, style: str | None = None) -> None:
 
 
 def warn(text: str) -> None:
-    """``warning: text`` on stderr (stdout stays the table or the JSON a script reads)."""
-    errors.print(Text(f"warning: {text}", style="yellow"))
+    """``warning: text`` on stderr (stdout stays the table or the JSON a script reads), on one logical line as
+    :func:`say` prints (the terminal wraps it)."""
+    errors.print(Text(f"warning: {text}", style="yellow"), soft_wrap=True)
 
 
 @contextmanager

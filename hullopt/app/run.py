@@ -31,7 +31,7 @@ from rich.progress import (
 
 from ..drawing import write_offsets_stations, write_offsets_wide
 from ..geometry import Sections
-from ..models import save_features
+from ..models import plausibility_warnings, save_features
 from ..report import (
     FRONTS_NAME,
     OVERLAY_NAME,
@@ -63,7 +63,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     ``report.json``: ``kind``, ``converged`` (the solver finished and every target is met), ``met``,
     ``iterations``, ``targets`` (target, achieved, error, tolerance, met per particular), ``achieved`` and
     ``parent`` (the ``hullopt hydro --json`` keys of the final and the parent hull), ``objective``
-    (value, parent value, name), ``params``, ``objectives`` (every measure, parent and design), ``warnings``;
+    (value, parent value, name), ``params``, ``objectives`` (every measure, parent and design), ``warnings`` (the
+    parent's plausibility first: :func:`~hullopt.models.plausibility_warnings`);
     for sweeps ``designs`` (one per sweep value, with its objectives, particulars, parameters and whether it is
     Pareto-optimal); ``seconds``: the wall time of each phase (``setup``: the config's hull and study;
     ``solve``; ``assess``: every measure of parent and design; ``rescore``: the second opinions; ``files``:
@@ -97,7 +98,10 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
                                                                      out / "designs")
         report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
         report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
-        report["objectives"], report["limits"], report["warnings"] = study.assess(solution)
+        report["objectives"], report["limits"], assessed = study.assess(solution)
+        # the parent's plausibility (a mesh in mm, in the wrong axes…), judged at the run's draft, comes first
+        doubtful = plausibility_warnings(m.before, float(d.draft), cfg.hull.parent)
+        report["warnings"] = [f"parent: {w}" for w in doubtful] + assessed
         clock("assess")
         rescored, doubts = study.rescore(solution.designs)
         clock("rescore")

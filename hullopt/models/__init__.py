@@ -5,6 +5,7 @@ from ._builtins import box as box
 from ._builtins import wigley as wigley
 from ._coons import coons_sections as coons_sections
 from ._lackenby import lackenby as lackenby
+from ._plausibility import plausibility_warnings as plausibility_warnings
 from ._specs import LoadedHull as LoadedHull
 from ._specs import check_params_used as check_params_used
 from ._specs import load_hull as load_hull

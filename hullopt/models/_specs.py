@@ -33,29 +33,33 @@ import hashlib
 import io
 import json
 import time
+import warnings
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qsl
 
 import numpy as np
 
-from ..errors import HullError
+from ..errors import HullError, HullWarning
 from ..geometry import Sections, atomic_write_bytes, read_stl_header
 from ._builtins import BUILTINS
 from ._cad import is_cad
 from ._meshes import MeshTransform, read_mesh, slice_mesh
 from ._offsets import offsets_to_sections, read_offsets
+from ._plausibility import plausibility_warnings
 
 
 @dataclass(frozen=True)
 class LoadedHull:
-    """A hull read from a spec: its sections, a display name and its design draft when known [m]."""
+    """A hull read from a spec: its sections, a display name, its design draft when known [m] and what looks
+    implausible about it (:func:`~hullopt.models.plausibility_warnings`: one line a finding, with the fix)."""
 
     sections: Sections
     name: str
     design_draft: float | None = None
+    warnings: tuple[str, ...] = ()
 
     def keel_and_depth(self) -> tuple[float, float]:
         """The lowest and highest points of the sections [m above the baseline] (numpy: no JAX op)."""
@@ -187,15 +191,33 @@ def load_hull(spec: str, cache: str | Path | None = None) -> LoadedHull:
     Returns
     -------
     LoadedHull
-        ``sections`` (:class:`~hullopt.geometry.Sections`), a display ``name`` and the ``design_draft`` [m]
-        when the spec knows one (builtins with ``T``, parents, meshes hullopt wrote), else None.
+        ``sections`` (:class:`~hullopt.geometry.Sections`), a display ``name``, the ``design_draft`` [m]
+        when the spec knows one (builtins with ``T``, parents, meshes hullopt wrote), else None, and the
+        ``warnings`` of a hull read from a file that looks implausible (a mesh in millimetres, in the wrong
+        axes: :func:`~hullopt.models.plausibility_warnings`; a builtin states its dimensions and is not judged).
 
     Raises
     ------
     HullError
         On any problem with the spec or the file, naming the spec (a folder too: run folders are the CLI's,
         :func:`hullopt.study.load_hull`).
+
+    Warns
+    -----
+    HullWarning
+        Each of the hull's ``warnings`` (``warnings.simplefilter("error", HullWarning)`` refuses such a hull).
     """
+    loaded = _read(spec, cache)
+    if spec.startswith("builtin:"):
+        return loaded
+    found = tuple(plausibility_warnings(loaded.sections, loaded.design_draft, spec))
+    for text in found:
+        warnings.warn(text, HullWarning, stacklevel=2)
+    return replace(loaded, warnings=found)
+
+
+def _read(spec: str, cache: str | Path | None) -> LoadedHull:
+    """:func:`load_hull` before its hull is judged."""
     base, params = split_spec(spec)
     if base.startswith("parent:"):
         return _parent(base.removeprefix("parent:"), params, spec)

@@ -21,11 +21,12 @@ import hashlib
 import json
 import os
 import time
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
-from ..errors import HullError
+from ..errors import HullError, HullWarning
 from ..geometry import Sections, atomic_write_bytes
 from ..models import (
     FAITHFUL,
@@ -321,29 +322,33 @@ def parent_digest(spec: str, draft: float | None = None) -> str | None:
     return _key_digest(parent_key(spec, draft))
 
 
-def _read_kept(path: Path, key: dict) -> FeatureHull | None:
-    """The kept parent at ``path`` if it is one for ``key``, else None (absent, corrupt or another key's)."""
+def _read_kept(path: Path, key: dict) -> tuple[FeatureHull, list[str]] | None:
+    """The kept parent at ``path`` and the warnings of the hull it was extracted from, if it is one for ``key``,
+    else None (absent, corrupt or another key's)."""
     try:
-        stored = json.loads(path.read_text()).get("key")
-        if json.loads(json.dumps(key, default=list)) != stored:
+        data = json.loads(path.read_text())
+        if json.loads(json.dumps(key, default=list)) != data.get("key"):
             return None
         hull = read_features(path)
-    except (OSError, ValueError, AttributeError, HullError):
+        found = [str(w) for w in data.get("warnings", [])]
+    except (OSError, ValueError, AttributeError, TypeError, HullError):
         return None
     with contextlib.suppress(OSError):
         path.touch()  # in use: keep it (see _keep)
-    return hull
+    return hull, found
 
 
 def extract_spec(spec: str, draft: float | None = None) -> tuple[FeatureHull, dict]:
     """Read the hull ``spec`` and extract its features faithfully (no cache), checked at its design draft:
     the spec's (a builtin's T), else ``draft`` [m]. Returns the hull and the
-    extraction report of :func:`~hullopt.models._feature_library.extract_faithful`. :class:`HullError` when
+    extraction report of :func:`~hullopt.models._feature_library.extract_faithful` with the hull's plausibility
+    ``warnings`` (:class:`~hullopt.models.LoadedHull`'s, issued as it was read). :class:`HullError` when
     neither the spec nor ``draft`` gives a design draft."""
     loaded = load_hull(spec)
     if draft is None and loaded.design_draft is None:
         raise HullError(_no_draft(spec))
-    return extract_faithful(loaded.sections, loaded.name, loaded.design_draft or draft)
+    hull, report = extract_faithful(loaded.sections, loaded.name, loaded.design_draft or draft)
+    return hull, {**report, "warnings": list(loaded.warnings)}
 
 
 def _no_draft(spec: str) -> str:
@@ -354,7 +359,8 @@ def _no_draft(spec: str) -> str:
 def run_parent(spec: str, draft: float | None = None) -> FeatureHull:
     """The feature-curve parent named by ``[hull] parent`` (see the module docstring).
 
-    A hull spec's features come from the cache folder when kept there, else are extracted and kept.
+    A hull spec's features come from the cache folder when kept there, else are extracted and kept; either way
+    the hull's plausibility warnings are issued (:class:`~hullopt.errors.HullWarning`: kept with the features).
 
     Parameters
     ----------
@@ -378,17 +384,23 @@ def run_parent(spec: str, draft: float | None = None) -> FeatureHull:
         return load_parent(name)
     key = parent_key(spec, draft)
     path = cache_folder() / f"{_key_digest(key)[:32]}.json"
-    hull = _read_kept(path, key)
-    if hull is None:
-        hull, report = extract_spec(spec, draft)
+    kept = _read_kept(path, key)
+    if kept is None:
+        hull, report = extract_spec(spec, draft)  # load_hull issues the hull's warnings
         _keep(path, hull, key, spec, report)
+    else:
+        hull, found = kept
+        for text in found:
+            warnings.warn(text, HullWarning, stacklevel=2)
     if draft is None and hull.design_draft is None:
         raise HullError(_no_draft(spec))
     return hull
 
 
 def _keep(path: Path, hull: FeatureHull, key: dict, spec: str, report: dict) -> None:
-    data = {"key": key, "source": spec, "fidelity": report, **hull.to_dict()}
+    fidelity = {k: v for k, v in report.items() if k != "warnings"}
+    data = {"key": key, "source": spec, "warnings": report.get("warnings", []), "fidelity": fidelity,
+            **hull.to_dict()}
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_bytes(path, (json.dumps(data, separators=(",", ":"), default=list) + "\n").encode())

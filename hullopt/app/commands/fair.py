@@ -25,7 +25,7 @@ from ...models import OffsetSurface, OffsetTable, offset_surface, read_offsets
 from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
 from ...report import fmt, quantity, write_json
 from ...study import cached_call, load_hull
-from .._app import app
+from .._app import Strict, app
 from ..output import EXIT_NOT_CONVERGED, busy, print_json, say, table, warn
 
 HOLD_PCT = 0.5  # displacement and Bwl of a faired table within this [%] of the given
@@ -158,6 +158,7 @@ def fair(
     waterlines: Annotated[int, typer.Option(help="Waterlines when resampling a non-offset hull.")] = 11,
     out: Annotated[Path | None, typer.Option(help="Folder for report.json, faired_offsets.csv, body_plan.png, curvature.png.")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
+    strict: Strict = False,
 ) -> None:
     """Fair a hull's offsets by minimising an unfairness measure, holding displacement, LCB and the contour.
 

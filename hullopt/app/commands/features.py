@@ -16,7 +16,7 @@ from ...hydro import hydrostatics
 from ...models import check_design, extract_parent, load_parent, parent_names
 from ...report import write_json
 from ...study import load_hull
-from .._app import app
+from .._app import Strict, app
 from ..output import console, write_hull_file
 
 
@@ -78,6 +78,7 @@ def features(
                                              "parent .json) or any hull spec (offsets .csv, mesh, builtin:…)")],
     out: Annotated[Path, typer.Option(help="Folder for features.json, contours.json and features.png")] = Path("."),
     level: Annotated[int, typer.Option(help="Levels of auxiliary apexes (1 = the patent's frame)")] = 2,
+    strict: Strict = False,
 ) -> None:
     """Extract contour lines and feature curves (inflection, apex, auxiliary-apex lines) and plot them."""
     if not 1 <= level <= 4:
@@ -107,6 +108,7 @@ def deform(
                                                 "(the fields and defaults of a run config's [design])")],
     out: Annotated[Path, typer.Option(help=f"Output mesh (.{', .'.join(EXPORT_FORMATS)})")] = Path("hull.stl"),
     draft: Annotated[float | None, typer.Option(help="Draft for the report [m] (default: the parent's)")] = None,
+    strict: Strict = False,
 ) -> None:
     """Deform a parent by apex-line moves (claim 5), distributions (claim 7) and contour edits; write a mesh."""
     if out.suffix.lower().lstrip(".") not in EXPORT_FORMATS:

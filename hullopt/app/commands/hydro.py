@@ -20,7 +20,7 @@ from ...errors import HullError
 from ...geometry import EXPORT_FORMATS
 from ...report import PARTICULARS, unit_places
 from ...study import cached_call, load_hull, prepare_call, sections_like
-from .._app import app
+from .._app import Strict, app
 from ..output import parse_range, print_json, say, table, write_hull_file
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
@@ -74,6 +74,7 @@ def hydro(
     drafts: Annotated[str | None, typer.Option(help="Hydrostatic table over drafts START:STOP:COUNT [m].")] = None,
     rho: Annotated[float, typer.Option(help="Water density [kg/m³].")] = RHO_SEA,
     json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; lcb/lcf in m from AP).")] = False,
+    strict: Strict = False,
 ) -> None:
     """Upright hydrostatics at a draft, at a displacement, or as a table over drafts."""
     if not (np.isfinite(rho) and rho > 0):
@@ -122,6 +123,7 @@ def hydro_table(sections, drafts: np.ndarray, rho: float) -> dict[str, list[floa
 def export(
     hull: Annotated[str, typer.Argument(help=HULL_HELP)],
     out: Annotated[Path, typer.Argument(help=f"Output mesh: .{', .'.join(EXPORT_FORMATS)}")],
+    strict: Strict = False,
 ) -> None:
     """Export the closed, watertight hull mesh (both sides, deck, transom), refined along the length and
     welded for the file; the checks printed (watertight, winding, bodies, degenerate faces, volume [m³]) are

@@ -13,7 +13,7 @@ import typer
 from ...constants import RHO_SEA
 from ...errors import HullError
 from ...study import load_hull
-from .._app import app
+from .._app import Strict, app
 from ..output import check_out, say
 from .hydro import HULL_HELP, hydro_table
 from .stability import PLOT_FORMATS
@@ -39,6 +39,7 @@ def lines(
                                                       "× its waterlines and the DWL.")] = None,
     layout: Annotated[str, typer.Option(help="Offset table layout: 'stations' (a yard's table, read back by "
                                              "hullopt) or 'wide' (x × z, machine data).")] = "stations",
+    strict: Strict = False,
 ) -> None:
     """Lines plan (sheer, half-breadth and body plans, title block) and, optionally, hydrostatic curves and offsets."""
     from ...drawing import (

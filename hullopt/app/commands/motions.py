@@ -19,7 +19,7 @@ from ...waves import (
     omega_from_wavelength,
 )
 from ...waves import motions as strip_motions
-from .._app import app
+from .._app import Strict, app
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP
 
@@ -58,6 +58,7 @@ def motions(
     lambdas: Annotated[str, typer.Option(help="Wave lengths λ/L: a list 0.5,1,1.5 or START:STOP:COUNT.")] = "0.3:2.0:18",
     json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; arrays over λ/L).")] = False,
     plot: Annotated[Path | None, typer.Option(help="Write a plot of the RAOs and σ_aw against λ/L (.png, .pdf, .svg).")] = None,
+    strict: Strict = False,
 ) -> None:
     """Heave and pitch RAOs (strip theory, Salvesen–Tuck–Faltinsen with Frank close-fit sections) and the added
     resistance σ_aw = R_AW/(ρgζ²B²/L) = motion part (Gerritsma–Beukelman) + reflection part (NMRI Bf)."""

@@ -26,7 +26,7 @@ from ...resistance import (
     wave_pattern,
 )
 from ...study import cached_call, load_hull
-from .._app import app
+from .._app import Strict, app
 from ..output import parse_range, print_json, table, warn
 from .hydro import HULL_HELP
 
@@ -139,6 +139,7 @@ def resistance(
     free: Annotated[bool, typer.Option("--free", help="Dawson's method with the hull free to sink and trim (two "
                                                        "iterations: 3× its time); default: fixed at the draft.")] = False,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: a list with one record per speed (SI: N, W, m/s).")] = False,
+    strict: Strict = False,
 ) -> None:
     """Calm-water resistance over speeds: R_T = (1 + k1)·R_F + R_APP + R_W + R_A — ITTC-1957 friction with
     Holtrop's form factor 1 + k1, appendages and correlation allowance R_A — with the wave resistance R_W by

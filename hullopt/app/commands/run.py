@@ -11,7 +11,7 @@ from ...errors import HullError
 from ...optimise import TARGETS
 from ...report import displayed, fmt, label, quantity, unit_scale
 from ...study import load_config
-from .._app import app
+from .._app import Strict, app
 from ..output import print_json, say, styled, table, warn
 
 
@@ -27,6 +27,7 @@ def run_command(
                                           "dask")] = "local",
     address: Annotated[str | None, typer.Option(help="Dask scheduler address, e.g. tcp://host:8786 (default: "
                                                 "a local cluster)")] = None,
+    strict: Strict = False,
 ) -> None:
     """Run a design config; exit code 3 when the targets cannot be met (the closest design is written)."""
     from ...study import parse_shard

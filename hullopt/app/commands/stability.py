@@ -21,7 +21,7 @@ from ...geometry import export_mesh, split_for_print, to_trimesh
 from ...models import LoadedHull
 from ...report import fmt, quantity, unit_places
 from ...study import cached_call, load_hull, prepare_call, sections_like
-from .._app import app
+from .._app import Strict, app
 from ..output import (
     EXIT_CRITERIA,
     busy,
@@ -99,7 +99,8 @@ def _stability_call(sections, volume: float, kg: float, heels: np.ndarray, lcg: 
 def stability_cmd(
     hull: Annotated[str, typer.Argument(help=HULL_HELP)],
     displacement: Annotated[str, typer.Option(help="Displacement [t] (or '…kg').")],
-    kg: Annotated[float, typer.Option("--kg", help="Height of the centre of gravity above the baseline [m].")],
+    kg: Annotated[float, typer.Option("--kg", help="Height of the centre of gravity above the baseline [m]; "
+                                                   "at most the deck's (see --kg-above-deck).")],
     lcg: Annotated[float | None, typer.Option(help="LCG [m from AP]; default: the upright LCB (level trim).")] = None,
     fsc: Annotated[float, typer.Option(help="Free-surface correction GG' [m].")] = 0.0,
     heels: Annotated[str, typer.Option(help="Heels START:STOP:COUNT [deg], within 0…90.")] = "0:90:19",
@@ -123,6 +124,10 @@ def stability_cmd(
     sharp_bilges: Annotated[bool, typer.Option("--sharp-bilges", help="A sharp-bilged hull (k = 0.7).")] = False,
     wind_pressure: Annotated[float, typer.Option(help="Wind pressure P [Pa] (504; less for restricted service, "
                                                       "as the Administration approves).")] = WIND_PRESSURE,
+    kg_above_deck: Annotated[bool, typer.Option("--kg-above-deck", help="Accept a --kg above the hull's deck "
+                                                                        "(heavy deck cargo or lifts; sections "
+                                                                        "that stop below the deck).")] = False,
+    strict: Strict = False,
 ) -> None:
     """GZ curve, GM₀, angle of vanishing stability and the IMO IS Code 2008 §2.2 criteria for a loading; with
     --weather also the §2.3 severe wind and rolling criterion.
@@ -158,6 +163,7 @@ def stability_cmd(
             _stability_call(like, volume, kg, np.deg2rad(solve_deg), lcg, fsc, not fixed_trim, theta_f, prepare_call)
         h = load_hull(hull)
         sections = _sectioned(h, sheer)
+        check_kg(kg, sections, kg_above_deck)
         x = np.asarray(sections.x)
         if lcg is not None and not (float(x[0]) <= lcg <= float(x[-1])):
             raise HullError(f"--lcg {lcg:g} m is outside the hull ({float(x[0]):g} … {float(x[-1]):g} m)")
@@ -228,6 +234,17 @@ def stability_cmd(
             say(f"{len(failed)} of {len(records)} criteria fail: {'; '.join(failed)} (exit code "
                 f"{EXIT_CRITERIA})", style="bold red")
         raise typer.Exit(EXIT_CRITERIA)
+
+
+def check_kg(kg: float, sections, above_deck: bool = False) -> None:
+    """Refuse a KG [m above the baseline] above the deck — the hull's highest point, its sheer included — (almost
+    always a KG from another datum or another hull) unless ``above_deck`` (``--kg-above-deck``): a
+    :class:`HullError` naming ``--kg`` and the deck's height [m]."""
+    deck = float(np.asarray(sections.yz)[..., 1].max())
+    if kg > deck and not above_deck:
+        raise HullError(f"--kg {kg:g} m is above the deck, {deck:g} m above the baseline at its highest: KG is the "
+                        "centre of gravity's height above the baseline (keel); give --kg-above-deck if it is meant "
+                        "(heavy deck cargo, or sections that stop below the deck)")
 
 
 def _check_weather(weather: bool, area: float | None, lever: float | None, bilge_keel_area: float,
@@ -369,6 +386,7 @@ def print_cmd(
     pieces: Annotated[int, typer.Option(help="Number of pieces along the length.")] = 3,
     formats: Annotated[str, typer.Option("--format", help="Comma-separated: stl, x3d, obj, ply, glb.")] = "stl,x3d",
     sheer: Annotated[str, typer.Option(help=SHEER_HELP)] = "none",
+    strict: Strict = False,
 ) -> None:
     """A scaled model for 3D printing, in millimetres, split into watertight pieces along the length."""
     s = parse_scale(scale)

@@ -26,7 +26,7 @@ from ...waves import (
     omega_from_wavelength,
     select_lower_k_aw,
 )
-from .._app import app
+from .._app import Strict, app
 from ..output import busy, console, parse_range, print_json, table, warn
 from .hydro import HULL_HELP
 
@@ -95,6 +95,7 @@ def waves(
     motion: Annotated[bool, typer.Option("--motion/--no-motion", help="NMRI: include the motion part R_AWM (strip theory; see `hullopt motions`).")] = True,
     json: Annotated[bool, typer.Option("--json", help="Print JSON (SI units; forces in N).")] = False,
     plot: Annotated[Path | None, typer.Option(help="Write a plot of K_AW against λ/L (.png, .pdf, .svg).")] = None,
+    strict: Strict = False,
 ) -> None:
     """Bf, K_AW (patent JP2009-286166 / NMRI) and R_AW in regular waves and in a sea state."""
     if method not in (*METHODS, "all"):
@@ -103,7 +104,9 @@ def waves(
         raise HullError(f"--spectrum {spectrum!r}: expected one of {', '.join(SPECTRA)}")
     if aft not in AFT_OPTIONS:
         raise HullError(f"--aft {aft!r}: expected one of {', '.join(AFT_OPTIONS)}")
-    u = _finite(speed, "--speed", nonneg=True) * KNOT
+    if not (np.isfinite(speed) and speed > 0):  # as `hullopt resistance` refuses it: R_AW is a ship's under way
+        raise HullError(f"--speed {speed:g}: expected a positive number of knots")
+    u = float(speed) * KNOT
     if not (np.isfinite(heading) and -360.0 <= heading <= 360.0):
         raise HullError(f"--heading {heading:g}: expected degrees within ±360")
     _finite(amplitude, "--amplitude", positive=True)

@@ -20,7 +20,7 @@ from ...wind import (
     wind_coefficients,
     wind_variables,
 )
-from .._app import app
+from .._app import Strict, app
 from ..output import print_json, say, table
 from ...study import DrawingsConfig, config_parts, read_wind_config
 
@@ -86,6 +86,7 @@ def wind(
     step: Annotated[float, typer.Option(help="Angle step of the table [deg].")] = 10.0,
     json: Annotated[bool, typer.Option("--json", help="Print JSON: variables and coefficients.")] = False,
     plot: Annotated[Path | None, typer.Option(help="Write a plot of the coefficients C(ψ) against the wind angle (PNG).")] = None,
+    strict: Strict = False,
 ) -> None:
     """Wind-load variables (L, B, A_T, A_L, …) and coefficients C_X, C_Y, C_N, C_K over ψ = 0…180°."""
     cfg = read_wind_config(config)
