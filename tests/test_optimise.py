@@ -282,7 +282,7 @@ def test_objectives_registry_is_built_from_the_classes():
     # only the fields a kind needs; the config's units (knots, degrees) converted to SI
     m = MeanAddedResistance.from_config({"speed_kn": 10.0, "hs": 3.0, "tp": 9.0, "heading_deg": 90.0,
                                          "wind_speed": 7.0})
-    assert {f.name for f in dataclasses.fields(m)} == {"speed", "hs", "tp", "heading", "smooth", "motion"}
+    assert {f.name for f in dataclasses.fields(m)} == {"speed", "hs", "tp", "heading", "smooth", "motion", "bf_band"}
     assert float(m.speed) == pytest.approx(10 * 1852 / 3600, rel=1e-15)
     assert float(m.heading) == pytest.approx(np.pi / 2, rel=1e-15)
     assert {f.name for f in dataclasses.fields(CalmResistance)} == {"speed", "weights", "method", "n_levels", "panels"}

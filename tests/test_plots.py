@@ -220,3 +220,26 @@ def test_rescored_fronts_draw_each_pair_of_methods(tmp_path, drawn):
     np.testing.assert_allclose(first.get_lines()[0].get_xydata(), [[0.29, 1.9]])  # the front: design 0
     np.testing.assert_allclose(second.get_lines()[0].get_xydata(), [[0.29, 2.1], [0.3, 2.0], [0.31, 1.9]])
     assert first.get_ylabel() == "R_T by a [kN]"
+
+
+def test_patent_form_puts_parent_and_designs_on_the_patent_curve(tmp_path, drawn):
+    """K_AW = Bf(1 + C_U·Fn) against Bf (a curve per Fn, each design on it: the patent's table at Fn 0.40 gives
+    K 1.10 at Bf 0.05 and 1.00 at 0.2), ½ρgζ²B·K_AW against B·Bf, and the re-scored profile R_AW per method."""
+    from hullopt.report import plot_patent
+
+    m = {"waves_nmri": {"kind": "waves", "method": "nmri", "own": True, "parent": 3e5, "designs": [2.9e5, 3.1e5]},
+         "waves_snnm": {"kind": "waves", "method": "snnm", "parent": 2e5, "designs": [2.2e5, 2.4e5]},
+         "calm_a": {"kind": "calm", "method": "a", "parent": 1e6, "designs": [1e6, 1e6]}}
+    plot_patent([0.05, 0.2, 0.125], [40.0, 40.0, 40.0], [0.4], tmp_path / "p.png", [True, False], {"methods": m})
+    (fig,) = drawn
+    k, q, waves = fig.axes
+    assert [t.get_text() for t in k.get_legend().get_texts()] == ["Fn 0.400"]
+    star = k.get_lines()[1].get_xydata()  # the curve, then the parent's star
+    np.testing.assert_allclose(star, [[0.05, 1.10]], atol=1e-9)
+    met, missed = (c.get_offsets() for c in k.collections[:2])
+    np.testing.assert_allclose(met, [[0.2, 1.0]], atol=1e-9)
+    np.testing.assert_allclose(missed, [[0.125, 0.125 * (1 + (68 - 310 * 0.125) * 0.4)]], atol=1e-9)
+    # ½ρgζ²B·K_AW per m² of ζ²: 201.0 kN × K at B = 40 m (½ρgζ²B = 1809.3 kN at ζ = 3 m, DESIGN.md)
+    np.testing.assert_allclose(q.get_lines()[1].get_xydata(), [[2.0, 1809.3 / 9 * 1.10]], rtol=1e-4)
+    assert waves.get_ylabel() == "profile mean R_AW [kN]"
+    assert [t.get_text() for t in waves.get_legend().get_texts()] == ["NMRI (the run's)", "SNNM"]

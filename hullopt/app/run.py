@@ -30,17 +30,20 @@ from rich.progress import (
 )
 
 from ..drawing import write_offsets_stations, write_offsets_wide
+from ..constants import KNOT, G
 from ..geometry import Sections
 from ..models import plausibility_warnings, save_features
 from ..report import (
     FRONTS_NAME,
     OVERLAY_NAME,
+    PATENT_NAME,
     PAGE_TEMPLATE,
     Hulls,
     label,
     plot_convergence,
     plot_overlay,
     plot_pareto,
+    plot_patent,
     plot_rescored_fronts,
     write_json,
     write_report,
@@ -127,6 +130,11 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
                               for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
             plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds),
                         conditions=where)
+            speeds = sorted(set(rescored["conditions"]["speeds_kn"])) if rescored is not None else []
+            plot_patent([o["bf"]["parent"], *o["bf"]["designs"]],
+                        [report["parent"]["bwl"], *(r["particulars"]["bwl"] for r in report["designs"])],
+                        [u * KNOT / (G * float(m.before.lpp)) ** 0.5 for u in speeds], out / PATENT_NAME,
+                        [r["met"] for r in report["designs"]], rescored)
             hulls = None
         write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
         write_json(out / "report.json", report)  # before report.html: a failure there loses no result

@@ -50,8 +50,20 @@ def _smootherstep(r):
 
 
 def stem_station(sections: Sections, draft: float) -> int:
-    """Index of the stem at the waterline: the first station forward of midship with no breadth at ``draft``
-    [m] (the last station if the bow is a wet face). Static (numpy)."""
+    """Index of the stem at the waterline: the first station forward of midship with no breadth at ``draft``.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull (x forward from the AP, m).
+    draft : float
+        The waterline's height [m above the baseline].
+
+    Returns
+    -------
+    int
+        The station's index; the last station's where the bow is a wet face (a box).
+    """
     x = np.asarray(sections.x)
     y = np.asarray(section_integrals(sections, draft).width)
     fwd = np.flatnonzero((x > 0.5 * float(sections.lpp)) & (y <= 1e-9 * float(sections.lpp)))
@@ -59,9 +71,28 @@ def stem_station(sections: Sections, draft: float) -> int:
 
 
 def attachment_plan(x: np.ndarray, att: BowAttachment, stem: int) -> np.ndarray:
-    """The plan form ``W (n,)`` of ``att`` at stations ``x`` [m] (numpy), the stem at station ``stem`` unless
-    ``att.x_stem`` is given; ``x_peak`` defaults to the station aft of the stem. :class:`HullError` unless
-    ``x_blend < x_peak < x_stem`` within the stations."""
+    """The plan form W(x) of an attachment at the stations (numpy, static).
+
+    Parameters
+    ----------
+    x : (n,) array_like
+        Station positions [m from the AP], increasing.
+    att : BowAttachment
+        The attachment; ``x_stem`` None: the stem at station ``stem``; ``x_peak`` None: the station aft of it.
+    stem : int
+        Index of the stem at the waterline (:func:`stem_station`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) W, dimensionless: 0 aft of ``x_blend``, sin² rising to 1 at ``x_peak``, a quarter ellipse to 0 at
+        the stem, 0 forward of it.
+
+    Raises
+    ------
+    HullError
+        Unless ``x_blend < x_peak < x_stem`` within the stations.
+    """
     x = np.asarray(x, float)
     x_stem = float(x[stem]) if att.x_stem is None else float(att.x_stem)
     x_peak = float(x[max(np.searchsorted(x, x_stem) - 1, 0)]) if att.x_peak is None else float(att.x_peak)
@@ -74,8 +105,22 @@ def attachment_plan(x: np.ndarray, att: BowAttachment, stem: int) -> np.ndarray:
 
 
 def band_weight(z: ArrayLike, z_lo: ArrayLike, z_hi: ArrayLike, blend: ArrayLike) -> Array:
-    """V(z): 1 on [z_lo, z_hi], C² smootherstep ramps of height ``blend`` [m] to 0 outside (``z_hi`` may be
-    ∞). Any shape of ``z`` [m]; pure JAX."""
+    """The height band V(z) of an attachment: 1 on [z_lo, z_hi], C² (smootherstep) ramps to 0 outside.
+
+    Parameters
+    ----------
+    z : array_like
+        Heights [m above the baseline], any shape.
+    z_lo, z_hi : float or array_like
+        The band's ends [m]; ``z_hi`` may be ∞ (to the deck).
+    blend : float or array_like
+        Height of each ramp [m], > 0.
+
+    Returns
+    -------
+    Array
+        V, dimensionless, shaped as ``z``; pure JAX (jit/grad/vmap).
+    """
     lo = _smootherstep(jnp.clip((z - z_lo + blend) / blend, 0.0, 1.0))
     over = jnp.clip((z - z_hi) / blend, 0.0, 1.0)  # z_hi = ∞: 0
     return lo * (1.0 - _smootherstep(over))

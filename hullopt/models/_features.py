@@ -576,6 +576,12 @@ def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributio
         Claim 7: feature points that slide along their curves (sine-mode amplitudes, dimensionless).
     edits : sequence of ContourEdit
         Contour-line edits (keel profile, flat of bottom/side, deck edge; amplitudes in m).
+    bows : sequence of BowAttachment
+        Bow attachments (JP2009-286166 claims 4–5; :mod:`hullopt.models._bow`; amplitudes in m).
+    beam : bool
+        Whether the beam is a parameter (every half-breadth scaled by 1 + s).
+    draft : float or None
+        The draft [m] the attachments' stem is found at; None: the hull's design draft.
 
     Returns
     -------

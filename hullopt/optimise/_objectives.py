@@ -82,35 +82,39 @@ class Objective(eqx.Module):
 
 class KAw(Objective):
     """K_AW = R_AW/(½ρgζ²B) in short head waves at ``speed`` [m/s] (patent eq. 2: Bf·(1 + C_U·Fn), C_U a
-    smooth max of width ``smooth``); dimensionless."""
+    smooth max of width ``smooth``; Bf over the waterlines within ``bf_band`` [m] of the draft, 0: at it);
+    dimensionless."""
 
     name: ClassVar[str] = "k_aw"
     unit: ClassVar[str] = "-"
     description: ClassVar[str] = "K_AW in short head waves (patent; smooth C_U)"
-    options: ClassVar[tuple[str, ...]] = ("speed_kn", "smooth")
+    options: ClassVar[tuple[str, ...]] = ("speed_kn", "smooth", "bf_band")
 
     speed: Scalar
     smooth: float = eqx.field(static=True, default=1.0)
+    bf_band: float = eqx.field(static=True, default=0.0)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         fn = froude_number(self.speed, sections.lpp)
-        return k_aw(bluntness(sections, draft), fn, smooth=self.smooth)
+        return k_aw(bluntness(sections, draft, band=self.bf_band), fn, smooth=self.smooth)
 
     @classmethod
     def from_config(cls, options: Mapping[str, Any]) -> KAw:
-        return cls(_scalar(options["speed_kn"] * KNOT), smooth=float(options.get("smooth", 1.0)))
+        return cls(_scalar(options["speed_kn"] * KNOT), smooth=float(options.get("smooth", 1.0)),
+                   bf_band=float(options.get("bf_band", 0.0)))
 
 
 class MeanAddedResistance(Objective):
     """The sea-state mean added resistance R_AW [N] (NMRI method, motion + reflection) at ``speed`` [m/s] in
     long-crested waves of significant height ``hs`` [m], peak period ``tp`` [s] (Pierson–Moskowitz) from
     ``heading`` [rad, 0 = head seas]; ``smooth`` the width of the smooth max in C_U; ``motion``: include the
-    motion part R_AWM (strip theory, :func:`hullopt.waves.motion_added_resistance`; False: reflection only)."""
+    motion part R_AWM (strip theory, :func:`hullopt.waves.motion_added_resistance`; False: reflection only);
+    ``bf_band`` [m]: Bf over the waterlines within it of the draft (:func:`hullopt.waves.bluntness`; 0: at it)."""
 
     name: ClassVar[str] = "mean_added_resistance"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "sea-state mean R_AW (NMRI, long-crested)"
-    options: ClassVar[tuple[str, ...]] = ("speed_kn", "hs", "tp", "heading_deg", "smooth", "motion")
+    options: ClassVar[tuple[str, ...]] = ("speed_kn", "hs", "tp", "heading_deg", "smooth", "motion", "bf_band")
 
     speed: Scalar
     hs: Scalar
@@ -118,10 +122,11 @@ class MeanAddedResistance(Objective):
     heading: Scalar = 0.0
     smooth: float = eqx.field(static=True, default=1.0)
     motion: bool = eqx.field(static=True, default=True)
+    bf_band: float = eqx.field(static=True, default=0.0)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         r = mean_added_resistance("nmri", sections, draft, self.speed, self.hs, self.tp, self.heading,
-                                  smooth=self.smooth, motion=self.motion)
+                                  smooth=self.smooth, motion=self.motion, band=self.bf_band)
         return r.motion + r.reflection
 
     @classmethod
@@ -130,7 +135,7 @@ class MeanAddedResistance(Objective):
             raise ValueError("mean_added_resistance needs a sea state: hs > 0 [m] and tp [s]")
         return cls(_scalar(options["speed_kn"] * KNOT), _scalar(options["hs"]), _scalar(options["tp"]),
                    _scalar(np.radians(options.get("heading_deg", 0.0))), smooth=float(options.get("smooth", 1.0)),
-                   motion=bool(options.get("motion", True)))
+                   motion=bool(options.get("motion", True)), bf_band=float(options.get("bf_band", 0.0)))
 
 
 class CalmResistance(Objective):
@@ -264,7 +269,8 @@ class ProfileResistance(Objective):
     """An operating profile's resistance [N]: the weighted mean over its points i of calm-water R_T(U_i) by
     ``method`` (:func:`~hullopt.resistance.calm_water`) plus, where the point has a sea state (``hs`` > 0), the
     mean added resistance in it (NMRI, long-crested, motion part when ``motion``): Σ wᵢ (R_T + R_AW)ᵢ / Σ wᵢ.
-    Points: ``speed`` [m/s], ``weights``, ``hs`` [m] (0: calm water), ``tp`` [s], ``heading`` [rad], each (k,).
+    Points: ``speed`` [m/s], ``weights``, ``hs`` [m] (0: calm water), ``tp`` [s], ``heading`` [rad], each (k,);
+    ``bf_band`` [m] the band of waterlines NMRI's Bf is averaged over (0: the draft's).
 
     ``groups`` (static; :func:`point_groups`, which ``from_config`` applies) lists the points by their speed and
     heading: the sea states of one group share its strip-theory solve, which does not depend on the sea state,
@@ -274,7 +280,7 @@ class ProfileResistance(Objective):
     name: ClassVar[str] = "profile_resistance"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "operating profile: weighted mean of R_T + R_AW over speeds and sea states"
-    options: ClassVar[tuple[str, ...]] = ("profile", "method", "motion")
+    options: ClassVar[tuple[str, ...]] = ("profile", "method", "motion", "bf_band")
     power: ClassVar[bool] = False
     calm: ClassVar[bool] = True
 
@@ -287,6 +293,7 @@ class ProfileResistance(Objective):
     motion: bool = eqx.field(static=True, default=True)
     waves: bool = eqx.field(static=True, default=True)
     groups: tuple[tuple[int, ...], ...] | None = eqx.field(static=True, default=None)
+    bf_band: float = eqx.field(static=True, default=0.0)
 
     def __call__(self, sections: Sections, draft: Scalar) -> Float[Array, ""]:
         u = jnp.asarray(self.speed, dtype=float)
@@ -301,7 +308,8 @@ class ProfileResistance(Objective):
             wet = jnp.asarray(self.hs) > 0
 
             def point(ui, a, h, t):
-                return mean_added_resistance("nmri", sections, draft, ui, h, t, a, motion=self.motion).total
+                return mean_added_resistance("nmri", sections, draft, ui, h, t, a, motion=self.motion,
+                                             band=self.bf_band).total
 
             raw = vmap_grouped(point, groups, (u, jnp.asarray(self.heading, dtype=float)),
                                (jnp.where(wet, self.hs, 1.0), jnp.asarray(self.tp, dtype=float)))
@@ -324,7 +332,8 @@ class ProfileResistance(Objective):
                              "point")
         return cls(col["speed_kn"] * KNOT, col["weight"], col["hs"], col["tp"], np.radians(col["heading_deg"]),
                    method=options.get("method") or "holtrop", motion=bool(options.get("motion", True)),
-                   waves=bool(np.any(col["hs"] > 0)), groups=point_groups(col["speed_kn"], col["heading_deg"]))
+                   waves=bool(np.any(col["hs"] > 0)), groups=point_groups(col["speed_kn"], col["heading_deg"]),
+                   bf_band=float(options.get("bf_band", 0.0)))
 
 
 class ProfilePower(ProfileResistance):
@@ -343,5 +352,5 @@ class ProfileAddedResistance(ProfileResistance):
     name: ClassVar[str] = "profile_added_resistance"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "operating profile: weighted mean R_AW over speeds and sea states"
-    options: ClassVar[tuple[str, ...]] = ("profile", "motion")
+    options: ClassVar[tuple[str, ...]] = ("profile", "motion", "bf_band")
     calm: ClassVar[bool] = False

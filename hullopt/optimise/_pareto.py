@@ -58,7 +58,7 @@ def _solve_one(d: Design, measure, p0, lower, upper, e, i: int, outer: int, max_
 @eqx.filter_jit
 def solve_pareto(design: Design, target: str, values: ArrayLike, p0, lower, upper,
                  measure: Callable | None = None, *, outer: int = 10, max_steps: int = 300,
-                 mesh: jax.sharding.Mesh | None = None) -> ParetoResult:
+                 mesh: jax.sharding.Mesh | None = None, starts=None) -> ParetoResult:
     """Solve an ε-constraint (Pareto) sweep: minimise the objective at each value of one target.
 
     At each of the ``k`` values the target ``target`` of ``design`` is set to it and
@@ -86,6 +86,10 @@ def solve_pareto(design: Design, target: str, values: ArrayLike, p0, lower, uppe
     mesh : jax.sharding.Mesh, optional
         A 1-D mesh with axis ``"d"`` to shard the values over (e.g. ``jax.make_mesh((n,), ("d",))``);
         default: no sharding constraint.
+    starts : pytree of Array, optional
+        Each value's start, ``p0``'s structure with a leading axis ``k`` (e.g. a design variable seeded on the
+        branch that reaches the value, :func:`~hullopt.study.bow_starts`); default ``p0`` for every value (the
+        objective's scale is ``p0``'s either way).
 
     Returns
     -------
@@ -134,6 +138,8 @@ def solve_pareto(design: Design, target: str, values: ArrayLike, p0, lower, uppe
         return jax.tree.map(lambda a: jax.lax.with_sharding_constraint(a, batch), tree)
 
     values = constrain(values)
+    if starts is None:
+        starts = jax.tree.map(lambda a: jnp.broadcast_to(a, (values.shape[0], *jnp.shape(a))), p0)
     r, objective, m, h = constrain(
-        jax.vmap(lambda e: _solve_one(d, measure, p0, lower, upper, e, i, outer, max_steps))(values))
+        jax.vmap(lambda e, s: _solve_one(d, measure, s, lower, upper, e, i, outer, max_steps))(values, starts))
     return ParetoResult(values=values, result=r, objective=objective, measure=m, hydrostatics=h)

@@ -57,12 +57,12 @@ class Target(eqx.Module):
     needs_kg: ClassVar[bool] = False
 
     @abc.abstractmethod
-    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None, band: float = 0.0) -> Array:
         """The particular of the hull ``sections`` whose hydrostatics at its draft are ``h`` (SI; % Lpp for
-        lcb_pct, lcf_pct), ``kg`` [m] where it ``needs_kg``."""
+        lcb_pct, lcf_pct), ``kg`` [m] where it ``needs_kg``, ``band`` [m] the waterlines' band of Bf."""
 
     @abc.abstractmethod
-    def measure(self, sections: Sections, draft, kg=None) -> Array:
+    def measure(self, sections: Sections, draft, kg=None, band: float = 0.0) -> Array:
         """The particular of the hull ``sections`` floating upright at ``draft`` [m] (as :meth:`achieved`)."""
 
 
@@ -70,10 +70,10 @@ class HydrostaticsTarget(Target):
     """A field ``name`` of :class:`~hullopt.hydro.Hydrostatics` (volume [m³], displacement [kg], kb, bwl, lwl
     [m], lcb_pct, lcf_pct [% Lpp]; coefficients dimensionless)."""
 
-    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None, band: float = 0.0) -> Array:
         return getattr(h, self.name)
 
-    def measure(self, sections: Sections, draft, kg=None) -> Array:
+    def measure(self, sections: Sections, draft, kg=None, band: float = 0.0) -> Array:
         return getattr(hydrostatics(sections, draft), self.name)
 
 
@@ -82,23 +82,24 @@ class GMTarget(Target):
 
     needs_kg: ClassVar[bool] = True
 
-    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None, band: float = 0.0) -> Array:
         return h.kmt - kg
 
-    def measure(self, sections: Sections, draft, kg=None) -> Array:
+    def measure(self, sections: Sections, draft, kg=None, band: float = 0.0) -> Array:
         if kg is None:
             raise ValueError(f"{self.name} needs kg")
         return self.achieved(hydrostatics(sections, draft), sections, kg)
 
 
 class BluntnessTarget(Target):
-    """The bluntness Bf of the waterline in head seas (dimensionless; :func:`hullopt.waves.bluntness`)."""
+    """The bluntness Bf of the waterline in head seas (dimensionless; :func:`hullopt.waves.bluntness`), or its mean
+    over the waterlines within ``band`` [m] of the draft."""
 
-    def achieved(self, h: Hydrostatics, sections: Sections, kg=None) -> Array:
-        return bluntness(sections, h.draft)
+    def achieved(self, h: Hydrostatics, sections: Sections, kg=None, band: float = 0.0) -> Array:
+        return bluntness(sections, h.draft, band=band)
 
-    def measure(self, sections: Sections, draft, kg=None) -> Array:
-        return bluntness(sections, draft)
+    def measure(self, sections: Sections, draft, kg=None, band: float = 0.0) -> Array:
+        return bluntness(sections, draft, band=band)
 
 
 TARGET_KINDS: dict[str, Target] = {t.name: t for t in (
@@ -124,9 +125,11 @@ class Targets(eqx.Module):
     values: Float[ArrayLike, " t"]  # numpy as made (no JAX op), JAX under transforms
     tol: Float[ArrayLike, " t"]
     kg: Float[ArrayLike, ""] | None = None
+    bf_band: float = eqx.field(static=True, default=0.0)  # m: the waterlines' band of a bf target
 
 
-def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, kg: float | None = None) -> Targets:
+def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, kg: float | None = None,
+                 bf_band: float = 0.0) -> Targets:
     """Targets from ``{name: value}``; raises ``ValueError`` naming an unknown or unphysical target.
 
     Parameters
@@ -139,6 +142,8 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
         default.
     kg : float or None
         Height of the centre of gravity above the baseline [m]; needed for a ``gm`` target.
+    bf_band : float
+        A ``bf`` target's band of waterlines [m] (:func:`~hullopt.waves.bluntness`); 0: the draft's.
 
     Returns
     -------
@@ -168,10 +173,11 @@ def make_targets(values: dict[str, float], tol: dict[str, float] | None = None, 
         values=np.array([float(values[k]) for k in names]),
         tol=np.array([float(tol.get(k, TARGET_KINDS[k].tol)) for k in names]),
         kg=None if kg is None else np.asarray(float(kg)),
+        bf_band=float(bf_band),
     )
 
 
-def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=None) -> Array:
+def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=None, band: float = 0.0) -> Array:
     """The particulars ``names`` of a hull with hydrostatics ``h`` at its draft.
 
     Parameters
@@ -184,6 +190,8 @@ def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=Non
         Target names (keys of ``TARGETS``).
     kg : float or Array or None
         KG [m] above the baseline; needed for ``gm``.
+    band : float
+        The band of waterlines of ``bf`` [m] (0: the draft's).
 
     Returns
     -------
@@ -191,7 +199,7 @@ def achieved(h: Hydrostatics, sections: Sections, names: tuple[str, ...], kg=Non
         (len(names),) float values in the units of :class:`~hullopt.hydro.Hydrostatics` (SI; % Lpp for
         lcb_pct, lcf_pct); GM_T [m] for ``gm``, Bf in head seas for ``bf``.
     """
-    out = [TARGET_KINDS[k].achieved(h, sections, kg) for k in names]
+    out = [TARGET_KINDS[k].achieved(h, sections, kg, band) for k in names]
     return jnp.stack(out) if out else jnp.zeros(0)
 
 
@@ -235,7 +243,8 @@ def target_residuals(sections: Sections, draft, targets: Targets) -> Array:
     Array
         (t,) float errors as :func:`target_errors` returns them.
     """
-    return target_errors(achieved(hydrostatics(sections, draft), sections, targets.names, targets.kg), targets)
+    h = hydrostatics(sections, draft)
+    return target_errors(achieved(h, sections, targets.names, targets.kg, targets.bf_band), targets)
 
 
 # ----------------------------------------------------------------------------------------------- the problem
@@ -247,12 +256,13 @@ class Particular(eqx.Module):
     dimensionless), or the bluntness Bf (head seas) for ``"bf"``."""
 
     name: str = eqx.field(static=True)
+    bf_band: float = eqx.field(static=True, default=0.0)  # m: Bf's band of waterlines
 
     def __call__(self, sections: Sections, draft) -> Array:
         target = TARGET_KINDS.get(self.name)
         if target is None:  # a hydrostatics field that is no target (wetted_surface, awp, …)
             return getattr(hydrostatics(sections, draft), self.name)
-        return target.measure(sections, draft)
+        return target.measure(sections, draft, band=self.bf_band)
 
 
 class RegionVolume(eqx.Module):

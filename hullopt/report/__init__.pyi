@@ -2,6 +2,7 @@
 
 from ._html import MAX_SWEEP_HULLS as MAX_SWEEP_HULLS
 from ._html import FRONTS_NAME as FRONTS_NAME
+from ._html import PATENT_NAME as PATENT_NAME
 from ._html import OVERLAY_NAME as OVERLAY_NAME
 from ._html import PAGE_TEMPLATE as PAGE_TEMPLATE
 from ._html import REPORT_NAME as REPORT_NAME
@@ -14,6 +15,7 @@ from ._plots import plot_body_plans as plot_body_plans
 from ._plots import plot_overlay as plot_overlay
 from ._plots import plot_convergence as plot_convergence
 from ._plots import plot_pareto as plot_pareto
+from ._plots import plot_patent as plot_patent
 from ._plots import plot_rescored_fronts as plot_rescored_fronts
 from ._plots import plot_resistance as plot_resistance
 from ._plots import plot_wave_pattern as plot_wave_pattern

@@ -717,6 +717,9 @@ def rescored_table(report: dict) -> str:
 FRONTS_NAME = "rescored_fronts.png"
 """The figure of the designs under each pair of re-scoring methods in a run folder."""
 
+PATENT_NAME = "patent.png"
+"""A bluntness sweep's figure in the patent's form (K_AW against Bf, ½ρgζ²B·K_AW against B·Bf) in a run folder."""
+
 OVERLAY_NAME = "overlay.png"
 """The figure of a design against its parent (body plan, waterlines, sectional-area curve) in its folder."""
 
@@ -799,6 +802,9 @@ def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | Non
     if report.get("rescored"):
         parts += ["<h2>Second opinion: every design re-scored by independent methods</h2>",
                   rescored_table(report), _png(folder / FRONTS_NAME, "the designs under each pair of methods")]
+    if (folder / PATENT_NAME).is_file():
+        parts += ["<h2>The sweep in the patent's form (JP2009-286166 Figs 10–13, claim 3)</h2>",
+                  _png(folder / PATENT_NAME, "K_AW against Bf and ½ρgζ²B·K_AW against B·Bf, the parent and designs")]
     conv = fig_convergence(report)
     if kind != "pareto":
         parts += ["<h2>Convergence</h2>", _div(conv, "convergence") if conv is not None

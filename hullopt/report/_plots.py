@@ -490,3 +490,87 @@ def plot_rescored_fronts(rescored: dict, path: Path, met: list[bool] | None = No
     fig.suptitle("The designs (numbered) and the parent (★) under each pair of methods; blue: non-dominated under "
                  "that pair, grey: dominated, ×: targets not met", x=0.01, ha="left", fontsize=10)
     return _save(fig, path)
+
+
+def plot_patent(bf: list[float], beam: list[float], fn: list[float], path: Path, met: list[bool] | None = None,
+                rescored: dict | None = None, names: list[str] | None = None) -> Path:
+    """A bluntness sweep in the patent's form (JP2009-286166 Figs 10–13, the claim-3 table): the short-wave
+    K_AW = Bf·(1 + C_U·Fn), C_U = max(68 − 310·Bf, 10) (α_T → 1, exact max) against Bf, and ½ρgζ_a²B·K_AW
+    [kN, per m² of ζ_a²] against B·Bf [m], a curve per Froude number of the profile with the parent (★) and
+    each design on it; the kink (Bf 0.1871) and the patent's windows (0.04–0.187 slender → 0.12–0.32) shaded.
+    With ``rescored`` (``report.json``'s) a third panel: the profile's mean R_AW of each design against its Bf
+    by every re-scoring method — what the sea states give, motion part included, and who sees the gain.
+
+    Parameters
+    ----------
+    bf, beam : list of float
+        Bf (head seas, dimensionless) and waterline breadth B [m], the parent first, then each design.
+    fn : list of float
+        The profile's Froude numbers (on Lpp), one curve each.
+    path : pathlib.Path
+        The image file (PNG).
+    met : list of bool or None
+        Per design whether it met its targets (crosses where not); None: all met.
+    rescored : dict or None
+        ``methods`` per method: ``kind``, ``method``, ``parent`` and ``designs`` [N].
+    names : list of str or None
+        A label per design (default its index).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    from ..constants import G, RHO_SEA
+
+    bf, beam = np.asarray(bf, float), np.asarray(beam, float)
+    n = len(bf) - 1
+    ok = np.ones(n, bool) if met is None else np.asarray(met, bool)
+    names = names or [str(k) for k in range(n)]
+    waves = [m for m in (rescored or {}).get("methods", {}).values() if m["kind"] == "waves"]
+    fig, axes = _figure(1, 3 if waves else 2, figsize=(16 if waves else 11, 4.6))
+    grid = np.linspace(0.0, max(0.35, float(bf.max()) * 1.1), 400)
+    k_of = lambda b, f: b * (1.0 + np.maximum(68.0 - 310.0 * b, 10.0) * f)  # noqa: E731 - patent eq. 2, α_T = 1
+    q = 0.5 * RHO_SEA * G * 1e-3  # ½ρg [kN/m³]: ½ρgζ²B·K per m² of ζ_a² and m of B
+    for i, f in enumerate(fn):
+        style = dict(color=f"C{i}", lw=1.0)
+        axes[0].plot(grid, k_of(grid, f), label=f"Fn {f:.3f}", **style)
+        axes[1].plot(grid * beam[0], q * beam[0] * k_of(grid, f), **style)
+        for ax, x, y in ((axes[0], bf, k_of(bf, f)), (axes[1], bf * beam, q * beam * k_of(bf, f))):
+            ax.plot(x[0], y[0], "*", color="k", markersize=11, zorder=4)
+            ax.scatter(x[1:][ok], y[1:][ok], color=f"C{i}", s=22, zorder=3, edgecolor="k", lw=0.4)
+            ax.scatter(x[1:][~ok], y[1:][~ok], color=f"C{i}", marker="x", s=22, zorder=3)
+    for k in range(n):
+        axes[0].annotate(names[k], (bf[k + 1], k_of(bf[k + 1], fn[0])), xytext=(3, 4), textcoords="offset points",
+                         fontsize=7, color="0.25")
+    for ax, scale in ((axes[0], 1.0), (axes[1], beam[0])):
+        ax.axvline(58.0 / 310.0 * scale, color="0.4", ls="--", lw=0.8)
+        ax.axvspan(0.04 * scale, 0.187 * scale, color="C3", alpha=0.06, lw=0)
+        ax.axvspan(0.12 * scale, 0.32 * scale, color="C2", alpha=0.08, lw=0)
+        ax.grid(alpha=0.3)
+    axes[0].set_xlabel("Bf (head seas, at the DWL)")
+    axes[0].set_ylabel("K_AW in short waves (α_T → 1)")
+    axes[0].legend(fontsize=7, title="patent eq. 2", title_fontsize=7)
+    axes[0].set_title("K_AW = Bf·(1 + C_U·Fn); kink at Bf 0.1871 (dashed);\nshaded: slender 0.04–0.187 (red), "
+                      "re-set 0.12–0.32 (green)", fontsize=8, loc="left")
+    axes[1].set_xlabel("B·Bf [m]")
+    axes[1].set_ylabel("½ρgζ_a²B·K_AW [kN per m² of ζ_a²]")
+    axes[1].set_title(f"the claim-3 table's axes (B of the parent, {beam[0]:.2f} m, for the curves)", fontsize=8,
+                      loc="left")
+    if waves:
+        ax = axes[2]
+        for j, m in enumerate(waves):
+            y = 1e-3 * np.asarray([m["parent"], *m["designs"]], float)
+            ax.plot(bf[0], y[0], "*", color=f"C{j}", markeredgecolor="k", markersize=12, zorder=4)
+            order = np.argsort(bf[1:][ok])
+            ax.plot(bf[1:][ok][order], y[1:][ok][order], "o-", color=f"C{j}", ms=4, lw=1.0,
+                    label=m["method"].upper() + (" (the run's)" if m.get("own") else ""))
+            ax.scatter(bf[1:][~ok], y[1:][~ok], marker="x", color=f"C{j}", s=22)
+        ax.axvline(58.0 / 310.0, color="0.4", ls="--", lw=0.8)
+        ax.set_xlabel("Bf (head seas, at the DWL)")
+        ax.set_ylabel("profile mean R_AW [kN]")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        ax.set_title("the profile's sea states (motion part included), by each method (★ the parent):\nonly "
+                     "NMRI's C_U sees the patent's mechanism", fontsize=8, loc="left")
+    return _save(fig, path)

@@ -46,6 +46,7 @@ from ._study import Solution as Solution
 from ._study import Study as Study
 from ._study import design_outcomes as design_outcomes
 from ._study import structure as structure
+from ._sweep import bow_starts as bow_starts
 from ._sweep import collect_chunks as collect_chunks
 from ._sweep import parse_shard as parse_shard
 from ._wind_config import DrawingsConfig as DrawingsConfig

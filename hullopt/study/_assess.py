@@ -55,7 +55,7 @@ def report_measures(cfg: RunConfig, d: Design) -> dict:
     for name in cfg.constraints.bounds():
         if name not in ARRAY_MEASURES:
             out.setdefault(name, constraint_measure(cfg, name))
-    out.setdefault("bf", Particular("bf"))
+    out.setdefault("bf", Particular("bf", cfg.hull.bf_band))
     for name in COMPARED:
         out.setdefault(name, SHAPE_MEASURES[name])
     return out

@@ -58,6 +58,8 @@ class HullConfig(_Strict):
                                     "paths relative to the config's folder")
     draft: float | None = Field(default=None, gt=0, description="m; default: the parent's design draft (required "
                                                                 "for a hull spec without one, e.g. a mesh)")
+    bf_band: float = Field(default=0.0, ge=0, description="m: Bf (its target, constraint, sweep and NMRI's R_AW) "
+                           "averaged over the waterlines within this of the draft; 0: at the draft (the patent's)")
 
 
 class ApexMoveConfig(_Strict):
@@ -160,6 +162,8 @@ OPTION_FIELDS: dict[str, tuple] = {
     "heading_deg": (float, Field(default=0.0, ge=-360, le=360, description="wave heading [deg, 0 head seas]")),
     "smooth": (float, Field(default=1.0, gt=0, description="width of the smooth max in C_U")),
     "motion": (bool, Field(default=True, description="include the motion part R_AWM (strip theory)")),
+    "bf_band": (float, Field(default=0.0, ge=0, description="Bf averaged over the waterlines within this of the "
+                             "draft [m] (0: the draft's, the patent's)")),
     "wind_speed": (float, Field(default=0.0, ge=0, description="true wind [m/s]")),
     "wind_angle_deg": (float, Field(default=0.0, ge=-360, le=360, description="true wind off the bow [deg]")),
     "method": (Literal[METHODS] | None, Field(  # type: ignore[valid-type]
@@ -502,7 +506,15 @@ class RunConfig(_Strict):
     @model_validator(mode="before")
     @classmethod
     def _profile(cls, data):
-        """``[[profile]]`` at the top level is the operating profile of the objective (its ``profile`` option)."""
+        """``[[profile]]`` at the top level is the operating profile of the objective (its ``profile`` option);
+        ``[hull] bf_band`` is the band of every objective that takes one and gives none."""
+        band = data.get("hull", {}).get("bf_band") if isinstance(data, dict) else None
+        if band is not None:
+            data = dict(data)
+            if isinstance(data.get("objective"), dict):
+                data["objective"] = _with_band(data["objective"], band)
+            if isinstance(data.get("sweep"), dict) and isinstance(data["sweep"].get("measure"), dict):
+                data["sweep"] = {**data["sweep"], "measure": _with_band(data["sweep"]["measure"], band)}
         if isinstance(data, dict) and "profile" in data:
             data = dict(data)
             profile = data.pop("profile")
@@ -547,6 +559,11 @@ class RunConfig(_Strict):
             if name in OBJECTIVES:
                 self.constraint_options(name)
         return self
+
+
+def _with_band(table: dict, band) -> dict:
+    cls = OBJECTIVES.get(table.get("kind"))
+    return {"bf_band": band, **table} if cls is not None and "bf_band" in cls.options else table
 
 
 def _set(tree: dict, dotted: str, text: str) -> None:

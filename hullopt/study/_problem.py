@@ -47,6 +47,8 @@ def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.", dr
         The parent's feature curves.
     where : str
         The field's prefix in error messages (``"design."`` for a run config).
+    draft : float or None
+        The draft [m] a bow attachment's stem is found at; None: the parent's design draft.
 
     Returns
     -------
@@ -118,7 +120,7 @@ def build_problem(cfg: RunConfig, parent: FeatureHull, fairness: float, limits: 
     model, p0, half = design_params(cfg.design, parent, draft=float(draft))
     lower = jax.tree.map(lambda h: -h, half)
     try:
-        targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg)
+        targets = make_targets(cfg.targets, cfg.tolerances, cfg.kg, cfg.hull.bf_band)
     except ValueError as e:
         raise HullError(f"targets: {e}") from None
     design = Design(model=model, draft=np.asarray(float(draft)), targets=targets,
@@ -174,7 +176,7 @@ def constraint_measure(cfg: RunConfig, name: str):
     if region is not None:
         ends = (region.x_a, -np.inf), (region.x_b, np.inf), (region.z_top, np.inf)
         return RegionVolume(*(np.asarray(default if v is None else float(v)) for v, default in ends))
-    return cfg.constraint_options(name).build() if name in OBJECTIVES else Particular(name)
+    return cfg.constraint_options(name).build() if name in OBJECTIVES else Particular(name, cfg.hull.bf_band)
 
 
 def limits_from(cfg: RunConfig) -> Limits:

@@ -147,12 +147,13 @@ def calm_methods(hull: HoltropHull, fn: float) -> tuple[tuple[str, ...], dict[st
 
 
 def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves: bool, calm: tuple[str, ...],
-             groups: tuple[tuple[int, ...], ...], by_speed: tuple[tuple[int, ...], ...]):
+             groups: tuple[tuple[int, ...], ...], by_speed: tuple[tuple[int, ...], ...], band: float = 0.0):
     """Every method's value [N] of the parent and each design (stacked on a leading axis) in each condition of
     :data:`CONDITIONS` ``(1 + k, 5)``: calm-water R_T and, when ``waves``, the mean R_AW, each the profile's
     weighted mean (the points without a sea state, ``hs`` 0, add no R_AW). ``groups``: the conditions' points
     (condition-major) by speed and heading (:func:`_groups`), which share a strip-theory solve; ``by_speed``:
-    the profile's points by speed (:func:`~hullopt.optimise.point_groups`), which share calm water's R_T."""
+    the profile's points by speed (:func:`~hullopt.optimise.point_groups`), which share calm water's R_T;
+    ``band``: the run's band of waterlines for NMRI's Bf [m] (the empirical methods take no Bf)."""
     params = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), p0, stacked)
     factors = jnp.asarray([c[0] for c in CONDITIONS])
     calm_factors = jnp.asarray(_CALM_FACTORS)
@@ -173,7 +174,7 @@ def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves:
         if waves:
             for m in RESCORE_WAVES:
                 def point(u, a, h, t, m=m):
-                    r = mean_added_resistance(m, s, draft, u, jnp.where(h > 0, h, 1.0), t, a).total
+                    r = mean_added_resistance(m, s, draft, u, jnp.where(h > 0, h, 1.0), t, a, band=band).total
                     return jnp.where(h > 0, r, 0.0)
 
                 out[f"waves_{m}"] = vmap_grouped(point, groups, shared, each).reshape(n, -1) @ w
@@ -204,7 +205,10 @@ def rescore_program(cfg: RunConfig, prob: Problem, stacked, key) -> tuple[tuple,
     calm, invalid = calm_methods(hull, fn)
     args = (d.model, prob.p0, stacked, d.draft, speeds, np.asarray(cond["weights"], float), hs, tp,
             np.radians(heading))
-    static = (bool(np.any(hs > 0)), calm, _groups(speeds, args[8]), point_groups(speeds, np.zeros_like(speeds)))
+    band = max((getattr(o, "bf_band", 0.0) for o in (cfg.objective, getattr(cfg.sweep, "measure", None)) if o),
+               default=0.0)
+    static = (bool(np.any(hs > 0)), calm, _groups(speeds, args[8]), point_groups(speeds, np.zeros_like(speeds)),
+              float(band))
     return ("rescore", _program, args, static, [key, "rescore"]), invalid
 
 

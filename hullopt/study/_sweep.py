@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import HullError
 from ..geometry import atomic_write_bytes
 from ..models import feature_hull
-from ..optimise import make_targets, solve_pareto
+from ..optimise import TARGET_KINDS, make_targets, solve_pareto
 from ._config import RunConfig
 from ._problem import Problem, build_problem, params_to_dict
 from ._programs import cached_call
@@ -114,7 +114,7 @@ class SweepPlan:
                  ready: Callable[[], None] | None = None):
         sw = cfg.sweep
         targets = dict(cfg.targets) | {"bf": 0.5 * (sw.start + sw.stop)}
-        tgt = make_targets(targets, cfg.tolerances, cfg.kg)
+        tgt = make_targets(targets, cfg.tolerances, cfg.kg, cfg.hull.bf_band)
         self.cfg, self.prob = cfg, prob
         self.design = eqx.tree_at(lambda x: x.targets, prob.design, tgt)
         self.measure = sw.measure.build()
@@ -141,7 +141,9 @@ class SweepPlan:
             front = cached_call("sweep", _solve_chunk, args, (c.outer, c.max_steps), key=self.program_key,
                                 ready=ready)
         else:  # several devices: a sharded jit, its compile from jax's cache (kept programs run on one device)
-            front = solve_pareto(self.design, "bf", *args[1:], outer=c.outer, max_steps=c.max_steps, mesh=mesh)
+            starts = eqx.filter_jit(bow_starts)(*args[:5]) if np.size(self.prob.p0.bow) else None
+            front = solve_pareto(self.design, "bf", *args[1:], outer=c.outer, max_steps=c.max_steps, mesh=mesh,
+                                 starts=starts)
         front = jax.device_get(front)
         r, obj, meas, hd = front.result, front.objective, front.measure, front.hydrostatics.to_dict()
         return [{
@@ -166,9 +168,64 @@ class SweepPlan:
         atomic_write_bytes(self.path(chunks, k), (json.dumps(data, indent=2) + "\n").encode())
 
 
+def bow_starts(design, values, p0, lower, upper, n: int = 65):
+    """Each Bf* its start: ``p0`` with the first bow attachment's amplitude at the root of Bf(a) = Bf* nearest 0
+    on the side that adds volume (a ≥ 0) for a blunter bow, takes it away (a ≤ 0) for a finer one.
+
+    Bf(a) is not monotone: the attachment's rise aft of the nose first flattens the entrance (Bf falls), then
+    the nose dominates; from the parent a gradient would take the run down the wrong branch (a finer
+    shoulder). The root is found on ``n`` amplitudes across the bounds (linear between them).
+
+    Parameters
+    ----------
+    design : Design
+        The sweep's design (its model with a bow attachment, its draft, its targets' ``bf_band``).
+    values : (k,) array
+        The swept Bf* (dimensionless).
+    p0, lower, upper : FeatureParams
+        The start (the parent) and the bounds (``upper.bow[0]`` [m] spans the search).
+    n : int
+        Amplitudes tried across [−bound, bound] (static).
+
+    Returns
+    -------
+    FeatureParams
+        ``p0``'s structure with a leading axis k; the amplitude 0 (the parent) within the target's tolerance
+        of the parent's Bf or where no amplitude reaches Bf*.
+    """
+    t = jnp.linspace(-1.0, 1.0, 2 * (n // 2) + 1) * upper.bow[0]
+    mid = n // 2
+    target = TARGET_KINDS["bf"]
+    names = design.targets.names
+    tol = design.targets.tol[names.index("bf")] if "bf" in names else target.tol
+
+    def bf(a):
+        p = eqx.tree_at(lambda q: q.bow, p0, jnp.asarray(p0.bow).at[0].set(a))
+        return target.measure(design.model(p), design.draft, band=design.targets.bf_band)
+
+    b = jax.vmap(bf)(t)
+
+    def root(e):
+        up = e >= b[mid]
+        tt = jnp.where(up, t[mid:], t[mid::-1])  # from 0 outward on the chosen side
+        bb = jnp.where(up, b[mid:], b[mid::-1])
+        hit = jnp.where(up, bb >= e, bb <= e)
+        k = jnp.clip(jnp.argmax(hit), 1, tt.shape[0] - 1)
+        f = jnp.clip((e - bb[k - 1]) / jnp.where(bb[k] == bb[k - 1], 1.0, bb[k] - bb[k - 1]), 0.0, 1.0)
+        near = jnp.abs(e - b[mid]) <= tol  # the parent's own Bf: the parent
+        return jnp.where(jnp.any(hit) & ~near, tt[k - 1] + f * (tt[k] - tt[k - 1]), 0.0)
+
+    a = jax.vmap(root)(values)
+    stacked = jax.tree.map(lambda x: jnp.broadcast_to(x, (values.shape[0], *jnp.shape(x))), p0)
+    return eqx.tree_at(lambda q: q.bow, stacked, jnp.asarray(stacked.bow).at[:, 0].set(a))
+
+
 def _solve_chunk(design, values, p0, lower, upper, measure, outer: int, max_steps: int):
-    """:func:`~hullopt.optimise.solve_pareto` on Bf, as a kept program calls it."""
-    return solve_pareto(design, "bf", values, p0, lower, upper, measure, outer=outer, max_steps=max_steps)
+    """:func:`~hullopt.optimise.solve_pareto` on Bf, as a kept program calls it; a design with a bow attachment
+    starts each Bf* on its branch (:func:`bow_starts`)."""
+    starts = bow_starts(design, values, p0, lower, upper) if np.size(p0.bow) else None
+    return solve_pareto(design, "bf", values, p0, lower, upper, measure, outer=outer, max_steps=max_steps,
+                        starts=starts)
 
 
 def run_chunks(plan: SweepPlan, out: Path, shard=(1, 1), executor: str = "local", address: str | None = None,

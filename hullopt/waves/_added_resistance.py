@@ -25,7 +25,7 @@ from .._types import Angles, Draft, Frequencies, Lengths, Speed, Speeds, Values
 from ..constants import G, RHO_SEA
 from ..geometry import Sections
 from ._bessel import alpha_t
-from ._waterline import bluntness_of_waterline, waterline
+from ._waterline import bluntness, bluntness_of_waterline, waterline
 C_U_SLOPE, C_U_INTERCEPT, C_U_MIN = -310.0, 68.0, 10.0
 BF_KINK = (C_U_INTERCEPT - C_U_MIN) / -C_U_SLOPE  # 58/310 = 0.1871: where C_U reaches its floor
 
@@ -194,7 +194,7 @@ def outer_grid(omega, heading):
 
 def nmri_added_resistance(sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
                           amplitude: Lengths = 1.0, *, rho: float = RHO_SEA, g: float = G, smooth: float | None = None,
-                          aft: str = "exclude") -> NMRIResult:
+                          aft: str = "exclude", band: float = 0.0) -> NMRIResult:
     """R_AWR and K_AW in regular waves of frequencies ``omega`` [rad/s] from headings ``heading`` [rad].
 
     ``draft`` [m] is both the waterline for Bf and d in α_T; ``speed`` U [m/s]; ``amplitude`` ζ_a [m];
@@ -226,6 +226,9 @@ def nmri_added_resistance(sections: Sections, draft: Draft, speed: Speed, omega:
         Width τ of the soft maximum in C_U and of the ramp in Bf⁺; None: the exact maxima.
     aft : {"exclude", "include"}
         Lit range of the waterline, see :func:`~hullopt.waves.bluntness_of_waterline`.
+    band : float
+        Bf averaged over the waterlines in [d − band, d + band] [m] (:func:`~hullopt.waves.bluntness`; static);
+        0 (default): the waterline at the draft, as the patent's tables. B is the waterline's at the draft.
 
     Returns
     -------
@@ -235,7 +238,7 @@ def nmri_added_resistance(sections: Sections, draft: Draft, speed: Speed, omega:
     """
     wl = waterline(sections, draft)
     om, hd = outer_grid(omega, heading)
-    bf = bluntness_of_waterline(wl, hd, aft)
+    bf = bluntness(sections, draft, hd, aft, band) if band else bluntness_of_waterline(wl, hd, aft)
     fn = froude_number(speed, sections.lpp, g)
     bfp = positive_part(bf, smooth)
     c_u = speed_coefficient(bfp, smooth)

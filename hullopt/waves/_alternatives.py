@@ -287,7 +287,7 @@ class WaveMethod(eqx.Module):
     def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
                  amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
                  smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
-                 motion: bool = True) -> WaveResistance:
+                 motion: bool = True, band: float = 0.0) -> WaveResistance:
         """Added resistance [N] in regular waves of amplitude ζ_a [m], shape W + H for ``omega`` [rad/s] W and
         ``heading`` [rad] H, as :func:`method_resistance` takes the arguments (those the method does not use
         are ignored)."""
@@ -314,14 +314,15 @@ class WaveMethod(eqx.Module):
              spectrum: str = "pm", gamma: Scalar = 3.3, spreading_s: float | None = None,
              omega_max: Scalar | None = None, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
              smooth: float | None = None, aft: str = "exclude", order: int = 8, n_dir: int = 16,
-             kg: Length | None = None, motion: bool = True, motion_knots: int | None = 20) -> WaveResistance:
+             kg: Length | None = None, motion: bool = True, motion_knots: int | None = 20,
+             band: float = 0.0) -> WaveResistance:
         """Mean added resistance [N] in a sea state, as :func:`mean_added_resistance` takes the arguments: one
         spectral mean of both parts, the direction integral split at :meth:`heading_breaks`."""
         opts = self._spectral_options(sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order)
 
         def response(om, hd):
             r = self(sections, draft, speed, om, hd, 1.0, kyy=kyy, rho=rho, g=g, smooth=smooth, aft=aft, kg=kg,
-                     motion=motion)
+                     motion=motion, band=band)
             return jnp.stack([r.motion, r.reflection], axis=-1)
 
         m = spectral_mean(response, hs, tp, heading, n_dir=self.reflection_directions(n_dir), **opts)
@@ -345,9 +346,9 @@ class NMRI(WaveMethod):
     def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
                  amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
                  smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
-                 motion: bool = True) -> WaveResistance:
+                 motion: bool = True, band: float = 0.0) -> WaveResistance:
         r = nmri_added_resistance(sections, draft, speed, omega, heading, amplitude, rho=rho, g=g, smooth=smooth,
-                                  aft=aft).r_awr
+                                  aft=aft, band=band).r_awr
         if not motion:
             return WaveResistance(motion=jnp.zeros_like(r), reflection=r)
         m = motion_added_resistance(sections, draft, speed, omega, heading, amplitude, kg=kg, kyy=kyy, rho=rho, g=g)
@@ -382,19 +383,21 @@ class NMRI(WaveMethod):
              spectrum: str = "pm", gamma: Scalar = 3.3, spreading_s: float | None = None,
              omega_max: Scalar | None = None, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
              smooth: float | None = None, aft: str = "exclude", order: int = 8, n_dir: int = 16,
-             kg: Length | None = None, motion: bool = True, motion_knots: int | None = 20) -> WaveResistance:
+             kg: Length | None = None, motion: bool = True, motion_knots: int | None = 20,
+             band: float = 0.0) -> WaveResistance:
         """As :meth:`WaveMethod.mean`; with the motion part, the two parts apart: the motion part (smooth in
         heading) by one plain Gauss rule in direction, from ``motion_knots`` λ/L knots
         (:func:`~hullopt.waves.motion_response`; None: a strip-theory solve at every node)."""
         if not motion:
             return super().mean(sections, draft, speed, hs, tp, heading, spectrum=spectrum, gamma=gamma,
                                 spreading_s=spreading_s, omega_max=omega_max, kyy=kyy, rho=rho, g=g, smooth=smooth,
-                                aft=aft, order=order, n_dir=n_dir, kg=kg, motion=False, motion_knots=motion_knots)
+                                aft=aft, order=order, n_dir=n_dir, kg=kg, motion=False, motion_knots=motion_knots,
+                                band=band)
         opts = self._spectral_options(sections, draft, aft, spectrum, gamma, spreading_s, omega_max, order)
 
         def reflection(om, hd):
             return self(sections, draft, speed, om, hd, 1.0, rho=rho, g=g, smooth=smooth, aft=aft,
-                        motion=False).reflection
+                        motion=False, band=band).reflection
 
         def motion_part(om, hd):
             return motion_added_resistance(sections, draft, speed, om, hd, 1.0, kg=kg, kyy=kyy, rho=rho, g=g)
@@ -419,7 +422,7 @@ class Stawave1(WaveMethod):
     def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
                  amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
                  smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
-                 motion: bool = True) -> WaveResistance:
+                 motion: bool = True, band: float = 0.0) -> WaveResistance:
         return stawave1(particulars(sections, draft), omega, heading, amplitude, rho, g)
 
     def valid(self, heading: Angles) -> Array:
@@ -441,7 +444,7 @@ class Stawave2(Stawave1):
     def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
                  amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
                  smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
-                 motion: bool = True) -> WaveResistance:
+                 motion: bool = True, band: float = 0.0) -> WaveResistance:
         return stawave2(particulars(sections, draft), speed, omega, heading, amplitude, kyy, rho, g)
 
 
@@ -457,7 +460,7 @@ class SNNM(WaveMethod):
     def __call__(self, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies, heading: Angles = 0.0,
                  amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA, g: Gravity = G,
                  smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
-                 motion: bool = True) -> WaveResistance:
+                 motion: bool = True, band: float = 0.0) -> WaveResistance:
         return snnm(particulars(sections, draft), speed, omega, heading, amplitude, kyy, rho, g)
 
     def valid(self, heading: Angles) -> Array:
@@ -503,7 +506,7 @@ def wave_method(method: str) -> WaveMethod:
 def method_resistance(method: str, sections: Sections, draft: Draft, speed: Speed, omega: Frequencies,
                       heading: Angles = 0.0, amplitude: Lengths = 1.0, *, kyy: Scalar = 0.25, rho: Density = RHO_SEA,
                       g: Gravity = G, smooth: float | None = None, aft: str = "exclude", kg: Length | None = None,
-                      motion: bool = True) -> WaveResistance:
+                      motion: bool = True, band: float = 0.0) -> WaveResistance:
     """Added resistance [N] in regular waves by ``method`` (one of :data:`METHODS`), motion and reflection
     parts. NMRI: R_AW = R_AWM + R_AWR(Bf), the motion part by strip theory
     (:func:`~hullopt.waves.motion_added_resistance`, with ``kg`` [m] and ``kyy``; ``motion=False`` leaves it
@@ -535,6 +538,8 @@ def method_resistance(method: str, sections: Sections, draft: Draft, speed: Spee
         NMRI only: KG [m] for the motion part (None: KG = draft).
     motion : bool
         NMRI only: include the strip-theory motion part (False: it is 0).
+    band : float
+        NMRI only: Bf over the waterlines within ``band`` [m] of the draft (:func:`~hullopt.waves.bluntness`).
 
     Returns
     -------
@@ -547,7 +552,7 @@ def method_resistance(method: str, sections: Sections, draft: Draft, speed: Spee
         If ``method`` is not one of :data:`METHODS`.
     """
     return wave_method(method)(sections, draft, speed, omega, heading, amplitude, kyy=kyy, rho=rho, g=g,
-                               smooth=smooth, aft=aft, kg=kg, motion=motion)
+                               smooth=smooth, aft=aft, kg=kg, motion=motion, band=band)
 
 
 def heading_breaks(method: str, sections: Sections, draft: Draft, aft: str = "exclude") -> Array:
@@ -590,7 +595,7 @@ def mean_added_resistance(method: str, sections: Sections, draft: Draft, speed: 
                           spreading_s: float | None = None, omega_max: Scalar | None = None, kyy: Scalar = 0.25,
                           rho: Density = RHO_SEA, g: Gravity = G, smooth: float | None = None, aft: str = "exclude",
                           order: int = 8, n_dir: int = 16, kg: Length | None = None, motion: bool = True,
-                          motion_knots: int | None = 20) -> WaveResistance:
+                          motion_knots: int | None = 20, band: float = 0.0) -> WaveResistance:
     """Mean added resistance [N] in a sea state (H_s [m], peak period T_p [s], mean heading [rad]) by
     ``method``, motion and reflection parts; see :func:`~hullopt.waves.spectral_mean` for the spectrum,
     spreading and cut-off options.
@@ -620,6 +625,9 @@ def mean_added_resistance(method: str, sections: Sections, draft: Draft, speed: 
         Water density [kg/m³] and gravity [m/s²].
     smooth, aft
         As :func:`nmri_added_resistance` takes them.
+    band : float
+        NMRI: Bf averaged over the waterlines in [T − band, T + band] [m] (:func:`~hullopt.waves.bluntness`);
+        0: the waterline at the draft (the patent's). The empirical methods take no Bf and ignore it.
     kg, motion, motion_knots
         NMRI: KG [m] for the motion part (None: KG = draft), whether to include it (default yes), and the
         number of λ/L knots its response is computed at and interpolated from
@@ -652,4 +660,4 @@ def mean_added_resistance(method: str, sections: Sections, draft: Draft, speed: 
     return wave_method(method).mean(sections, draft, speed, hs, tp, heading, spectrum=spectrum, gamma=gamma,
                                     spreading_s=spreading_s, omega_max=omega_max, kyy=kyy, rho=rho, g=g,
                                     smooth=smooth, aft=aft, order=order, n_dir=n_dir, kg=kg, motion=motion,
-                                    motion_knots=motion_knots)
+                                    motion_knots=motion_knots, band=band)

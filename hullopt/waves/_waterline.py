@@ -11,7 +11,9 @@ stations clustered at the ends.
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from .._types import Angles, Draft, Scalar
@@ -154,9 +156,23 @@ def bluntness_of_waterline(wl: Waterline, heading: Angles = 0.0, aft: str = "exc
     return safe_div(total, b, pos).reshape(shape)
 
 
-def bluntness(sections: Sections, draft: Draft, heading: Angles = 0.0, aft: str = "exclude") -> Array:
+BAND_NODES, BAND_WEIGHTS = (np.polynomial.legendre.leggauss(5)[0], np.polynomial.legendre.leggauss(5)[1] / 2.0)
+"""The waterlines of a band [T − a, T + a] (:func:`bluntness`): 5-point Gauss–Legendre nodes on [−1, 1] and weights summing to 1
+(exact for a Bf that is a polynomial of degree 9 in the height)."""
+
+
+def band_waterlines(sections: Sections, draft: Draft, band: float) -> Waterline:
+    """The waterlines at the heights ``draft + band·BAND_NODES`` [m]: each field with a leading axis of 5."""
+    return jax.vmap(lambda t: waterline(sections, t))(jnp.asarray(draft, dtype=sections.yz.dtype) + band * BAND_NODES)
+
+
+def bluntness(sections: Sections, draft: Draft, heading: Angles = 0.0, aft: str = "exclude",
+              band: float = 0.0) -> Array:
     """Bluntness coefficient Bf of the waterline at ``draft`` [m] for headings ``heading`` [rad];
-    see :func:`bluntness_of_waterline`.
+    see :func:`bluntness_of_waterline`. With ``band`` a > 0 [m], the mean of Bf over the waterlines in
+    [T − a, T + a] (5-point Gauss–Legendre in the height): the bow the waves meet over the range of water
+    surface they sweep (JP2009-286166 shapes the bow "over the waterlines met in service"; its tables and
+    formula use the waterline at the draft, the default ``band = 0``).
 
     Parameters
     ----------
@@ -168,13 +184,18 @@ def bluntness(sections: Sections, draft: Draft, heading: Angles = 0.0, aft: str 
         Wave headings α [rad], any shape H; 0 = head seas.
     aft : {"exclude", "include"}
         Which lit elements count, see :func:`bluntness_of_waterline`.
+    band : float
+        Half-height a [m] of the band of waterlines averaged over (static); 0: the waterline at ``draft``.
 
     Returns
     -------
     Array
         Bf (dimensionless), shape H.
     """
-    return bluntness_of_waterline(waterline(sections, draft), heading, aft)
+    if not band:
+        return bluntness_of_waterline(waterline(sections, draft), heading, aft)
+    bf = jax.vmap(lambda wl: bluntness_of_waterline(wl, heading, aft))(band_waterlines(sections, draft, band))
+    return jnp.tensordot(jnp.asarray(BAND_WEIGHTS), bf, axes=1)
 
 
 def entrance_lengths(wl: Waterline, fraction: Scalar) -> tuple[Array, Array]:
