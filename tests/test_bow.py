@@ -140,3 +140,20 @@ def test_export_is_watertight_and_holds_the_volume(wigley_bow):
     assert mesh.is_watertight
     deck = float(np.max(np.asarray(s.yz)[..., 1]))
     np.testing.assert_allclose(mesh.volume, float(hydrostatics(s, deck).volume), rtol=2e-3)
+
+
+def test_scale_mode_makes_a_finer_bow_and_keeps_the_stem():
+    """mode "scale": every half-breadth in the band times 1 + a·W, W = 1 from x_peak to the bow; a = −0.5 halves the
+    wedge's entrance there: its Bf falls to the finer wedge's sin²E′, tan E′ = ½ tan E (the wedge from x_peak on)."""
+    s = wedge(n=401, m=101)
+    att = BowAttachment(x_blend=40.0, z_lo=-2.0, blend=1.0, x_peak=80.0, mode="scale")  # the whole depth
+    w = attachment_plan(np.asarray(s.x), att, stem_station(s, T))
+    np.testing.assert_allclose(w[np.asarray(s.x) >= 80.0], 1.0)
+    out = attach_bow(s, jnp.array([-0.5]), w[None], np.array([[att.z_lo, att.z_hi, att.blend]]), (True,))
+    y = np.asarray(out.yz)[:, 1:, 0]
+    assert y[-1].max() == 0.0  # the stem stays a stem
+    # the waterline: B0/2 aft of 40 m, shrinking smoothly to B0/4 at 80 m, then the half-width wedge; B = B0
+    tan_e = 0.25 * B0 / ENTRANCE
+    bf = float(bluntness(out, T))
+    lo = math.sin(math.atan(tan_e)) ** 2 / 2  # the wedge alone, normalised by the full beam
+    assert lo < bf < lo + 0.01 and bf < 0.5 * math.sin(math.atan(2 * tan_e)) ** 2

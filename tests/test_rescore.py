@@ -149,3 +149,24 @@ def test_calm_water_is_rescored_once_a_speed(monkeypatch):
     s = prob.design.model(prob.p0)
     direct = [float(calm_water(s, 6.25, f * 15.0 * KNOT).total) for f in (1.0, 0.9, 1.1, 1.0, 1.0)]
     np.testing.assert_allclose(values["calm_holtrop"], [direct, direct], rtol=1e-12)
+
+
+def test_a_wave_method_blind_to_the_mechanism_confirms_nothing_and_the_note_says_who_sees_it():
+    """A Bf sweep's NMRI gain (C_U) is not judged by SNNM or STAWAVE-2, which cannot see it: the warning names
+    them as not counted, and the note gives each method's span and why."""
+    from hullopt.study._rescore import BLIND, _confirmed, mechanism_note
+
+    def method(name, changes, own=False):
+        return {"kind": "waves", "method": name, "own": own, "change_pct": changes, "worst_pct": changes,
+                "holds": [c <= 0.1 for c in changes]}
+
+    methods = {m["method"]: m for m in (method("nmri", [-20.6, 12.0], own=True), method("snnm", [-1.7, -0.9]),
+                                        method("stawave2", [0.7, 0.4]))}
+    note = mechanism_note(methods)
+    assert "NMRI -20.6 … +12.0 %" in note and "SNNM -1.7 … -0.9 %" in note and "C_U" in note
+    assert BLIND["snnm"] in note and BLIND["stawave2"] in note
+    assert _confirmed(methods, "waves", 0, claimed=True)[0]  # SNNM's −1.7 % holds it, while it is counted
+    for m in ("snnm", "stawave2"):
+        methods[m]["blind"] = BLIND[m]
+    held, warning = _confirmed(methods, "waves", 0, claimed=True)
+    assert not held and "not counted, blind to the mechanism (NMRI's C_U): snnm -1.70 %, stawave2 +0.70 %" in warning

@@ -14,7 +14,9 @@ A :class:`BowAttachment` is a half-breadth ``a·W(x)·V(z)`` [m] added to every 
   sections stay as smooth as the parent's where the band starts and ends.
 
 The map is pure, linear in the amplitude and keeps every station's topology, so the hull stays watertight and a
-sweep's designs have one shape of arrays. The amplitude is the half-breadth added at ``x_peak`` inside the band.
+sweep's designs have one shape of arrays. The amplitude is the half-breadth added at ``x_peak`` inside the band;
+with ``mode = "scale"`` it is the fraction every half-breadth there grows by (negative: a finer bow, the way of
+the patent's background documents 1–3 for full ships).
 """
 
 from __future__ import annotations
@@ -35,7 +37,9 @@ class BowAttachment:
     """Where a bow attachment sits: plan form from ``x_blend`` (W = 0) through ``x_peak`` (W = 1) to the stem
     ``x_stem`` (W = 0) [m from the AP; ``None``: found from the parent, see :func:`attachment_plan`], height
     band ``z_lo`` … ``z_hi`` [m above the baseline; ``z_hi = inf``: to the deck] with smooth ramps of height
-    ``blend`` [m] outside it."""
+    ``blend`` [m] outside it. ``mode`` ``"add"``: the amplitude is a half-breadth [m] added (a bulge, the nose
+    closing to the stem); ``"scale"``: a fraction, every half-breadth times 1 + a·W·V, W staying 1 from
+    ``x_peak`` to the bow (a stem stays a stem: the way to a finer bow on a full ship)."""
 
     x_blend: float
     z_lo: float
@@ -43,6 +47,7 @@ class BowAttachment:
     blend: float = 1.0
     x_peak: float | None = None
     x_stem: float | None = None
+    mode: str = "add"
 
 
 def _smootherstep(r):
@@ -93,6 +98,8 @@ def attachment_plan(x: np.ndarray, att: BowAttachment, stem: int) -> np.ndarray:
     HullError
         Unless ``x_blend < x_peak < x_stem`` within the stations.
     """
+    if att.mode not in ("add", "scale"):
+        raise HullError(f"bow attachment: mode {att.mode!r} must be 'add' or 'scale'")
     x = np.asarray(x, float)
     x_stem = float(x[stem]) if att.x_stem is None else float(att.x_stem)
     x_peak = float(x[max(np.searchsorted(x, x_stem) - 1, 0)]) if att.x_peak is None else float(att.x_peak)
@@ -101,7 +108,8 @@ def attachment_plan(x: np.ndarray, att: BowAttachment, stem: int) -> np.ndarray:
                         f"got {att.x_blend:g}, {x_peak:g}, {x_stem:g} m")
     xi = np.clip((x - att.x_blend) / (x_peak - att.x_blend), 0.0, 1.0)
     eta = np.clip((x - x_peak) / (x_stem - x_peak), 0.0, 1.0)
-    return np.where(x <= x_peak, np.sin(0.5 * np.pi * xi) ** 2, np.sqrt(1.0 - eta**2))
+    nose = 1.0 if att.mode == "scale" else np.sqrt(1.0 - eta**2)
+    return np.where(x <= x_peak, np.sin(0.5 * np.pi * xi) ** 2, nose)
 
 
 def band_weight(z: ArrayLike, z_lo: ArrayLike, z_hi: ArrayLike, blend: ArrayLike) -> Array:
@@ -127,8 +135,8 @@ def band_weight(z: ArrayLike, z_lo: ArrayLike, z_hi: ArrayLike, blend: ArrayLike
 
 
 def attach_bow(sections: Sections, amplitude: Float[ArrayLike, " W"], plan: Float[ArrayLike, "W n"],
-               band: Float[ArrayLike, "W 3"]) -> Sections:
-    """The hull with ``W`` attachments added: y ↦ y + Σ_w a_w·W_w(x)·V_w(z).
+               band: Float[ArrayLike, "W 3"], scale: tuple[bool, ...] | None = None) -> Sections:
+    """The hull with ``W`` attachments: y ↦ y + Σ_w a_w·W_w(x)·V_w(z)·(y where ``scale[w]``, else 1).
 
     Parameters
     ----------
@@ -140,6 +148,9 @@ def attach_bow(sections: Sections, amplitude: Float[ArrayLike, " W"], plan: Floa
         Plan forms W(x) at the stations (:func:`attachment_plan`), dimensionless.
     band : (W, 3) array
         ``(z_lo, z_hi, blend)`` of each attachment [m] (:func:`band_weight`).
+    scale : tuple of bool or None
+        Per attachment whether it scales the half-breadths (its amplitude a fraction) instead of adding to
+        them (a half-breadth [m]); None: all add.
 
     Returns
     -------
@@ -149,5 +160,6 @@ def attach_bow(sections: Sections, amplitude: Float[ArrayLike, " W"], plan: Floa
     yz = jnp.asarray(sections.yz)
     z = yz[..., 1]
     v = band_weight(z[None], band[:, 0, None, None], band[:, 1, None, None], band[:, 2, None, None])  # (W, n, m)
-    dy = jnp.einsum("w,wn,wnm->nm", jnp.asarray(amplitude), jnp.asarray(plan), v)
+    by = jnp.where(jnp.asarray(scale or (False,) * v.shape[0])[:, None, None], yz[None, ..., 0], 1.0)
+    dy = jnp.einsum("w,wn,wnm->nm", jnp.asarray(amplitude), jnp.asarray(plan), v * by)
     return Sections(x=sections.x, yz=yz.at[..., 0].add(dy), lpp=sections.lpp)

@@ -695,6 +695,8 @@ def rescored_table(report: dict) -> str:
                                                     f"H_s {sea[0]:g} m, T_p {sea[1]:g} s, heading {sea[2]:g}°"))
     if r.get("note"):
         lines.append(r["note"])
+    if r.get("mechanism"):
+        lines.append(r["mechanism"])
     methods = r["methods"]
     n = len(next(iter(methods.values()))["designs"]) if methods else 0
     head = ["method", "parent [kN]"] + [f"design {k}: nominal / worst [%]" for k in range(n)]
@@ -703,6 +705,7 @@ def rescored_table(report: dict) -> str:
         what = ("calm water R_T" if m["kind"] == "calm" else "waves mean R_AW") + f": {m['method']}"
         note = " (the objective's)" if m["own"] else ""
         note += " (outside its validity: not counted)" if m.get("outside_validity") else ""
+        note += " (blind to the bow's mechanism, NMRI's C_U: not counted)" if m.get("blind") else ""
         cells = [_e(what + note), f"{m['parent'] / 1e3:.2f}"]
         for k in range(n):
             text = f"{m['change_pct'][k]:+.2f} / {m['worst_pct'][k]:+.2f}"
