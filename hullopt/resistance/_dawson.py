@@ -300,12 +300,11 @@ def dawson_flow(hull: Panels, surface: FreeSurface | tuple[FreeSurface, ...], k0
     both_h = Panels(mirrored(hull).vertices[: 2 * nh], hull.draft)  # the hull and its starboard mirror
     every_f = Panels(jnp.concatenate([fp.vertices, (fp.vertices * jnp.array([1.0, -1.0, 1.0]))[:, ::-1]]),
                      hull.draft)
-    fold = lambda v, images: jnp.sum(v.reshape(v.shape[0], images, -1, 3), axis=1)  # noqa: E731
-    v_hf = fold(source_velocity(hull.centre, every_f), 2)  # hull centres ← free-surface sources
+    v_hf = source_velocity(hull.centre, every_f, images=2)  # hull centres ← free-surface sources
     # On the waterplane a panel and its image above it induce the mirror images of one velocity: the in-plane
     # parts double, the vertical ones cancel (half the work of the four images)
-    v_fh = fold(source_velocity(fp.centre, both_h), 2) * jnp.array([2.0, 2.0, 0.0])
-    v_ff = fold(source_velocity(fp.centre, every_f, own=True, flat=True), 2)
+    v_fh = source_velocity(fp.centre, both_h, images=2) * jnp.array([2.0, 2.0, 0.0])
+    v_ff = source_velocity(fp.centre, every_f, own=True, flat=True, images=2)
     v_f = jnp.concatenate([v_fh, v_ff], axis=1)  # (nf, nh + nf, 3) free-surface centres ← every unknown
     # l: the double body's streamlines (towards downstream), differenced along the grid lines that stand for them.
     # Φ_l is the double body's speed, not its part along a grid line: a line that bends across the stream (the

@@ -55,6 +55,8 @@ from ._michell import LAMBDA_MAX, lambda_nodes
 
 STATIONS = 48  # default panel columns along the length (cosine-clustered towards the ends)
 GIRTH = 12  # default panel rows from the keel to the waterline
+BLOCK_PAIRS = 1 << 18
+"""Panel pairs a block of :func:`source_velocity` (~80 intermediates of 8 bytes each: ~170 MB a block)."""
 
 
 class Panels(eqx.Module):
@@ -206,11 +208,17 @@ def _plane_frames(panels: Panels):
     return c, n, e1, e2, local
 
 
-def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = False,
-                    flat: bool = False) -> Float[Array, "P N 3"]:
+def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = False, flat: bool = False,
+                    images: int = 1, block: int | None = None) -> Float[Array, "P M 3"]:
     """Velocity induced at ``points`` by each panel's unit source density (outflow 1 m³/s per m²),
     (1/4π) ∫ (p − q)/|p − q|³ dA, by Hess & Smith's closed forms: in-plane from the edges' logarithms, normal
     from the solid angle.
+
+    The pairs are taken in blocks of ``block`` points (default: about :data:`BLOCK_PAIRS` pairs a block), one
+    block at a time (``lax.map``) and each block checkpointed (``jax.checkpoint``): a gradient keeps only the
+    points and the result, and recomputes a block's intermediates in the backward pass. Without the blocks the
+    backward pass kept every pair's ~80 intermediates — a DTMB 5415 Dawson gradient 5.1 GB of its 5.1 GB peak
+    (benchmarks/README.md, "Dawson's method as a design objective"); the values are the same (elementwise).
 
     Parameters
     ----------
@@ -224,13 +232,40 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     flat : bool
         The points and the panels all lie in one plane (a flat free surface): the normal part is 0 there (½ at
         an own centroid), so the solid angle is not computed.
+    images : int
+        The panels are ``images`` sets of M = N/``images`` (a body and its mirror images, :func:`mirrored`),
+        each set's velocities summed: (P, M, 3).
+    block : int, optional
+        Points a block (``block ≥ P``: one block, no map and no checkpoint).
 
     Returns
     -------
-    (P, N, 3) Array
+    (P, M, 3) Array
         Velocity [m/s per m/s of source density]; 0 from a collapsed panel.
     """
-    c, n, e1, e2, local = _plane_frames(panels)
+    frames = _plane_frames(panels)
+    real = panels.real
+    n_p, n_n = points.shape[0], panels.vertices.shape[0]
+    rows = max(1, BLOCK_PAIRS // n_n) if block is None else int(block)
+
+    def kernel(pts, idx):
+        v = _source_kernel(pts, idx, frames, real, own, flat)
+        return v if images == 1 else jnp.sum(v.reshape(v.shape[0], images, -1, 3), axis=1)
+
+    if rows >= n_p:
+        return kernel(points, jnp.arange(n_p))
+    blocks = -(-n_p // rows)
+    pad = blocks * rows - n_p  # the last block filled with copies of the first point (its row, then dropped)
+    pts = jnp.concatenate([points, jnp.broadcast_to(points[:1], (pad, 3))]).reshape(blocks, rows, 3)
+    idx = jnp.concatenate([jnp.arange(n_p), jnp.zeros(pad, int)]).reshape(blocks, rows)
+    v = jax.lax.map(jax.checkpoint(lambda a: kernel(*a)), (pts, idx))
+    return v.reshape(blocks * rows, *v.shape[2:])[:n_p]
+
+
+def _source_kernel(points, idx, frames, real, own, flat):
+    """:func:`source_velocity` of the points ``points`` (P, 3), rows ``idx`` (P,) of the whole (an own
+    centroid: row i is panel i's), on the panels of ``frames`` (:func:`_plane_frames`) and ``real``."""
+    c, n, e1, e2, local = frames
     # Every quantity is a list of (P, N) arrays, one per corner or edge k (its successor k + 1 by index, not by
     # rolling an axis): elementwise arithmetic XLA fuses, where stacked (P, N, 4, 3) arrays and their rolls made
     # copies of ~1 GB each way (a KCS Dawson solve's gradient spent most of its time in them).
@@ -246,7 +281,7 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     rk = [safe_sqrt(rx[k] ** 2 + ry[k] ** 2 + pz**2) for k in range(4)]
     # a panel's own centroid (p ≈ 0: the solid angle jumps there) is masked out of the solid angle below and
     # takes the outside limit instead; the corners are shared with the edges' logarithms, not computed again
-    eye = jnp.eye(px.shape[0], px.shape[1], dtype=bool) if own else jnp.zeros((), dtype=bool)
+    eye = idx[:, None] == jnp.arange(px.shape[1])[None, :] if own else jnp.zeros((), dtype=bool)
     vx = vy = 0.0  # (1/4π)·Σ ν_k ∫ 1/r dl along the edges, times 4π; ν_k the edge's outward normal
     for k in range(4):
         s, d = rk[k] + rk[nxt[k]], dk[k]
@@ -270,7 +305,7 @@ def source_velocity(points: Float[Array, "P 3"], panels: Panels, own: bool = Fal
     if own:
         wn = jnp.where(eye, 0.5, wn)
     v = (vx[..., None] * e1[None] + vy[..., None] * e2[None]) / (4.0 * jnp.pi) + wn[..., None] * n[None]
-    return jnp.where(panels.real[None, :, None] > 0.0, v, 0.0)  # a collapsed panel induces nothing
+    return jnp.where(real[None, :, None] > 0.0, v, 0.0)  # a collapsed panel induces nothing
 
 
 def mirrored(panels: Panels) -> Panels:
@@ -289,9 +324,7 @@ def mirrored(panels: Panels) -> Panels:
 def centre_velocities(panels: Panels) -> Float[Array, "N N 3"]:
     """Velocity at each panel centroid from unit σ on each panel and its three images (N, N, 3): the images
     stacked into one panel set (one program, not four), the own panel first (its diagonal is the own limit)."""
-    n = panels.vertices.shape[0]
-    v = source_velocity(panels.centre, mirrored(panels), own=True)
-    return jnp.sum(v.reshape(n, 4, n, 3), axis=1)
+    return source_velocity(panels.centre, mirrored(panels), own=True, images=4)
 
 
 def double_body_flow(panels: Panels, v: Float[Array, "N N 3"] | None = None
