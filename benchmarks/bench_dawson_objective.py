@@ -76,6 +76,7 @@ def run_case(name: str) -> dict:
     t0 = time.perf_counter()
     c_g = f_g.lower(yz, t).compile()
     compile_s = time.perf_counter() - t0
+    rss_compile = _rss_gib()
     t0 = time.perf_counter()
     out = jax.block_until_ready(c_g(yz, t))
     first_s = time.perf_counter() - t0
@@ -96,7 +97,29 @@ def run_case(name: str) -> dict:
             "grad_yz_norm": float(np.linalg.norm(np.asarray(g_yz))),
             "compile_grad_s": compile_s, "first_grad_s": first_s, "value_grad_s": float(np.median(times)),
             "value_s": value_s, "peak_rss_gib": _rss_gib(), "peak_rss_after_grad_gib": rss_grad,
-            "rss_after_load_gib": base}
+            "rss_after_load_gib": base, "peak_rss_after_compile_gib": rss_compile}
+
+
+LIMIT_GIB = 10.0  # a case past this resident size is stopped (the machine is shared): "failed" -9
+
+
+def _watched(cmd):
+    """Run ``cmd``, stopping it when its resident memory passes :data:`LIMIT_GIB`."""
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=os.environ | {"OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS", "2")})
+    peak = 0.0
+    while p.poll() is None:
+        try:
+            with open(f"/proc/{p.pid}/status") as f:
+                kib = next(int(line.split()[1]) for line in f if line.startswith("VmRSS"))
+            peak = max(peak, kib * 1024.0 / GIB)
+        except (OSError, StopIteration):
+            pass
+        if peak > LIMIT_GIB:
+            p.kill()
+        time.sleep(0.2)
+    out, err = p.communicate()
+    return subprocess.CompletedProcess(cmd, p.returncode, out, err + f"\n[watched peak RSS {peak:.2f} GiB]")
 
 
 def main():
@@ -112,8 +135,7 @@ def main():
     runs = data.setdefault(label, {})
     for name in names:
         t0 = time.perf_counter()
-        p = subprocess.run([sys.executable, __file__, "--case", name], capture_output=True, text=True,
-                           env=os.environ | {"OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS", "2")})
+        p = _watched([sys.executable, __file__, "--case", name])
         if p.returncode != 0:
             runs[name] = {"case": name, "failed": p.returncode, "stderr": p.stderr[-1500:],
                           "wall_s": time.perf_counter() - t0, "machine": machine()}

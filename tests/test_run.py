@@ -249,4 +249,4 @@ def test_a_sweeps_design_writers_start_before_its_designs(tmp_path):
         pytest.skip("one core: no writer processes")
     with app._writers(4) as pool:
         assert len(pool._processes) == min(4, os.cpu_count())  # already spawned
-        app._write_designs(pool, [], 1.0, tmp_path)()
+        app._write_designs(pool, [], tmp_path)()

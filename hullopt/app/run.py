@@ -97,13 +97,12 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
             return report
         m = solution.outcome
         # the design folders are written while the designs are assessed and re-scored
-        designs_written = None if solution.final else _write_designs(pool, solution.outcomes, float(d.draft),
-                                                                     out / "designs")
+        designs_written = None if solution.final else _write_designs(pool, solution.outcomes, out / "designs")
         report["achieved"] = {k: float(v) for k, v in m.final.to_dict().items()}
         report["parent"] = {k: float(v) for k, v in m.parent.to_dict().items()}
         report["objectives"], report["limits"], assessed = study.assess(solution)
         # the parent's plausibility (a mesh in mm, in the wrong axes…), judged at the run's draft, comes first
-        doubtful = plausibility_warnings(m.before, float(d.draft), cfg.hull.parent)
+        doubtful = plausibility_warnings(m.before, float(m.parent.draft), cfg.hull.parent)
         report["warnings"] = [f"parent: {w}" for w in doubtful] + assessed
         clock("assess")
         rescored, doubts = study.rescore(solution.designs)
@@ -121,8 +120,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
             plot_convergence(next(iter(series.values())), out / "convergence.png", h["iteration"], violation=violation,
                              fit=cfg.kind == "fit")
         if solution.final:
-            _write_hull(m, d.draft, out)
-            hulls = Hulls.of(m.before, m.after, m.areas, d.draft)
+            _write_hull(m, out)
+            hulls = Hulls.of(m.before, m.after, m.areas, m.parent.draft)  # each area curve at its own draft
         else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
             designs_written()
             o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
@@ -176,10 +175,12 @@ class _Clock:
         self._t = t
 
 
-def _write_hull(m: Outcome, draft, out: Path) -> None:
+def _write_hull(m: Outcome, out: Path) -> None:
     """Write the final hull's files to ``out``: ``hull.stl`` [m] (refined along the length and welded for
     float32, checked as read back: closed, one body, no degenerate face), its offsets (:func:`write_offsets`), and
-    the overlay plot (body plan, waterlines, sectional-area curve against the parent) at ``draft`` [m]."""
+    the overlay plot (body plan, waterlines, sectional-area curve against the parent), all at the design's own
+    draft [m] (``m.final.draft``: a draft scale floats it deeper or shallower than the parent)."""
+    draft = m.final.draft
     write_hull_file(m.after, out / "hull.stl", float(draft))
     write_offsets(m.after, float(draft), out, "the designed hull")
     who = f"Design {out.name}" if out.parent.name == "designs" else "The design"
@@ -210,17 +211,16 @@ def _writers(designs: int):
         pool.shutdown(wait=ok, cancel_futures=not ok)
 
 
-def _write_designs(pool: ProcessPoolExecutor | None, outcomes: list[Outcome], draft: float,
-                   out: Path) -> Callable[[], None]:
+def _write_designs(pool: ProcessPoolExecutor | None, outcomes: list[Outcome], out: Path) -> Callable[[], None]:
     """Start writing each design's files (:func:`_write_hull`) in ``out/<k>/`` on ``pool`` (:func:`_writers`)
     beside the parent process's work; returns the function that waits for them (and raises a writer's error).
     Without a pool they are written when waited for."""
     if pool is None:
         def write():
             for k, mk in enumerate(outcomes):
-                _write_hull(mk, draft, out / str(k))
+                _write_hull(mk, out / str(k))
         return write
-    jobs = [pool.submit(_write_hull, mk, draft, out / str(k)) for k, mk in enumerate(outcomes)]
+    jobs = [pool.submit(_write_hull, mk, out / str(k)) for k, mk in enumerate(outcomes)]
 
     def wait():
         for job in jobs:

@@ -32,7 +32,10 @@ Order of operations (each is smooth in the parameters):
    curve where the move starts — the cubic smoothstep 3r² − 2r³ it replaced was only C¹ and put the
    largest curvature of the move right at the fixed ends);
 4. **frames** (claim 6): the auxiliary apexes keep their ratios along and across the chord, because they are
-   stored as those ratios; each segment is rebuilt as the patent's cubic spline.
+   stored as those ratios; each segment is rebuilt as the patent's cubic spline;
+5. **bow attachments** (:mod:`._bow`) on the rebuilt frames, then 6. the **beam** scale (every half-breadth × 1 +
+   s) and 7. the **draft** scale (every height × 1 + s from the baseline, and the draft the hull floats at with
+   them: :meth:`FeatureModel.draft_factor`).
 
 Deformations act in the (y, z) plane of each frame; stations stay where the parent has them unless a
 ``"stations"`` distribution moves them.
@@ -284,13 +287,17 @@ class FeatureParams(eqx.Module):
     """Design parameters (zero = the parent): ``apex (K, 2)`` move vectors (dy, dz) [m] of the model's apex
     moves; ``distribution (G, modes)`` warp coefficients (|Σ c| < 1 keeps the warp monotone); ``contour (E,)``
     contour-edit amplitudes [m]; ``bow (W,)`` bow-attachment amplitudes [m] (:mod:`._bow`); ``beam (P,)``
-    (P = 0 or 1) the relative change of every half-breadth, y ↦ (1 + beam)·y (Lpp and heights kept)."""
+    (P = 0 or 1) the relative change of every half-breadth, y ↦ (1 + beam)·y (Lpp and heights kept); ``draft
+    (Q,)`` (Q = 0 or 1) the relative change of every height and of the draft the hull floats at, z ↦ (1 +
+    draft)·z from the baseline (Lpp and breadths kept, the keel on the baseline; the draft a design is
+    evaluated at is :meth:`FeatureModel.draft_factor` times the parent's)."""
 
     apex: Float[ArrayLike, "K 2"]  # numpy for a config's start and bounds, JAX when solved
     distribution: Float[ArrayLike, "G J"]
     contour: Float[ArrayLike, " E"]
     bow: Float[ArrayLike, " W"] = eqx.field(default_factory=lambda: np.zeros(0))
     beam: Float[ArrayLike, " P"] = eqx.field(default_factory=lambda: np.zeros(0))
+    draft: Float[ArrayLike, " Q"] = eqx.field(default_factory=lambda: np.zeros(0))
 
 
 def _smoothstep(r):
@@ -321,13 +328,20 @@ class FeatureModel(eqx.Module):
     bow_band: Float[ArrayLike, "W 3"] = eqx.field(default_factory=lambda: np.zeros((0, 3)))  # (z_lo, z_hi, blend)
     bows: tuple[BowAttachment, ...] = eqx.field(static=True, default=())
     beam_scale: bool = eqx.field(static=True, default=False)
+    draft_scale: bool = eqx.field(static=True, default=False)
 
     def zeros(self) -> FeatureParams:
         """The parameters that give back the parent exactly."""
         k, g, e = len(self.move_seg), self.dist_mask.shape[0], self.edit_w.shape[0]
         modes = max([d.modes for d in self.design[1]], default=0)
         return FeatureParams(jnp.zeros((k, 2)), jnp.zeros((g, modes)), jnp.zeros((e,)), jnp.zeros(len(self.bows)),
-                             jnp.zeros(int(self.beam_scale)))
+                             jnp.zeros(int(self.beam_scale)), jnp.zeros(int(self.draft_scale)))
+
+    def draft_factor(self, params: FeatureParams):
+        """The design's draft over the parent's: ``1 + params.draft`` with a draft scale (its heights scaled
+        alike from the baseline), else 1.0. A design is evaluated at ``draft · draft_factor(params)``
+        (:class:`~hullopt.optimise.Design`)."""
+        return 1.0 + params.draft[0] if self.draft_scale else 1.0
 
     def features(self, params: FeatureParams) -> FeatureHull:
         """The deformed feature hull (steps 1–3 of the module docstring)."""
@@ -374,11 +388,14 @@ class FeatureModel(eqx.Module):
         return self.finish(self.features(params).sections(), params)
 
     def finish(self, s: Sections, params: FeatureParams) -> Sections:
-        """Steps 5–6 on the rebuilt frames ``s`` of :meth:`features`."""
+        """Steps 5–7 on the rebuilt frames ``s`` of :meth:`features`."""
         if self.bows:  # 5. bow attachments, on the rebuilt frames (they widen collapsed segments too)
-            s = attach_bow(s, params.bow, self.bow_plan, self.bow_band)
+            scale = tuple(b.mode == "scale" for b in self.bows)
+            s = attach_bow(s, params.bow, self.bow_plan, self.bow_band, scale)
         if self.beam_scale:  # 6. the beam, every half-breadth alike
             s = Sections(x=s.x, yz=s.yz.at[..., 0].multiply(1.0 + params.beam[0]), lpp=s.lpp)
+        if self.draft_scale:  # 7. the heights and the draft, from the baseline (the keel stays on it)
+            s = Sections(x=s.x, yz=s.yz.at[..., 1].multiply(1.0 + params.draft[0]), lpp=s.lpp)
         return s
 
 
@@ -558,11 +575,11 @@ def _edit_weights(h: FeatureHull, ed: ContourEdit) -> np.ndarray:
 
 def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributions: Sequence[Distribution] = (),
                   edits: Sequence[ContourEdit] = (), bows: Sequence[BowAttachment] = (), beam: bool = False,
-                  draft: float | None = None) -> FeatureModel:
+                  draft: float | None = None, draft_scale: bool = False) -> FeatureModel:
     """Precompute a design on ``hull`` (numpy, once): ``moves`` :class:`ApexMove`, ``distributions``
     :class:`Distribution` (each feature curve in at most one), ``edits`` :class:`ContourEdit`, ``bows``
     :class:`BowAttachment` (their stem found at ``draft`` [m], default the hull's design draft: one eager
-    evaluation of the parent), ``beam`` whether the beam is a parameter.
+    evaluation of the parent), ``beam`` whether the beam is a parameter, ``draft_scale`` whether the draft is.
     Raises :class:`HullError` on an inconsistent design (fixed ends not on the apex line, …).
 
     Parameters
@@ -580,6 +597,9 @@ def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributio
         Bow attachments (JP2009-286166 claims 4–5; :mod:`hullopt.models._bow`; amplitudes in m).
     beam : bool
         Whether the beam is a parameter (every half-breadth scaled by 1 + s).
+    draft_scale : bool
+        Whether the draft is a parameter (every height and the draft scaled by 1 + s from the baseline;
+        :meth:`FeatureModel.draft_factor`).
     draft : float or None
         The draft [m] the attachments' stem is found at; None: the hull's design draft.
 
@@ -643,6 +663,7 @@ def feature_model(hull: FeatureHull, moves: Sequence[ApexMove] = (), distributio
         bow_band=np.array([[b.z_lo, b.z_hi, b.blend] for b in bows], float).reshape(len(bows), 3),
         bows=bows,
         beam_scale=bool(beam),
+        draft_scale=bool(draft_scale),
     )
 
 
@@ -708,7 +729,8 @@ def check_design(model: FeatureModel, params: FeatureParams) -> Sections:
 
     p = {k: np.asarray(v) for k, v in vars(params).items()}
     for name, shape in (("apex", (len(model.move_seg), 2)), ("contour", (model.edit_w.shape[0],)),
-                        ("bow", (len(model.bows),)), ("beam", (int(model.beam_scale),))):
+                        ("bow", (len(model.bows),)), ("beam", (int(model.beam_scale),)),
+                        ("draft", (int(model.draft_scale),))):
         if p[name].shape != shape:
             raise HullError(f"parameters: {name} has shape {p[name].shape}, expected {shape}")
     if not all(np.all(np.isfinite(v)) for v in p.values()):

@@ -449,7 +449,12 @@ class Design(eqx.Module):
     at the parent), a small penalty ``smoothness`` · |params / param_scale|² that keeps the deformation the least
     needed, and a fairness penalty ``fairness`` · U/U₀ (:func:`hullopt.fairing.unfairness`, U₀ =
     ``fairness_scale``, the parent's), and ``limits`` (:class:`Limits`, inequality constraints; the solvers
-    resolve their parent values with :func:`with_objective_scale`)."""
+    resolve their parent values with :func:`with_objective_scale`).
+
+    ``draft`` is the parent's; a model with a draft scale (a ``draft_factor(params)`` method, as
+    :class:`~hullopt.models.FeatureModel` has) floats each design at ``draft · draft_factor(params)``
+    (:meth:`draft_of`): its targets, objective and limits are evaluated there, and so should anything that measures
+    a design (:meth:`hull` gives both)."""
 
     model: Callable[..., Sections]
     draft: Float[ArrayLike, ""]
@@ -465,11 +470,21 @@ class Design(eqx.Module):
     def sections(self, params) -> Sections:
         return self.model(params)
 
+    def draft_of(self, params):
+        """The draft [m above the baseline] the design ``params`` floats at: ``draft`` times the model's
+        ``draft_factor(params)`` where it has one (a draft scale), else ``draft``."""
+        factor = getattr(self.model, "draft_factor", None)
+        return self.draft if factor is None else self.draft * factor(params)
+
+    def hull(self, params) -> tuple[Sections, Array]:
+        """``(sections, draft)`` of the design ``params``: what every analysis of it takes."""
+        return self.model(params), self.draft_of(params)
+
     def residuals(self, params, args=None) -> Array:
         """Target residuals in units of their tolerances (so every target weighs alike in the least-squares
         cost), followed by the smoothness residuals (tolerance: infinite)."""
-        s = self.model(params)
-        r = target_residuals(s, self.draft, self.targets) / self.targets.tol
+        s, t = self.hull(params)
+        r = target_residuals(s, t, self.targets) / self.targets.tol
         flat = ravel_pytree(self._scaled(params))[0]
         extra = [jnp.sqrt(self.fairness * self._unfairness(s) + 1e-30)[None]] if self.fairness else []
         return jnp.concatenate([r, jnp.sqrt(self.smoothness) * flat, *extra])
@@ -479,33 +494,33 @@ class Design(eqx.Module):
         return jnp.concatenate([jnp.ones_like(self.targets.tol), jnp.full(n, jnp.inf)])
 
     def constraints(self, params, args=None) -> Array:
-        return target_residuals(self.model(params), self.draft, self.targets)
+        return target_residuals(*self.hull(params), self.targets)
 
     def inequalities(self, params, args=None) -> Array:
         """The limits' normalised inequalities ``g ≤ 0`` (empty without limits)."""
-        return self._inequalities(self.model(params))
+        return self._inequalities(*self.hull(params))
 
     def objective_value(self, params, args=None) -> Array:
         """The scaled objective plus the smoothness penalty (order one at the parent)."""
-        return self._objective_value(params, self.model(params))
+        return self._objective_value(params, *self.hull(params))
 
     def terms(self, params, args=None) -> tuple[Array, Array, Array]:
         """``(objective_value, constraints, inequalities)`` from one evaluation of the model: what a constrained
         solve needs at each point (three evaluations would be traced, differentiated and compiled three times)."""
-        s = self.model(params)
-        return self._objective_value(params, s), target_residuals(s, self.draft, self.targets), self._inequalities(s)
+        s, t = self.hull(params)
+        return self._objective_value(params, s, t), target_residuals(s, t, self.targets), self._inequalities(s, t)
 
-    def _objective_value(self, params, s: Sections) -> Array:
+    def _objective_value(self, params, s: Sections, t) -> Array:
         flat = ravel_pytree(self._scaled(params))[0]
-        value = self.objective(s, self.draft) / self.objective_scale + self.smoothness * flat @ flat
+        value = self.objective(s, t) / self.objective_scale + self.smoothness * flat @ flat
         return value + self.fairness * self._unfairness(s) if self.fairness else value
 
-    def _inequalities(self, s: Sections) -> Array:
-        return jnp.zeros(0) if self.limits is None else self.limits(s, self.draft)
+    def _inequalities(self, s: Sections, t) -> Array:
+        return jnp.zeros(0) if self.limits is None else self.limits(s, t)
 
     def objective_ratio(self, params, args=None) -> Array:
         """The objective alone, scaled by its value at the parent (1 there): what a run's convergence shows."""
-        return self.objective(self.model(params), self.draft) / self.objective_scale
+        return self.objective(*self.hull(params)) / self.objective_scale
 
     def _unfairness(self, sections: Sections) -> Array:
         from ..fairing import unfairness
@@ -539,11 +554,11 @@ def with_objective_scale(design: Design, params) -> Design:
 
     if design.objective is None and not design.fairness and design.limits is None:
         return design
-    s = design.model(params)
+    s, t = design.hull(params)
     if design.limits is not None:
-        design = eqx.tree_at(lambda d: d.limits, design, design.limits.at_parent(s, design.draft))
+        design = eqx.tree_at(lambda d: d.limits, design, design.limits.at_parent(s, t))
     if design.objective is not None:
-        design = eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(design.objective(s, design.draft)) + 1e-30)
+        design = eqx.tree_at(lambda d: d.objective_scale, design, jnp.abs(design.objective(s, t)) + 1e-30)
     if design.fairness:
         design = eqx.tree_at(lambda d: d.fairness_scale, design, unfairness(s) + 1e-30)
     return design

@@ -125,11 +125,12 @@ def run_hulls(folder: Path, report: dict) -> Hulls:
 
 
 def _evaluate(model, params, draft):
-    """The sections and sectional-area curves [m²] at ``draft`` [m] of a model at stacked parameters."""
+    """The sections and sectional-area curves [m²] of a model at stacked parameters, each at its own draft
+    (``draft`` [m] the parent's, times the model's draft factor: a draft scale)."""
     import jax
 
     s = jax.vmap(model)(params)
-    return s, jax.vmap(lambda one: sectional_areas(one, draft))(s)
+    return s, jax.vmap(lambda one, p: sectional_areas(one, draft * model.draft_factor(p)))(s, params)
 
 
 def sweep_picks(report: dict) -> list[int]:

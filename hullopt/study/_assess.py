@@ -66,14 +66,14 @@ def _assess_program(measures: dict, d: Design, p0, designs) -> tuple:
     largest normalised value of the parent and per design. The parent is mapped with the
     designs, as the first of the batch: traced once, the measures compile once (traced apart, the parent
     doubled the program and its compile)."""
-    parent = d.model(p0)
+    parent, t0 = d.hull(p0)
     if d.limits is not None:  # the limits measured against the parent's shape
-        d = eqx.tree_at(lambda d: d.limits, d, d.limits.at_parent(parent, d.draft))
+        d = eqx.tree_at(lambda d: d.limits, d, d.limits.at_parent(parent, t0))
 
     def one(params):
-        s = d.model(params)
-        g = {} if d.limits is None else {k: jnp.max(v) for k, v in d.limits.groups(s, d.draft).items()}
-        return {k: m(s, d.draft) for k, m in measures.items()}, g
+        s, t = d.hull(params)  # each design at its own draft (a draft scale)
+        g = {} if d.limits is None else {k: jnp.max(v) for k, v in d.limits.groups(s, t).items()}
+        return {k: m(s, t) for k, m in measures.items()}, g
 
     both = jax.tree.map(lambda a, b: jnp.concatenate([jnp.asarray(a)[None], b]), p0, designs)
     vals, groups = jax.vmap(one)(both)
@@ -150,7 +150,7 @@ def parent_particulars(prob: Problem, key) -> HoltropHull:
 
 
 def _parent_particulars(model, p0, draft) -> HoltropHull:
-    return holtrop_hull(model(p0), draft)
+    return holtrop_hull(model(p0), draft * model.draft_factor(p0))
 
 
 def calm_disagreement(cfg: RunConfig, objectives: dict, hull: HoltropHull) -> list[str]:

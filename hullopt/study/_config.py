@@ -101,8 +101,10 @@ class BowConfig(_Strict):
     blend: float = Field(default=1.0, gt=0, description="m: height of the smooth ramps outside the band")
     x_peak: float | None = Field(default=None, description="m: full width here; default the station aft of the stem")
     x_stem: float | None = Field(default=None, description="m: the nose closes here; default the stem at the draft")
-    a: float = Field(default=0.0, description="start: half-breadth added at x_peak [m] (negative: finer)")
-    bound: float = Field(default=5.0, gt=0, description="|a| ≤ bound [m]")
+    mode: Literal["add", "scale"] = Field(default="add", description="'add': a half-breadth [m] added, the nose "
+                                          "closing to the stem; 'scale': the half-breadths times 1 + a (a fraction)")
+    a: float = Field(default=0.0, description="start: half-breadth added at x_peak [m] (mode 'scale': the fraction)")
+    bound: float = Field(default=5.0, gt=0, description="|a| ≤ bound (m; mode 'scale': a fraction)")
 
     @model_validator(mode="after")
     def _band(self):
@@ -119,18 +121,28 @@ class BeamConfig(_Strict):
     bound: float = Field(default=0.05, gt=0, lt=0.5, description="|s| ≤ bound (0.05: ±5 %)")
 
 
+class DraftConfig(_Strict):
+    """``[design.draft]``: every height and the draft the hull floats at scaled by 1 + s from the baseline (the keel
+    stays on it), Lpp and breadths kept; the targets, objective and constraints are evaluated at the design's own
+    draft, ``hull.draft · (1 + s)``."""
+
+    s: float = Field(default=0.0, description="start: the relative change of the draft")
+    bound: float = Field(default=0.05, gt=0, lt=0.5, description="|s| ≤ bound (0.05: ±5 %)")
+
+
 class DesignConfig(_Strict):
     apex_move: list[ApexMoveConfig] = []
     distribution: list[DistributionConfig] = []
     contour_edit: list[ContourEditConfig] = []
     bow: list[BowConfig] = []
     beam: BeamConfig | None = None
+    draft: DraftConfig | None = None
 
     @model_validator(mode="after")
     def _some(self):
-        if not (self.apex_move or self.distribution or self.contour_edit or self.bow or self.beam):
+        if not (self.apex_move or self.distribution or self.contour_edit or self.bow or self.beam or self.draft):
             raise ValueError("the design has no parameters: give [[design.apex_move]], [[design.distribution]], "
-                             "[[design.contour_edit]], [[design.bow]] or [design.beam]")
+                             "[[design.contour_edit]], [[design.bow]], [design.beam] or [design.draft]")
         return self
 
 

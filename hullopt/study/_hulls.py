@@ -224,15 +224,19 @@ def _run_folder(folder: Path, params: dict[str, str], spec: str) -> LoadedHull:
         p, label = study.final_params(report, design)
     except ValueError as e:
         raise HullError(f"hull {spec!r}: {e}") from None
+    import numpy as np
+
     from ._programs import cached_call
 
     # a kept program: evaluated op by op, the model took ~7 s of a cold `hullopt lines RUN` (160 small compiles)
-    sections = cached_call("design-hull", _evaluate, (study.problem.design.model, p), (), key=study.key, quick=True)
-    return LoadedHull(sections, f"{folder.name}{label}", float(study.problem.design.draft))
+    d = study.problem.design
+    sections, draft = cached_call("design-hull", _evaluate, (d.model, p, np.asarray(d.draft)), (), key=study.key,
+                                  quick=True)
+    return LoadedHull(sections, f"{folder.name}{label}", float(draft))  # at the design's own draft
 
 
-def _evaluate(model, params) -> Sections:
-    return model(params)
+def _evaluate(model, params, draft) -> tuple:
+    return model(params), draft * model.draft_factor(params)
 
 
 def _library(spec: str) -> str | None:

@@ -69,9 +69,9 @@ def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.", dr
         [Distribution(g.x_a, g.x_b, g.curves if isinstance(g.curves, str) else tuple(g.curves), g.modes)
          for g in d.distribution],
         [ContourEdit(e.line, e.x_a, e.x_b, e.shape) for e in d.contour_edit],
-        [BowAttachment(b.x_blend, b.z_lo, np.inf if b.z_hi is None else b.z_hi, b.blend, b.x_peak, b.x_stem)
+        [BowAttachment(b.x_blend, b.z_lo, np.inf if b.z_hi is None else b.z_hi, b.blend, b.x_peak, b.x_stem, b.mode)
          for b in d.bow],
-        beam=d.beam is not None, draft=draft,
+        beam=d.beam is not None, draft=draft, draft_scale=d.draft is not None,
     )
     modes = max((g.modes for g in d.distribution), default=0)
     dist0 = np.zeros((len(d.distribution), modes))
@@ -84,15 +84,16 @@ def design_params(d: DesignConfig, hull: FeatureHull, where: str = "design.", dr
         dist_b[i] = g.bound
     # numpy leaves: building a problem runs no JAX op (each eager op costs a compile or a cache read)
     beam = [] if d.beam is None else [d.beam]
+    scale = [] if d.draft is None else [d.draft]
     p0 = FeatureParams(np.array([m.d for m in d.apex_move], float).reshape(-1, 2), dist0,
                        np.array([e.amplitude for e in d.contour_edit], float), np.array([b.a for b in d.bow], float),
-                       np.array([b.s for b in beam], float))
+                       np.array([b.s for b in beam], float), np.array([b.s for b in scale], float))
     half = FeatureParams(np.array([[m.bound] * 2 for m in d.apex_move], float).reshape(-1, 2), dist_b,
                          np.array([e.bound for e in d.contour_edit], float), np.array([b.bound for b in d.bow], float),
-                         np.array([b.bound for b in beam], float))
+                         np.array([b.bound for b in beam], float), np.array([b.bound for b in scale], float))
     for name, v, b in (("apex_move d", p0.apex, half.apex), ("distribution c", p0.distribution, half.distribution),
                        ("contour_edit amplitude", p0.contour, half.contour), ("bow a", p0.bow, half.bow),
-                       ("beam s", p0.beam, half.beam)):
+                       ("beam s", p0.beam, half.beam), ("draft s", p0.draft, half.draft)):
         if np.any(np.abs(np.asarray(v)) >= np.asarray(b)):
             raise HullError(f"{where.rstrip('.') or 'design'}: a start value of {name} is not inside its bound")
     return model, p0, half
@@ -213,7 +214,7 @@ def limits_from(cfg: RunConfig) -> Limits:
                   bulge=c.bulge == "forbid", frozen=frozen, tol=c.tolerance)
 
 
-PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude", "bow_a", "beam_s")
+PARAM_KEYS = ("apex_move_d", "distribution_c", "contour_edit_amplitude", "bow_a", "beam_s", "draft_s")
 """The keys of a report's ``params``: the leaves of :class:`~hullopt.models.FeatureParams` in order."""
 
 
@@ -236,7 +237,7 @@ def params_to_dict(p: FeatureParams) -> dict:
 
 
 def _leaves(p: FeatureParams) -> tuple:
-    return p.apex, p.distribution, p.contour, p.bow, p.beam
+    return p.apex, p.distribution, p.contour, p.bow, p.beam, p.draft
 
 
 def stack_params(params: list[FeatureParams]) -> FeatureParams:
@@ -296,7 +297,8 @@ def bound_warnings(prob: Problem, params: list[FeatureParams], who: str = "") ->
     out = []
     half = prob.upper
     for k, p in enumerate(params):
-        for name, v, b in zip(("apex_move", "distribution", "contour_edit", "bow", "beam"), _leaves(p), _leaves(half)):
+        for name, v, b in zip(("apex_move", "distribution", "contour_edit", "bow", "beam", "draft"), _leaves(p),
+                                 _leaves(half)):
             v, b = np.asarray(v, float), np.asarray(b, float)
             for idx in zip(*np.nonzero(np.abs(v) >= 0.99 * b)):
                 out.append(f"{who.format(k=k)}design.{name}[{idx[0]}]"

@@ -172,12 +172,12 @@ def _program(model, p0, stacked, draft, speeds, weights, hs, tp, heading, waves:
     w_u = jnp.stack([w[np.array(g)].sum() for g in by_speed])
 
     def one(p):
-        s = model(p)
-        out = {f"calm_{m}": (calm_water(s, draft, calm_factors[:, None] * u, m).total @ w_u)[_CALM_OF] for m in calm}
+        s, at = model(p), draft * model.draft_factor(p)  # each design at its own draft (a draft scale)
+        out = {f"calm_{m}": (calm_water(s, at, calm_factors[:, None] * u, m).total @ w_u)[_CALM_OF] for m in calm}
         if waves:
             for m in RESCORE_WAVES:
                 def point(u, a, h, t, m=m):
-                    r = mean_added_resistance(m, s, draft, u, jnp.where(h > 0, h, 1.0), t, a, band=band).total
+                    r = mean_added_resistance(m, s, at, u, jnp.where(h > 0, h, 1.0), t, a, band=band).total
                     return jnp.where(h > 0, r, 0.0)
 
                 out[f"waves_{m}"] = vmap_grouped(point, groups, shared, each).reshape(n, -1) @ w

@@ -78,13 +78,15 @@ class Outcome(eqx.Module):
 
 
 def measure(d: Design, p0: FeatureParams, final: FeatureParams) -> Outcome:
-    """The :class:`Outcome` of the parameters ``p0`` (the parent) and ``final`` at the design's draft."""
-    before, after = d.model(p0), d.model(final)
-    h0, h1 = hydrostatics(before, d.draft), hydrostatics(after, d.draft)
-    areas = jnp.stack([sectional_areas(before, d.draft), sectional_areas(after, d.draft)])
-    levels, widths = waterlines([before, after], d.draft)
-    obj = (d.objective(after, d.draft), d.objective(before, d.draft)) if d.objective is not None else (None, None)
-    a = achieved(h1, after, d.targets.names, d.targets.kg)
+    """The :class:`Outcome` of the parameters ``p0`` (the parent) and ``final``, each at its own draft
+    (:meth:`~hullopt.optimise.Design.hull`: a draft scale floats a design deeper or shallower; the waterlines
+    compared at the parent's heights)."""
+    (before, t0), (after, t1) = d.hull(p0), d.hull(final)
+    h0, h1 = hydrostatics(before, t0), hydrostatics(after, t1)
+    areas = jnp.stack([sectional_areas(before, t0), sectional_areas(after, t1)])
+    levels, widths = waterlines([before, after], t0)
+    obj = (d.objective(after, t1), d.objective(before, t0)) if d.objective is not None else (None, None)
+    a = achieved(h1, after, d.targets.names, d.targets.kg, d.targets.bf_band)
     return Outcome(before, after, h0, h1, a, target_errors(a, d.targets), areas, levels, jnp.stack(widths), *obj)
 
 

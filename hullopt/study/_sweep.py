@@ -201,7 +201,7 @@ def bow_starts(design, values, p0, lower, upper, n: int = 65):
 
     def bf(a):
         p = eqx.tree_at(lambda q: q.bow, p0, jnp.asarray(p0.bow).at[0].set(a))
-        return target.measure(design.model(p), design.draft, band=design.targets.bf_band)
+        return target.measure(*design.hull(p), band=design.targets.bf_band)
 
     b = jax.vmap(bf)(t)
 
