@@ -474,7 +474,7 @@ class Design(eqx.Module):
         """The draft [m above the baseline] the design ``params`` floats at: ``draft`` times the model's
         ``draft_factor(params)`` where it has one (a draft scale), else ``draft``."""
         factor = getattr(self.model, "draft_factor", None)
-        return self.draft if factor is None else self.draft * factor(params)
+        return jnp.asarray(self.draft if factor is None else self.draft * factor(params), dtype=float)
 
     def hull(self, params) -> tuple[Sections, Array]:
         """``(sections, draft)`` of the design ``params``: what every analysis of it takes."""

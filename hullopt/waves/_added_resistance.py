@@ -227,7 +227,7 @@ def nmri_added_resistance(sections: Sections, draft: Draft, speed: Speed, omega:
     aft : {"exclude", "include"}
         Lit range of the waterline, see :func:`~hullopt.waves.bluntness_of_waterline`.
     band : float
-        Bf averaged over the waterlines in [d − band, d + band] [m] (:func:`~hullopt.waves.bluntness`; static);
+        Bf averaged over the waterlines in [d − band, d + band] (band in m) (:func:`~hullopt.waves.bluntness`; static);
         0 (default): the waterline at the draft, as the patent's tables. B is the waterline's at the draft.
 
     Returns

@@ -626,7 +626,7 @@ def mean_added_resistance(method: str, sections: Sections, draft: Draft, speed: 
     smooth, aft
         As :func:`nmri_added_resistance` takes them.
     band : float
-        NMRI: Bf averaged over the waterlines in [T − band, T + band] [m] (:func:`~hullopt.waves.bluntness`);
+        NMRI: Bf averaged over the waterlines in [T − band, T + band] (band in m) (:func:`~hullopt.waves.bluntness`);
         0: the waterline at the draft (the patent's). The empirical methods take no Bf and ignore it.
     kg, motion, motion_knots
         NMRI: KG [m] for the motion part (None: KG = draft), whether to include it (default yes), and the
