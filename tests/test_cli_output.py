@@ -208,3 +208,20 @@ def test_run_summary_parent_to_design_with_units_and_warnings(capsys, wide):
     assert "LCB from midship [% Lpp] │ 0.0000 │ 0.0000" in text and not SCI.search(out)
     assert "a warning the report holds" in err and "cannot be met" in err
     assert max(cell_len(line) for line in out.splitlines()) <= 100
+
+
+def test_pareto_summary_names_a_calm_water_profile(capsys, wide):
+    """The printed Pareto table of a calm-water operating profile (no sea state) names Michell's calm-water R_T,
+    not "R_T + R_AW" (issue 62): its header and title follow the report's ``objective.about``."""
+    from hullopt.app.commands.run import summary
+
+    designs = [{"bf_target": 0.06 + 0.001 * i, "measure": 2.2e5 - 1e3 * i, "objective": 4.3e6 + 1e4 * i,
+                "met": True, "pareto": True} for i in range(2)]
+    report = {"kind": "pareto", "designs": designs, "pareto_count": 2, "warnings": [],
+              "objective": {"name": "profile_resistance", "measure": "mean_added_resistance",
+                            "about": {"name": {"method": "michell", "waves": False},
+                                      "measure": {"method": None, "waves": None}}}}
+    summary(report, output.Path("runs/x"))
+    text = " ".join(capsys.readouterr().out.split())
+    assert "operating profile calm-water R_T (Michell)" in text and "R_T (profile, Michell) [kN]" in text
+    assert "R_T + R_AW" not in text

@@ -243,3 +243,28 @@ def test_patent_form_puts_parent_and_designs_on_the_patent_curve(tmp_path, drawn
     np.testing.assert_allclose(q.get_lines()[1].get_xydata(), [[2.0, 1809.3 / 9 * 1.10]], rtol=1e-4)
     assert waves.get_ylabel() == "profile mean R_AW [kN]"
     assert [t.get_text() for t in waves.get_legend().get_texts()] == ["NMRI (the run's)", "SNNM"]
+
+
+def test_pareto_axes_name_a_calm_water_profile_as_calm_water(tmp_path, drawn):
+    """An operating profile without a sea state (``profile_resistance``, Michell) is calm-water R_T by Michell:
+    the axis and the title say so, not "R_T + R_AW" (issue 62); its ``objective_about`` comes from the config."""
+    from hullopt.report import label, objective_about, plot_pareto
+    from hullopt.study import objective_options
+
+    calm = objective_options({"kind": "profile_resistance", "method": "michell",
+                              "profile": [{"speed_kn": 12.0}, {"speed_kn": 14.0, "weight": 2.0}]}).build()
+    wavy = objective_options({"kind": "profile_resistance", "method": "michell",
+                              "profile": [{"speed_kn": 12.0, "hs": 2.0, "tp": 8.0}]}).build()
+    about = {"name": objective_about(calm), "measure": {"method": None, "waves": None}}
+    assert about["name"] == {"method": "michell", "waves": False}
+    designs = [dict(bf_target=0.3 + 0.01 * i, measure=3e4 + 1e4 * i, objective=5e5 - 1e5 * i, met=True, pareto=True)
+               for i in range(3)]
+    plot_pareto(designs, "mean_added_resistance", "profile_resistance", tmp_path / "p.png", about=about)
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert ax.get_ylabel() == "operating profile calm-water R_T (Michell) [kN]"
+    assert "R_AW" not in ax.get_ylabel() and "calm-water R_T (Michell)" in ax.get_title(loc="left")
+    assert label("profile_resistance", about=objective_about(wavy)) == \
+        "operating profile R_T (Michell) + R_AW (NMRI) [kN]"
+    assert label("profile_resistance", short=True, about=about["name"]) == "R_T (profile, Michell) [kN]"
+    assert label("profile_resistance") == "operating profile R_T + R_AW [kN]"  # an old report: by its key

@@ -40,6 +40,7 @@ from ..report import (
     PAGE_TEMPLATE,
     Hulls,
     label,
+    objective_about,
     plot_convergence,
     plot_overlay,
     plot_pareto,
@@ -92,6 +93,9 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         clock("solve")
         report = solution.report
         report["seconds"] = clock.seconds
+        if isinstance(report.get("objective"), dict) and cfg.objective is not None:  # what it (and a measure) compute
+            report["objective"]["about"] = {"name": objective_about(cfg.objective.build()), **(
+                {"measure": objective_about(cfg.sweep.measure.build())} if cfg.kind == "pareto" else {})}
         if solution.partial:
             write_json(out / "report.json", report)
             return report
@@ -125,10 +129,11 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
         else:  # a sweep: each design's hull in designs/<k>/; report.html rebuilds them from the folder
             designs_written()
             o, kinds = report["objectives"], (cfg.sweep.measure.kind, cfg.objective.kind, "bf")
-            where = "; ".join(f"{label(k, unit=False)}: {conditions_text(c)}"
-                              for k, c in zip(kinds[1::-1], (cfg.objective, cfg.sweep.measure)))
+            about = report["objective"]["about"]
+            where = "; ".join(f"{label(k, unit=False, about=about[a])}: {conditions_text(c)}"
+                              for k, a, c in zip(kinds[1::-1], ("name", "measure"), (cfg.objective, cfg.sweep.measure)))
             plot_pareto(report["designs"], *kinds[:2], out / "pareto.png", parent=tuple(o[k]["parent"] for k in kinds),
-                        conditions=where)
+                        conditions=where, about=about)
             speeds = sorted(set(rescored["conditions"]["speeds_kn"])) if rescored is not None else []
             plot_patent([o["bf"]["parent"], *o["bf"]["designs"]],
                         [report["parent"]["bwl"], *(r["particulars"]["bwl"] for r in report["designs"])],

@@ -32,6 +32,7 @@ from ._units import displayed as displayed
 from ._units import fmt as fmt
 from ._units import is_number as is_number
 from ._units import label as label
+from ._units import objective_about as objective_about
 from ._units import quantity as quantity
 from ._units import scalar as scalar
 from ._units import to_builtin as to_builtin

@@ -370,8 +370,9 @@ def fig_pareto(report: dict, folder: Path):
 
     o = report.get("objective", {})
     mname, oname = o.get("measure", "measure"), o.get("name", "objective")
+    ma, oa = (o.get("about") or {}).get("measure"), (o.get("about") or {}).get("name")
     designs = report.get("designs", [])
-    fig = _figure(f"Pareto front: {label(oname, unit=False)} against {label(mname, unit=False)} "
+    fig = _figure(f"Pareto front: {label(oname, unit=False, about=oa)} against {label(mname, unit=False, about=ma)} "
                   "(hover: each design; click: its hull file)", height=460)
     groups = (("Pareto front", lambda d: d.get("pareto") and d.get("met"), dict(color=_colour(0), size=10),
                "lines+markers"),
@@ -384,7 +385,7 @@ def fig_pareto(report: dict, folder: Path):
         ks.sort(key=lambda k: designs[k]["measure"])
         xs = [displayed(mname, designs[k]["measure"])[0] for k in ks]
         ys = [displayed(oname, designs[k]["objective"])[0] for k in ks]
-        hover = [_pareto_hover(k, designs[k], mname, oname, folder) for k in ks]
+        hover = [_pareto_hover(k, designs[k], mname, oname, folder, o.get("about")) for k in ks]
         fig.add_trace(go.Scatter(x=xs, y=ys, mode=mode, name=name, marker=marker, text=hover,
                                  customdata=[_hull_link(folder, k) or "" for k in ks],
                                  hovertemplate="%{text}<extra></extra>"))
@@ -394,18 +395,19 @@ def fig_pareto(report: dict, folder: Path):
         fig.add_trace(go.Scatter(x=[x], y=[y], mode="markers", name="parent",
                                  marker=dict(color="black", size=13, symbol="star"),
                                  hovertemplate=f"parent: Bf {objectives['bf']['parent']:.4g}<extra></extra>"))
-    fig.update_xaxes(title=label(mname))
-    fig.update_yaxes(title=label(oname))
+    fig.update_xaxes(title=label(mname, about=ma))
+    fig.update_yaxes(title=label(oname, about=oa))
     return fig
 
 
-def _pareto_hover(k: int, d: dict, mname: str, oname: str, folder: Path) -> str:
+def _pareto_hover(k: int, d: dict, mname: str, oname: str, folder: Path, about: dict | None = None) -> str:
+    ma, oa = (about or {}).get("measure"), (about or {}).get("name")
     m, mu = displayed(mname, d["measure"])
     v, vu = displayed(oname, d["objective"])
     link = _hull_link(folder, k)
     lines = [f"<b>design {k}</b>: Bf target {d['bf_target']:.4g}",
-             f"{label(mname, unit=False)}: {fmt(m, 4)} {mu}".rstrip(),
-             f"{label(oname, unit=False)}: {fmt(v, 4)} {vu}".rstrip(),
+             f"{label(mname, unit=False, about=ma)}: {fmt(m, 4)} {mu}".rstrip(),
+             f"{label(oname, unit=False, about=oa)}: {fmt(v, 4)} {vu}".rstrip(),
              f"targets met: {'yes' if d.get('met') else 'NO'}",
              f"hull: {link} (click to open)" if link else "hull: hullopt export RUN_DIR?design=" + str(k)]
     return "<br>".join(html.escape(s, quote=False).replace("&lt;b&gt;", "<b>").replace("&lt;/b&gt;", "</b>")
@@ -627,6 +629,7 @@ def designs_table(report: dict, folder: Path) -> str:
     the hull."""
     o = report.get("objective", {})
     mname, oname = o.get("measure", "measure"), o.get("name", "objective")
+    ma, oa = (o.get("about") or {}).get("measure"), (o.get("about") or {}).get("name")
     rows = []
     for k, d in enumerate(report.get("designs") or []):
         link = _hull_link(folder, k)
@@ -635,7 +638,8 @@ def designs_table(report: dict, folder: Path) -> str:
                      _e(fmt(displayed(oname, d.get("objective"))[0], 4)),
                      '<span class="ok">yes</span>' if d.get("met") else '<span class="bad">NO</span>',
                      "★" if d.get("pareto") else "", f'<a href="{_e(link)}">{_e(link)}</a>' if link else "–"])
-    return _table(["design", "Bf target", _e(label(mname, short=True)), _e(label(oname, short=True)), "targets met",
+    return _table(["design", "Bf target", _e(label(mname, short=True, about=ma)), _e(label(oname, short=True, about=oa)),
+                   "targets met",
                    "front", "hull"], rows)
 
 

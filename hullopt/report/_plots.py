@@ -188,14 +188,15 @@ def plot_convergence(history, path: Path, xlabel: str = "step", violation=None, 
     return _save(fig, path)
 
 
-def _axis(name: str) -> tuple[str, float]:
+def _axis(name: str, about: dict | None = None) -> tuple[str, float]:
     """A report key's axis label with its unit, as the report's tables name it (a force in kN), and the factor
     from SI to that unit."""
-    return label(name), displayed(name, 1.0)[0]
+    return label(name, about=about), displayed(name, 1.0)[0]
 
 
 def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
-                parent: tuple[float, float, float] | None = None, conditions: str = "") -> Path:
+                parent: tuple[float, float, float] | None = None, conditions: str = "",
+                about: dict | None = None) -> Path:
     """The Pareto front of a Bf sweep: ``yname`` (the objective) against ``xname`` (the measure), forces in kN.
 
     Each design is labelled with its Bf target to 4 significant digits (a label once per position); designs that
@@ -216,6 +217,10 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
         ``(measure, objective, Bf)`` of the parent (SI); None: no parent drawn.
     conditions : str
         Where the two are measured (speeds, sea states: :func:`hullopt.study.conditions_text`), under the title.
+    about : dict or None
+        ``report.json``'s ``objective.about``: ``{"name": …, "measure": …}``, each the objective's
+        :func:`~hullopt.report.objective_about`, so that the axes name what is plotted (an operating profile
+        without sea states: calm-water R_T by its method). None: the keys' labels.
 
     Returns
     -------
@@ -223,7 +228,8 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
         ``path``.
     """
     fig, ax = _figure(figsize=(7.5, 5))
-    (xlabel, sx), (ylabel, sy) = _axis(xname), _axis(yname)
+    xa, ya = (about or {}).get("measure"), (about or {}).get("name")
+    (xlabel, sx), (ylabel, sy) = _axis(xname, xa), _axis(yname, ya)
     if parent is not None:
         px, py = parent[0] * sx, parent[1] * sy
         ax.plot([px], [py], "*", color="k", markersize=11, label="parent", zorder=4)
@@ -252,7 +258,8 @@ def plot_pareto(designs: list[dict], xname: str, yname: str, path: Path,
     ax.grid(alpha=0.3)
     bf = [d["bf_target"] for d in designs]
     span = f", Bf {min(bf):.4g} … {max(bf):.4g}" if bf else ""
-    ax.set_title(f"Pareto front: {label(yname, unit=False)} against {label(xname, unit=False)}{span}\n"
+    ax.set_title(f"Pareto front: {label(yname, unit=False, about=ya)} against {label(xname, unit=False, about=xa)}"
+                 f"{span}\n"
                  + (f"{conditions}\n" if conditions else "")
                  + "(each design labelled with its bluntness target Bf)", loc="left", fontsize=9)
     return _save(fig, path)
@@ -351,7 +358,7 @@ def plot_wave_pattern(x, y, zeta, lpp: float, path: Path, title: str = "", wake=
 def plot_overlay(before, after, draft: float, path: Path, title: str = "", measures=None) -> Path:
     """A design against its parent in one figure, as a naval architect checks it: the body plan (left), the
     waterlines' half-breadths at the heights of :data:`~hullopt.fairing.WATERLINE_FRACTIONS` of the draft
-    (top right) and the sectional-area curve with the design's change (bottom right); the parent dashed.
+    and :data:`~hullopt.fairing.WATERLINES_ABOVE` above the DWL, dotted (top right: where a bow change above the water shows) and the sectional-area curve with the design's change (bottom right); the parent dashed.
 
     Parameters
     ----------
@@ -384,11 +391,13 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "", measu
     ax_bp.legend(loc="upper left", fontsize=8)
     ax_bp.set_title("Body plan", loc="left", fontsize=10)
     areas, z, widths = jax.tree.map(np.asarray, measures or _overlay_measures(before, after, float(draft)))
+    dry = z > float(draft) + 1e-9  # above the DWL: dotted, so that the wetted lines read first
     for s, y, style in ((before, widths[0], dict(ls="--", lw=0.9)), (after, widths[1], dict(lw=1.1))):
         for k in range(len(z)):
-            ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **style)
+            ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **(style | (dict(ls=":") if dry[k] else {})))
     for k, zk in enumerate(z):
-        ax_wl.plot([], [], color=f"C{k}", label=f"z = {zk:.2f} m")
+        ax_wl.plot([], [], color=f"C{k}", ls=":" if dry[k] else "-",
+                   label=f"z = {zk:.2f} m" + (" (DWL)" if abs(zk - float(draft)) < 1e-6 else " (above)" * dry[k]))
     ax_wl.plot([], [], color="0.4", ls="--", label="parent (dashed)")
     ax_wl.set_ylabel("half-breadth y [m]")
     ax_wl.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0)
@@ -417,11 +426,11 @@ def _overlay_measures(before, after, draft: float) -> tuple:
     not the ~30 eager operations, a second, they are op by op)."""
     import jax
 
-    from ..fairing import waterlines
+    from ..fairing import WATERLINES_ABOVE, waterlines
     from ..hydro import sectional_areas
 
     areas = [jax.jit(sectional_areas)(s, draft) for s in (before, after)]
-    z, widths = jax.jit(waterlines)([before, after], draft)
+    z, widths = jax.jit(waterlines, static_argnums=2)([before, after], draft, WATERLINES_ABOVE)
     return areas, z, widths
 
 

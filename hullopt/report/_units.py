@@ -4,7 +4,8 @@ report.html): each report key's label and displayed unit, significant figures an
 - :func:`fmt` / :func:`quantity` — a number (and its unit) with sensible significant figures, fixed-point for
   ordinary magnitudes, round-off noise (``-7.1e-15``) as ``0``;
 - :func:`label` / :func:`displayed` — a report key's label with its unit and its value in that unit (kg → t,
-  N → kN);
+  N → kN); an objective's label says what it computes (:func:`objective_about`: its method, calm water or
+  waves);
 - :func:`write_json` — JSON in SI units (:data:`JSON_UNITS`), written atomically.
 """
 
@@ -44,6 +45,7 @@ OBJECTIVE_UNITS: dict[str, tuple[str, str, float]] = {
     "k_aw": ("K_AW", "", 1), "mean_added_resistance": ("mean added resistance R_AW", "kN", 1e-3),
     "calm_resistance": ("calm-water resistance R_T", "kN", 1e-3),
     "calm_resistance_michell": ("calm-water resistance (Michell) R_T", "kN", 1e-3),
+    "calm_resistance_dawson": ("calm-water resistance (Dawson) R_T", "kN", 1e-3),
     "wind_added_resistance": ("wind added resistance R_AA", "kN", 1e-3),
     "profile_resistance": ("operating profile R_T + R_AW", "kN", 1e-3),
     "profile_power": ("operating profile power P_E", "kW", 1e-3),
@@ -125,7 +127,50 @@ def unit_places(unit: str) -> int | None:
     return UNIT_PLACES.get(unit)
 
 
-def label(key: str, unit: bool = True, short: bool = False) -> str:
+# how a run names its wave-resistance methods in labels
+METHOD_NAMES = {"holtrop": "Holtrop", "michell": "Michell", "panel": "panel", "dawson": "Dawson"}
+
+
+def objective_about(objective: Any) -> dict:
+    """What an objective's label must say beyond its kind: the wave-resistance method of its calm-water R_T and
+    whether it adds added resistance in waves (an operating profile with sea states).
+
+    Parameters
+    ----------
+    objective : hullopt.optimise.Objective
+        The objective (its ``method`` and ``waves`` fields where it has them; read, not imported).
+
+    Returns
+    -------
+    dict
+        ``{"method": str or None, "waves": bool or None}``, as ``report.json``'s ``objective.about`` keeps it
+        for :func:`label`'s ``about``.
+    """
+    method, waves = getattr(objective, "method", None), getattr(objective, "waves", None)
+    return {"method": str(method) if method is not None else None,
+            "waves": bool(waves) if waves is not None else None}
+
+
+def _described(key: str, about: Any) -> tuple[str, str] | None:
+    """``(label, symbol)`` of an objective whose kind alone does not say what it computes, else None."""
+    if not about:
+        return None
+    method = about.get("method")
+    name = METHOD_NAMES.get(method, method) if method else ""
+    who, also = (f" ({name})", f", {name}") if name else ("", "")
+    calm = about.get("waves") is False  # an operating profile without a sea state: calm water only
+    if key == "profile_resistance":
+        return ((f"operating profile calm-water R_T{who}", f"R_T (profile{also})") if calm else
+                (f"operating profile R_T{who} + R_AW (NMRI)", "R_T + R_AW (profile)"))
+    if key == "profile_power":
+        return ((f"operating profile calm-water power P_E = U·R_T{who}", "P_E (profile, calm)") if calm else
+                (f"operating profile power P_E = U·(R_T{who} + R_AW)", "P_E (profile)"))
+    if key == "calm_resistance" and method:
+        return f"calm-water resistance{who} R_T", f"R_T{who}"
+    return None
+
+
+def label(key: str, unit: bool = True, short: bool = False, about: Any = None) -> str:
     """A report key as a table label with its unit (``lcb_pct`` → ``LCB from midship [% Lpp]``).
 
     Parameters
@@ -136,6 +181,10 @@ def label(key: str, unit: bool = True, short: bool = False) -> str:
         Append the displayed unit in brackets (when the key has one).
     short : bool
         An objective by its symbol alone (``mean_added_resistance`` → ``R_AW [kN]``), for column headers.
+    about : dict or None
+        An objective's :func:`objective_about` (``report.json``'s ``objective.about``): the label names what
+        is computed — an operating profile without sea states as calm-water R_T by its method, not
+        "R_T + R_AW". None: by the key alone.
 
     Returns
     -------
@@ -143,7 +192,10 @@ def label(key: str, unit: bool = True, short: bool = False) -> str:
         The label.
     """
     name, u, _ = units_of(key)
-    if short and key in OBJECTIVE_UNITS:
+    told = _described(key, about)
+    if told is not None:
+        name = told[1] if short else told[0]
+    elif short and key in OBJECTIVE_UNITS:
         name = SYMBOLS.get(key, name.split()[-1])
     return f"{name} [{u}]" if unit and u else name
 

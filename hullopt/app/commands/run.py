@@ -71,13 +71,14 @@ def summary(report: dict, folder: Path) -> None:
         return
     if report["kind"] == "pareto":
         o = report["objective"]
+        ma, oa = (o.get("about") or {}).get("measure"), (o.get("about") or {}).get("name")
         rows = [[f"{d['bf_target']:.4g}", displayed(o["measure"], d["measure"])[0],
                  displayed(o["name"], d["objective"])[0], "yes" if d["met"] else "NO", "★" if d["pareto"] else ""]
                 for d in report["designs"]]
         table(f"Pareto sweep: {len(rows)} designs, {report['pareto_count']} non-dominated (★); "
-              f"{label(o['measure'], unit=False)} against {label(o['name'], unit=False)}",
-              ["Bf target", label(o["measure"], short=True), label(o["name"], short=True), "targets met", "front"],
-              rows)
+              f"{label(o['measure'], unit=False, about=ma)} against {label(o['name'], unit=False, about=oa)}",
+              ["Bf target", label(o["measure"], short=True, about=ma), label(o["name"], short=True, about=oa),
+               "targets met", "front"], rows)
         missed = sum(not d["met"] for d in report["designs"])
         if missed:
             warn(f"{missed} of {len(rows)} designs miss their targets (exit code 3); they are left off the front")
@@ -123,7 +124,8 @@ def _changes(report: dict) -> None:
         (a, _), (b, unit) = displayed(o["name"], o["parent"]), displayed(o["name"], o["value"])
         ref = max(abs(a), abs(b))
         rel = _signed(100 * (b / a - 1), 3, ref=1) if abs(a) > 1e-12 else ""
-        rows.append([styled(f"objective: {label(o['name'])}", "bold"), fmt(a, 5, ref), fmt(b, 5, ref),
+        about = (o.get("about") or {}).get("name")
+        rows.append([styled(f"objective: {label(o['name'], about=about)}", "bold"), fmt(a, 5, ref), fmt(b, 5, ref),
                      _signed(b - a, 5, ref), rel])
     table("Parent → design", ["", "parent", "design", "change", "change [%]"], rows)
 
