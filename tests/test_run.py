@@ -177,7 +177,9 @@ def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_pa
     "edit, message",
     [
         (lambda t: t.replace("[targets]", "[targets]\ncbb = 0.5"), "targets.cbb: unknown target"),
-        (lambda t: t.replace("kind = \"fit\"", "kind = \"fit\"\ncolour = 1"), "colour: Extra inputs are not permitted"),
+        (lambda t: t.replace("kind = \"fit\"", "kind = \"fit\"\ncolour = 1"), "colour: unknown key (expected one of"),
+        (lambda t: t.replace("max_steps = 200", "max_step = 200"),
+         "solver.max_step: unknown key; did you mean 'max_steps'? (expected one of fairness, max_steps,"),
         (lambda t: t.replace("max_steps = 200", "max_steps = \"many\""), "solver.max_steps"),
         (lambda t: t.replace("parent = \"wigley\"", "parent = \"nosuch\""), "unknown parent 'nosuch'"),
         (lambda t: t.replace("cb = 0.48", "cb = 1.4"), "cb = 1.4 is outside the physical range"),
@@ -250,3 +252,91 @@ def test_a_sweeps_design_writers_start_before_its_designs(tmp_path):
     with app._writers(4) as pool:
         assert len(pool._processes) == min(4, os.cpu_count())  # already spawned
         app._write_designs(pool, [], tmp_path)()
+
+
+def test_a_killed_rerun_leaves_the_old_folder_whole(tmp_path, monkeypatch):
+    """A run is built in a staging sibling and put in its folder's place when complete (issue 62): killed
+    part-way (its new config.json written, no report yet), the folder still holds the old run alone; the killed
+    run's chunks are kept for the next, which replaces the folder in one step and leaves no staging folder."""
+    import os
+
+    from hullopt.app import run as app
+    from hullopt.study import load_config
+
+    cfg, raw = load_config(CONFIGS / "fit_cb_lcb.toml")
+    out = tmp_path / "runs" / "x"
+    (out / "chunks").mkdir(parents=True)
+    (out / "config.json").write_text('{"old": true}')
+    (out / "report.json").write_text('{"old": true}')
+    (out / "chunks" / "chunk_0.json").write_text("old chunk")
+    monkeypatch.setattr(app, "load_study", lambda cfg: None)
+
+    def killed(cfg, raw, study, work, name, *rest):
+        (work / "config.json").write_text('{"new": true}')
+        (work / "chunks" / "chunk_1.json").write_text("new chunk")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(app, "_solve_and_write", killed)
+    with pytest.raises(KeyboardInterrupt):
+        app.run(cfg, raw, out)
+    assert sorted(p.name for p in out.iterdir()) == ["chunks", "config.json", "report.json"]
+    assert json.loads((out / "config.json").read_text()) == {"old": True}  # beside the old report.json
+    assert sorted(p.name for p in (out / "chunks").iterdir()) == ["chunk_0.json"]
+
+    def finished(cfg, raw, study, work, name, *rest):
+        assert name == "x" and sorted(p.name for p in (work / "chunks").iterdir()) == ["chunk_0.json", "chunk_1.json"]
+        assert not (work / "config.json").exists()  # the killed run's files, but its chunks, are gone
+        for f in ("config.json", "report.json"):
+            (work / f).write_text('{"new": true}')
+        return {"new": True}
+
+    monkeypatch.setattr(app, "_solve_and_write", finished)
+    assert app.run(cfg, raw, out) == {"new": True}
+    assert json.loads((out / "config.json").read_text()) == json.loads((out / "report.json").read_text()) == {"new": True}
+    assert sorted(p.name for p in out.parent.iterdir()) == ["x"]  # no staging or old folder left
+
+    def plain(cfg, raw, study, work, name, *rest):
+        (work / "report.json").write_text(json.dumps({"name": name}))
+        return {}
+
+    monkeypatch.setattr(app, "_solve_and_write", plain)
+    app.run(cfg, raw, tmp_path / "fresh")  # a new folder: one rename
+    assert json.loads((tmp_path / "fresh" / "report.json").read_text()) == {"name": "fresh"}
+    monkeypatch.setattr(app, "_exchange", lambda a, b: False)  # no renameat2: moved aside, replaced, removed
+    app.run(cfg, raw, out)
+    assert sorted(p.name for p in out.iterdir()) == ["chunks", "report.json"]  # its chunks carried over
+    assert sorted(os.listdir(out.parent)) == ["x"]
+
+
+@pytest.mark.parametrize("sets, config, message", [
+    (["hull.draftt=6"], "fit_cb_lcb", "hull.draftt: unknown key; did you mean 'draft'?"),
+    (["design.distribution=[{x_a=1.0, x_b=50.0, curvs='stations'}]"], "fit_cb_lcb",
+     "design.distribution.0.curvs: unknown key; did you mean 'curves'?"),
+    (["targets.cbb=0.5"], "fit_cb_lcb", "targets.cbb: unknown target; did you mean 'cb'?"),
+    (["tolerances.lcb=0.1"], "fit_cb_lcb", "tolerances.lcb: a tolerance for no target; did you mean 'cb'?"),
+    (["objective.kind='calm_resistanse'"], "pareto_bow", "unknown kind; did you mean 'calm_resistance'?"),
+    (["objective.motoin=false"], "pareto_bow", "takes no 'motoin' (expected one of profile, method, motion, "
+     "bf_band; did you mean 'motion'?)"),
+    (["constraints.wetted_surfac='<= parent'"], "pareto_bow", "unknown measure; did you mean 'wetted_surface'?"),
+    (["profile=[{speed_kn=12.0, wieght=1.0}]"], "pareto_bow", "profile.0.wieght: unknown key; did you mean 'weight'?"),
+])
+def test_a_misspelled_key_gets_the_nearest_one(sets, config, message):
+    """Every table of a run config (and a wind config, below) answers a misspelled key with the nearest key it
+    takes (difflib), as ``--set`` gives it too (issue 62)."""
+    from hullopt.errors import HullError
+    from hullopt.study import load_config
+
+    with pytest.raises(HullError, match=".") as e:
+        load_config(CONFIGS / f"{config}.toml", sets)
+    assert message in str(e.value), str(e.value)
+
+
+def test_a_wind_configs_misspelled_key_gets_the_nearest_one(tmp_path):
+    from hullopt.errors import HullError
+    from hullopt.study import read_wind_config
+
+    text = (CONFIGS / "wind_example.toml").read_text().replace("breadth = 36.0", "bredth = 36.0", 1)
+    (tmp_path / "w.toml").write_text(text.replace("../examples", str(CONFIGS.parent / "examples")))
+    with pytest.raises(HullError) as e:
+        read_wind_config(tmp_path / "w.toml")
+    assert "parts.0.bredth: unknown key; did you mean 'breadth'?" in str(e.value), str(e.value)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import multiprocessing
 import os
+import shutil
 import threading
 import time
 from collections.abc import Callable
@@ -75,11 +76,76 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     hulls, plots, report.html), so that a slow run says where its time went. ``options``: the study's (a sweep's
     ``shard = (k, N)``, ``executor`` and ``address``); a shard whose sweep is not complete yet returns a partial
     report and writes no hull files.
+
+    The folder is built in a staging sibling (``.<name>.partial``, :func:`_staging`) and put in the place of
+    ``out`` when it is complete (:func:`_replace`): a run killed or failed part-way leaves ``out`` as it was
+    (an earlier run's folder stays whole, with no new ``config.json`` beside its old ``report.json``), and a
+    re-run resumes from the staging folder's chunks.
     """
     clock = _Clock()
     _warm_up_in_background()
     study: Study = load_study(cfg)  # a bad design or draft is refused before anything is written
-    out.mkdir(parents=True, exist_ok=True)
+    final = out.resolve()
+    work = _staging(final)  # built beside it, then put in its place: one run in a folder, always
+    report = _solve_and_write(cfg, raw, study, work, final.name, clock, quiet, options)
+    _replace(work, final)
+    return report
+
+
+def _staging(out: Path) -> Path:
+    """The staging sibling a run folder ``out`` is built in, ``.<name>.partial``: a killed run's, its chunks kept
+    (a sweep resumes from them) and the rest cleared, with the chunks of the folder it will replace added (a
+    re-run resumes from those too; each chunk is keyed by its sweep, so a stale one is solved again)."""
+    work = out.with_name(f".{out.name}.partial")
+    if work.is_dir():
+        for child in work.iterdir():
+            if child.name != "chunks":
+                shutil.rmtree(child) if child.is_dir() and not child.is_symlink() else child.unlink()
+    work.mkdir(parents=True, exist_ok=True)
+    if (out / "chunks").is_dir():
+        (work / "chunks").mkdir(exist_ok=True)
+        for chunk in (out / "chunks").iterdir():
+            if chunk.is_file() and not (work / "chunks" / chunk.name).exists():
+                try:
+                    os.link(chunk, work / "chunks" / chunk.name)
+                except OSError:
+                    shutil.copy2(chunk, work / "chunks" / chunk.name)
+    return work
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap the directories ``a`` and ``b`` in one step (Linux renameat2 RENAME_EXCHANGE); False where the system
+    cannot."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        at_fdcwd, rename_exchange = -100, 2
+        return libc.renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+def _replace(work: Path, out: Path) -> None:
+    """Put the finished run folder ``work`` in the place of ``out``: a new folder by one rename; an existing one
+    swapped with it in one step where the system can (else moved aside, replaced, then removed), so that ``out``
+    holds the old run or the new one, never a mixture."""
+    if not out.exists():
+        work.rename(out)
+        return
+    if out.is_dir() and _exchange(work, out):
+        shutil.rmtree(work)  # the old run, now at the staging path
+        return
+    old = out.with_name(f".{out.name}.old-{os.getpid()}")
+    out.rename(old)
+    work.rename(out)
+    shutil.rmtree(old) if old.is_dir() else old.unlink()
+
+
+def _solve_and_write(cfg: RunConfig, raw: dict, study: Study, out: Path, name: str, clock: _Clock, quiet: bool,
+                     options: dict) -> dict:
+    """:func:`run`'s solve and files, written to ``out`` (the staging folder); ``name``: the run folder's final
+    name, as its page shows it."""
     write_json(out / "config.json", raw)
     d = study.problem.design
     save_features(d.model.hull, out / "parent.json")  # the run folder rebuilds its designs from it
@@ -142,7 +208,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
             hulls = None
         write_offsets_wide(m.before, out / "parent_offsets.csv", name="the parent hull", dense=True)
         write_json(out / "report.json", report)  # before report.html: a failure there loses no result
-        write_report(out, report, hulls)
+        write_report(out, report, hulls, name=name)
         clock("files")
         write_json(out / "report.json", report)  # again, with the files' time (report.html's included)
         return report
@@ -266,5 +332,5 @@ def _progress(quiet: bool, total: int | None, title: str):
 def merge(dirs: list[Path], out: Path, quiet: bool = False) -> dict:
     """Combine the run folders of the shards of one sweep into ``out``: the same folder and report as the
     unsplit sweep (nothing is solved; :class:`HullError` if a chunk is missing)."""
-    cfg, raw = collect_chunks(list(dirs), out)
+    cfg, raw = collect_chunks(list(dirs), _staging(out.resolve()))  # where run builds the folder
     return run(cfg, raw, out, quiet)

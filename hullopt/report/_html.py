@@ -775,14 +775,18 @@ def limits_table(report: dict) -> str:
             "met; a limit per station, height or region gives its worst); ✗ violated.</p>")
 
 
-def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | None = None) -> str:
-    """The page of a run folder (see the module's docstring) as one HTML string, plotly's JS embedded once."""
+def build_html(folder: Path, report: dict, hulls: Hulls | None, title: str | None = None,
+               name: str | None = None) -> str:
+    """The page of a run folder (see the module's docstring) as one HTML string, plotly's JS embedded once;
+    ``name``: the folder's name as shown (None: ``folder``'s own; a run built in a staging folder gives its
+    final one)."""
     from plotly.offline import get_plotlyjs
 
-    title = title or f"hullopt run: {folder.resolve().name}"
+    name = name or folder.resolve().name
+    title = title or f"hullopt run: {name}"
     kind = report.get("kind", "run")
     parts = [f"<h1>{_e(title)}</h1>",
-             f'<p class="sub">{_e(kind)} run in <code>{_e(folder.resolve().name)}/</code>; units as labelled '
+             f'<p class="sub">{_e(kind)} run in <code>{_e(name)}/</code>; units as labelled '
              "(lengths m, areas m², displacement t, resistances kN)</p>", summary_list(report)]
     warns = report_warnings(report)
     parts.append("<h2>Warnings</h2>" + ("".join(f'<p class="warn">{_e(w)}</p>' for w in warns) if warns
@@ -852,7 +856,8 @@ def read_run(folder: Path) -> tuple[dict, dict]:
     return raw, report
 
 
-def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None = None) -> Path:
+def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None = None,
+                 name: str | None = None) -> Path:
     """Write ``folder/report.html`` atomically and return its path.
 
     Parameters
@@ -864,6 +869,9 @@ def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None =
     hulls : Hulls or None
         The parent and design hulls; None: rebuilt from the folder by :func:`run_hulls` (a partial sweep's page
         has none).
+    name : str or None
+        The run folder's name as the page shows it; None: ``folder``'s (``hullopt run`` builds its folder in a
+        staging sibling and gives the final name).
 
     Returns
     -------
@@ -882,7 +890,7 @@ def write_report(folder: Path, report: dict | None = None, hulls: Hulls | None =
     report = to_builtin(report)
     if hulls is None and not report.get("partial"):
         hulls = run_hulls(folder, report)
-    text = build_html(folder, report, hulls)
+    text = build_html(folder, report, hulls, name=name)
     path = folder / REPORT_NAME
     atomic_write_bytes(path, text.encode("utf-8"))
     return path

@@ -21,10 +21,12 @@ targets, an objective, a solver and, for Pareto runs, a sweep.
 
 from __future__ import annotations
 
+import difflib
 import re
 import tomllib
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Annotated, Literal, NamedTuple, Union
+from typing import Annotated, Literal, NamedTuple, Union, get_args
 
 from pydantic import (
     BaseModel,
@@ -50,6 +52,62 @@ objective pulls the shape (a fit's default is 0: it already deforms the least ne
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
+
+
+def did_you_mean(key: str, known: Iterable[str]) -> str:
+    """The nearest of ``known`` to a misspelled ``key``, as a config error's suggestion (difflib).
+
+    Parameters
+    ----------
+    key : str
+        The key (or name) as written, e.g. ``max_step``.
+    known : iterable of str
+        The keys (or names) that place takes.
+
+    Returns
+    -------
+    str
+        ``"; did you mean 'max_steps'?"``, or ``""`` when none is close.
+    """
+    close = difflib.get_close_matches(str(key), [str(k) for k in known], n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _models_in(annotation) -> list[type[BaseModel]]:
+    """The pydantic models an annotation holds (in a list, a union, an ``Annotated``, an optional)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    return [m for a in get_args(annotation) for m in _models_in(a)]
+
+
+def unknown_key(root: type[BaseModel], loc: tuple) -> str:
+    """A config's unknown key, as one line: where it is, the nearest key that table takes and the keys it takes.
+
+    Parameters
+    ----------
+    root : type of pydantic.BaseModel
+        The model the config was validated against (:class:`RunConfig`, a wind config's).
+    loc : tuple
+        The error's location (pydantic's ``loc``): the tables down to the key, list indices and a union's tag
+        included.
+
+    Returns
+    -------
+    str
+        ``"solver.max_step: unknown key; did you mean 'max_steps'? (expected one of fairness, max_steps, …)"``.
+    """
+    models: list[type[BaseModel]] = [root]
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            continue  # a list's item
+        if part in OPTIONS and not any(part in m.model_fields for m in models):
+            models = [OPTIONS[part]]  # a union's tag: the objective kind's own model
+            continue
+        models = [o for m in models if part in m.model_fields for o in _models_in(m.model_fields[part].annotation)]
+    known = sorted({k for m in models for k in m.model_fields})
+    key = loc[-1] if loc else ""
+    where = ".".join(str(p) for p in loc if p not in OPTIONS)
+    return f"{where}: unknown key{did_you_mean(key, known)} (expected one of {', '.join(known)})"
 
 
 class HullConfig(_Strict):
@@ -208,7 +266,8 @@ class ObjectiveOptions(_Strict):
                 if key not in own:
                     owners = _owners(key)
                     where = (f"it is an option of {', '.join(owners)}" if owners
-                             else f"expected one of {', '.join(k for k in own if k != 'kind')}")
+                             else f"expected one of {', '.join(k for k in own if k != 'kind')}"
+                             f"{did_you_mean(key, [k for k in own if k != 'kind'])}")
                     raise ValueError(f"{key}: kind = {data.get('kind')!r} takes no {key!r} ({where})")
         return data
 
@@ -447,8 +506,9 @@ class ConstraintsConfig(_Strict):
         names = measure_names()
         for name, text in (self.model_extra or {}).items():
             if name not in names:
-                raise ValueError(f"constraints.{name}: unknown measure; expected one of {', '.join(names)}, "
-                                 "max_half_breadth, bulge, frozen, tolerance or [[constraints.region_volume]]")
+                near = did_you_mean(name, [*names, *type(self).model_fields])
+                raise ValueError(f"constraints.{name}: unknown measure{near} (expected one of {', '.join(names)}, "
+                                 "max_half_breadth, bulge, frozen, tolerance or [[constraints.region_volume]])")
             if text != "none":
                 parse_bounds(name, text)
         seen = set()
@@ -554,7 +614,12 @@ class RunConfig(_Strict):
     def _consistent(self):
         for k in self.targets:
             if k not in TARGETS:
-                raise ValueError(f"targets.{k}: unknown target; expected one of {', '.join(TARGETS)}")
+                raise ValueError(f"targets.{k}: unknown target{did_you_mean(k, TARGETS)} (expected one of "
+                                 f"{', '.join(TARGETS)})")
+        for k in self.tolerances:
+            if k not in self.targets:
+                raise ValueError(f"tolerances.{k}: a tolerance for no target{did_you_mean(k, self.targets)} "
+                                 f"(the targets: {', '.join(self.targets) or 'none'})")
         make_targets(self.targets, self.tolerances, self.kg)  # physical ranges, tolerances of non-targets
         if self.kind == "fit" and not self.targets:
             raise ValueError("a fit needs [targets]")
@@ -626,7 +691,7 @@ def load_config(path: str | Path, overrides: list[str] = ()) -> tuple[RunConfig,
     try:
         cfg = RunConfig.model_validate(raw)
     except ValidationError as e:
-        raise _invalid(path, e) from None
+        raise _invalid(path, e, RunConfig) from None
     parent = resolve_spec(cfg.hull.parent, path.resolve().parent)  # a file beside the config, as wind's hull
     if parent != cfg.hull.parent:
         cfg.hull.parent = raw["hull"]["parent"] = parent  # config.json then names the file wherever it is read
@@ -643,12 +708,18 @@ def _read_toml(path: Path, what: str) -> dict:
         raise HullError(f"{path}: not valid TOML ({e})") from None
 
 
-def _invalid(path: Path, e: ValidationError) -> HullError:
-    """One line naming the file and the field of the first problem."""
+def _invalid(path: Path, e: ValidationError, root: type[BaseModel] = BaseModel) -> HullError:
+    """One line naming the file and the field of the first problem; an unknown key with the nearest key its
+    table takes (:func:`unknown_key`), an unknown objective kind with the nearest kind."""
     err = e.errors()[0]
     where = ".".join(str(p) for p in err["loc"] if p not in OPTIONS)  # a union's tag: the message names the kind
     msg = err["msg"].removeprefix("Value error, ")
     more = f" (and {len(e.errors()) - 1} more)" if len(e.errors()) > 1 else ""
+    if err["type"] == "extra_forbidden":
+        return HullError(f"{path}: {unknown_key(root, tuple(err['loc']))}{more}")
+    if err["type"] == "union_tag_invalid":
+        tag = (err.get("ctx") or {}).get("tag", "")
+        msg = f"kind = {tag!r}: unknown kind{did_you_mean(tag, OPTIONS)} (expected one of {', '.join(OPTIONS)})"
     return HullError(f"{path}: {where + ': ' if where else ''}{msg}{more}")
 
 
@@ -676,7 +747,7 @@ def load_design(path: str | Path) -> DeformConfig:
     try:
         cfg = DeformConfig.model_validate(raw)
     except ValidationError as e:
-        raise _invalid(path, e) from None
+        raise _invalid(path, e, DeformConfig) from None
     if cfg.parent is not None:
         cfg.parent = resolve_spec(cfg.parent, path.resolve().parent)
     return cfg

@@ -44,6 +44,7 @@ from pydantic import (
 
 from ..constants import RHO_AIR
 from ..errors import HullError
+from ._config import unknown_key
 from ..wind import (
     DEFAULT_SHIP_TYPE,
     MODELS,
@@ -153,6 +154,8 @@ def _validate(cls, data: dict, where: str):
         msg = err["msg"].removeprefix("Value error, ")
         if err["type"] == "missing" and err["loc"][-1] in ("pixels_per_metre", "waterline_row", "side_scale", "front_scale"):
             msg += " (a drawing needs its scale: pixels_per_metre and waterline_row)"
+        if err["type"] == "extra_forbidden":  # the nearest key that table takes
+            raise HullError(f"{where}: {unknown_key(cls, tuple(err['loc']))}") from None
         raise HullError(f"{where}: {loc}: {msg}") from None
 
 
