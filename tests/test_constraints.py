@@ -87,7 +87,7 @@ def test_bad_constraints_fail_with_the_field(constraints, message):
     ('objective.kind="k_aw"', "hs", "k_aw", "mean_added_resistance"),
     ('objective.kind="calm_resistance"', "hs", "calm_resistance", "mean_added_resistance"),
     ('objective.method="panel"', "method", "mean_added_resistance",
-     "calm_resistance, calm_resistance_michell, profile_resistance, profile_power"),
+     "calm_resistance, calm_resistance_michell, calm_resistance_dawson, profile_resistance, profile_power"),
     ("objective.wind_speed=10", "wind_speed", "mean_added_resistance", "wind_added_resistance"),
 ])
 def test_an_option_of_another_objective_kind_is_an_error_naming_the_kind(override, key, kind, owners):
@@ -377,6 +377,11 @@ def test_waterlines_of_two_wigleys_by_the_closed_form():
 
     np.testing.assert_allclose(ya, want(5.0, (z - 6.25) / 6.25), atol=1e-3)
     np.testing.assert_allclose(yb, want(6.0, (z - 5.25) / 6.25), atol=1e-3)
+    # two more above the DWL, a third and two thirds of the way to the lower deck (b's, at 9 m): wall-sided there
+    z2, (ya2, yb2) = jax.jit(waterlines, static_argnums=2)([a, b], 6.25, 2)
+    np.testing.assert_allclose(z2, [*z, 6.25 + 2.75 / 3, 6.25 + 5.5 / 3], rtol=1e-14)
+    np.testing.assert_allclose(ya2[:, 6:], np.broadcast_to(want(5.0, 0.0), (41, 2)), atol=1e-3)
+    np.testing.assert_allclose(yb2[:, 6:], np.broadcast_to(want(6.0, 0.0), (41, 2)), atol=1e-3)
 
 
 def test_sac_regions_add_up_and_place_a_shoulder():

@@ -16,6 +16,7 @@ from hullopt.models import ApexMove, ContourEdit, Distribution, feature_model, l
 from hullopt.optimise import (
     OBJECTIVES,
     CalmResistance,
+    DawsonCalmResistance,
     Design,
     KAw,
     MeanAddedResistance,
@@ -268,10 +269,12 @@ def test_objectives_registry_is_built_from_the_classes():
 
     assert OBJECTIVES == {"k_aw": KAw, "mean_added_resistance": MeanAddedResistance,
                           "calm_resistance": CalmResistance, "calm_resistance_michell": MichellCalmResistance,
+                          "calm_resistance_dawson": DawsonCalmResistance,
                           "wind_added_resistance": WindAddedResistance, "profile_resistance": ProfileResistance,
                           "profile_power": ProfilePower, "profile_added_resistance": ProfileAddedResistance}
     assert {k: c.unit for k, c in OBJECTIVES.items()} == {"k_aw": "-", "mean_added_resistance": "N",
                                                           "calm_resistance": "N", "calm_resistance_michell": "N",
+                                                          "calm_resistance_dawson": "N",
                                                           "wind_added_resistance": "N", "profile_resistance": "N",
                                                           "profile_power": "W", "profile_added_resistance": "N"}
     assert all(c.name == k and c.description and issubclass(c, Objective) for k, c in OBJECTIVES.items())

@@ -34,6 +34,7 @@ from ._shape import station_knuckles as station_knuckles
 from ._shape import SHAPE_UNITS as SHAPE_UNITS
 from ._shape import SAC_REGIONS as SAC_REGIONS
 from ._shape import WATERLINE_FRACTIONS as WATERLINE_FRACTIONS
+from ._shape import WATERLINES_ABOVE as WATERLINES_ABOVE
 from ._shape import entrance_angle as entrance_angle
 from ._shape import run_angle as run_angle
 from ._shape import sac_regions as sac_regions

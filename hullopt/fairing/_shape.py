@@ -226,6 +226,10 @@ def section_inflections(sections: Sections, draft: Draft) -> Float[Array, " n"]:
 WATERLINE_FRACTIONS = (1 / 6, 2 / 6, 3 / 6, 4 / 6, 5 / 6, 1.0)
 """The heights of :func:`waterline_angles`, as fractions of the draft above the keel (the last: the DWL)."""
 
+WATERLINES_ABOVE = 2
+"""How many waterlines above the DWL a design's overlay draws (:func:`waterlines` ``above``): a bow
+attachment or any change "at least above the waterline vicinity" shows there."""
+
 SAC_REGIONS = ((0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0))
 """The regions of :func:`sac_regions` as fractions of the stations' span from aft: the run, the aft shoulder, the
 fore shoulder and the entrance."""
@@ -251,9 +255,11 @@ def _end_angles(x, y):
     return jnp.stack([entrance, run])
 
 
-def waterlines(hulls: list[Sections], draft: Draft) -> tuple[Float[Array, " h"], list[Float[Array, "n h"]]]:
+def waterlines(hulls: list[Sections], draft: Draft,
+               above: int = 0) -> tuple[Float[Array, " h"], list[Float[Array, "n h"]]]:
     """The waterlines of hulls at the heights :data:`WATERLINE_FRACTIONS` of the draft above the lowest keel
-    among them (one set of heights, so that a design and its parent compare line by line).
+    among them (one set of heights, so that a design and its parent compare line by line), then ``above`` more
+    evenly spaced between the DWL and the lowest deck among them (where a bow change above the water shows).
 
     Parameters
     ----------
@@ -261,16 +267,23 @@ def waterlines(hulls: list[Sections], draft: Draft) -> tuple[Float[Array, " h"],
         The hulls: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m] each.
     draft : float or Array, scalar
         Waterline height [m above the baseline].
+    above : int, static
+        How many waterlines above the DWL: at ``T + (D − T)·j/(above + 1)``, j = 1 … above, D the lowest
+        hull's top (its deck at side).
 
     Returns
     -------
     z : Array, (h,)
-        The heights [m above the baseline] (the keel's taken as fixed: no gradient through it).
+        The heights [m above the baseline], h = 6 + ``above`` (the keel's and deck's taken as fixed: no
+        gradient through them).
     y : list of Array, (n, h) each
         Each hull's half-breadths [m] at its stations and those heights.
     """
     keel = jax.lax.stop_gradient(jnp.min(jnp.stack([jnp.min(s.yz[..., 1]) for s in hulls])))
     z = keel + (draft - keel) * jnp.asarray(WATERLINE_FRACTIONS)
+    if above:
+        deck = jax.lax.stop_gradient(jnp.min(jnp.stack([jnp.max(s.yz[..., 1]) for s in hulls])))
+        z = jnp.concatenate([z, draft + (deck - draft) * jnp.arange(1.0, above + 1.0) / (above + 1.0)])
     return z, [level_widths(closed_half_polygon(s.yz), z) for s in hulls]
 
 

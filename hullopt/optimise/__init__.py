@@ -12,6 +12,7 @@ from ._objectives import OBJECTIVES as OBJECTIVES
 from ._objectives import CalmResistance as CalmResistance
 from ._objectives import KAw as KAw
 from ._objectives import MeanAddedResistance as MeanAddedResistance
+from ._objectives import DawsonCalmResistance as DawsonCalmResistance
 from ._objectives import MichellCalmResistance as MichellCalmResistance
 from ._objectives import Objective as Objective
 from ._objectives import ProfileAddedResistance as ProfileAddedResistance

@@ -13,6 +13,7 @@ name                         unit  value
 ``mean_added_resistance``    N     sea-state mean R_AW (NMRI, long-crested; motion + reflection)
 ``calm_resistance``          N     calm-water R_T = (1 + k1)·R_F + R_APP + R_W(method) + R_A
 ``calm_resistance_michell``  N     the same with Michell's R_W
+``calm_resistance_dawson``   N     the same with Dawson's R_W
 ``wind_added_resistance``    N     ISO 15016 wind added resistance ΔR_AA
 ===========================  ====  ==============================================================
 """
@@ -186,6 +187,17 @@ class MichellCalmResistance(CalmResistance):
     default_method: ClassVar[str] = "michell"
 
     method: str = eqx.field(static=True, default="michell")
+
+
+class DawsonCalmResistance(CalmResistance):
+    """``calm_resistance`` with ``method = "dawson"``: Dawson's double-body panel method for R_W, the one
+    validated on full, bulbous hulls (KCS, DTMB 5415) — the calm-water constraint a bow change is held to."""
+
+    name: ClassVar[str] = "calm_resistance_dawson"
+    description: ClassVar[str] = "calm-water R_T with Dawson's wave resistance"
+    default_method: ClassVar[str] = "dawson"
+
+    method: str = eqx.field(static=True, default="dawson")
 
 
 class WindAddedResistance(Objective):

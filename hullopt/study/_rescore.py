@@ -52,7 +52,8 @@ def _own_method(cfg: RunConfig) -> dict[str, str | None]:
     for o in (cfg.objective, getattr(cfg.sweep, "measure", None)):
         if o is None:
             continue
-        if o.kind in ("calm_resistance", "calm_resistance_michell", "profile_resistance", "profile_power"):
+        if o.kind in ("calm_resistance", "calm_resistance_michell", "calm_resistance_dawson", "profile_resistance",
+                      "profile_power"):
             own["calm"] = own["calm"] or o.method or o.build().method
         if o.kind == "mean_added_resistance" or (o.kind.startswith("profile_") and o.build().waves):
             own["waves"] = "nmri"

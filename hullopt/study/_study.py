@@ -26,7 +26,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..geometry import Sections
-from ..fairing import waterlines
+from ..fairing import WATERLINES_ABOVE, waterlines
 from ..hydro import Hydrostatics, hydrostatics, sectional_areas
 from ..models import FeatureHull, FeatureParams
 from ..optimise import (
@@ -84,7 +84,7 @@ def measure(d: Design, p0: FeatureParams, final: FeatureParams) -> Outcome:
     (before, t0), (after, t1) = d.hull(p0), d.hull(final)
     h0, h1 = hydrostatics(before, t0), hydrostatics(after, t1)
     areas = jnp.stack([sectional_areas(before, t0), sectional_areas(after, t1)])
-    levels, widths = waterlines([before, after], t0)
+    levels, widths = waterlines([before, after], t0, above=WATERLINES_ABOVE)
     obj = (d.objective(after, t1), d.objective(before, t0)) if d.objective is not None else (None, None)
     a = achieved(h1, after, d.targets.names, d.targets.kg, d.targets.bf_band)
     return Outcome(before, after, h0, h1, a, target_errors(a, d.targets), areas, levels, jnp.stack(widths), *obj)
