@@ -21,6 +21,14 @@ Run: ``benchmarks/l2sea/build.sh`` once (gfortran, LAPACK), then ``cd benchmarks
 bench_l2sea.py [--quick]``; results in results/l2sea.json. Without L2-Sea built the script says so and exits 0.
 ``bench_l2sea.py --rescore`` recomputes hullopt's C_W, the rank correlations and the goals on the stored L2-Sea
 results without running L2-Sea (so also where it is not built).
+
+``bench_l2sea.py --optimum RUN_FOLDER [--level N]``: the L2-Sea benchmark's judgement of a hullopt design run
+(``configs/l2sea_5415.toml``): the run's optimum and its parent (both as hullopt holds them, scaled to L2-Sea's
+full scale) written to WARP's grid at level N (default 1, the benchmark's G1), run through WARP at Fr 0.28 beside
+L2-Sea's own parent grid; ΔR/R0 by WARP and by hullopt, the benchmark's constraints (Lpp, ∇, B and T within ±5 %,
+the sonar dome's volume), hullopt's wall time and iterations, and that time in G1-equivalents (WARP's G1 run
+time measured in the same call), against the published best (:data:`PUBLISHED`); results in
+results/l2sea_optimum.json.
 """
 
 from __future__ import annotations
@@ -255,7 +263,153 @@ def rescore() -> None:
     print("wrote", save("l2sea", score(data)))
 
 
+# The benchmark's published best (Pellegrini, Serani, Liuzzi, Rinaldi, Lucidi, Diez 2022, Mathematics 10(3):481,
+# the NATO AVT-331 L2-Sea problem: DTMB 5415 model, Fr 0.28, Lpp and ∇ fixed, B and T within ±5 %, the sonar
+# dome's volume not below the parent's; WARP at G1): MF-CS-DFN's optimum, and its figure at a small budget.
+PUBLISHED = {"rt0_N": 41.50, "rt_N": 36.3, "delta_r": -0.125, "g1_equivalents": 628,
+             "delta_r_small_budget": -0.115, "g1_equivalents_small_budget": 6.2,
+             "source": "Pellegrini et al. 2022, Mathematics 10(3):481 (MF-CS-DFN, WARP G1)"}
+DOME = {"x_a": 4.9, "z_top": 0.0}  # the sonar dome at model scale: forward of 4.9 m, below the baseline [m]
+
+
+def _scaled(s: Sections, k: float) -> Sections:
+    """``s`` scaled by ``k`` (model → full scale)."""
+    return Sections(x=s.x * k, yz=s.yz * k, lpp=s.lpp * k)
+
+
+def benchmark_measures(s: Sections, draft: float) -> dict:
+    """The L2-Sea benchmark's constrained quantities of a hull (model scale, as hullopt holds it).
+
+    Parameters
+    ----------
+    s : Sections
+        The hull [m].
+    draft : float
+        Its draft [m].
+
+    Returns
+    -------
+    dict
+        ``lpp``, ``draft``, ``volume`` [m³], ``bwl`` (waterline beam) and ``beam`` (largest breadth) [m],
+        ``wetted_surface`` [m²], ``cb``, ``lcb_pct`` and ``dome_volume`` [m³] (:data:`DOME`: the part forward of
+        ``x_a`` below ``z_top``, by :func:`hullopt.geometry.region_volume`).
+    """
+    from hullopt.geometry import region_volume
+
+    h = hydrostatics(s, draft)
+    return {"lpp": float(s.lpp), "draft": float(draft), "volume": float(h.volume), "bwl": float(h.bwl),
+            "beam": 2.0 * float(jnp.max(s.yz[..., 0])), "wetted_surface": float(h.wetted_surface),
+            "cb": float(h.cb), "lcb_pct": float(h.lcb_pct),
+            "dome_volume": float(region_volume(s, draft, DOME["x_a"], jnp.inf, DOME["z_top"]))}
+
+
+def optimum(folder: str | Path, level: int = 1) -> dict:
+    """Judge a hullopt run on the L2-Sea benchmark by WARP: the run's optimum and its parent written to WARP's
+    grid at ``level`` and run at Fr 0.28 (even keel), beside L2-Sea's own parent grid.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        A ``hullopt run`` folder of a minimise run on the DTMB 5415 (``configs/l2sea_5415.toml``).
+    level : int
+        L2-Sea's grid level (1: the benchmark's G1).
+
+    Returns
+    -------
+    dict
+        ``warp``: each run's result (:func:`l2sea.run_warp`) for ``own_parent``, ``parent`` and ``optimum``;
+        ``delta_r_warp`` (R_T of the written optimum over the written parent, − 1), ``delta_r_warp_vs_own``
+        (against L2-Sea's own parent), ``delta_r_hullopt`` (the run's objective); ``measures`` of both hulls
+        (:func:`benchmark_measures`) and their ratios; ``hullopt`` (wall time, iterations), ``g1_seconds``
+        (the mean WARP run time here) and ``g1_equivalents``; ``published`` (:data:`PUBLISHED`).
+    """
+    import json
+
+    from hullopt.study import load_hull as load_run
+
+    folder = Path(folder)
+    report = json.loads((folder / "report.json").read_text())
+    config = json.loads((folder / "config.json").read_text())
+    design = load_run(str(folder))
+    par = load_run(config["hull"]["parent"])
+    t0, t1 = float(config["hull"]["draft"]), float(design.draft)
+    s0, s1 = par.sections, design.sections
+    k = LPP / float(s0.lpp)
+    ni, nj = l2sea.NODES[level]
+    warp = {}
+    with tempfile.TemporaryDirectory(prefix="bench-l2sea-opt-") as tmp:
+        warp["own_parent"] = l2sea.run_warp(l2sea.parent_grid(), FROUDE, level)
+        for name, s, t in (("parent", s0, t0), ("optimum", s1, t1)):
+            path = l2sea.write_grid(_scaled(s, k), t * k, Path(tmp) / f"{name}.x", ni, nj)
+            warp[name] = l2sea.run_warp(path, FROUDE, level, lpp=LPP, draft=t * k,
+                                        keep=folder / f"l2sea_g{level}_{name}")
+            print(f"WARP level {level} {name}: R_T {warp[name]['rt_N']:.3f} N, C_W {warp[name]['cw']:.4e} "
+                  f"({warp[name]['seconds']:.0f} s)")
+    m0, m1 = benchmark_measures(s0, t0), benchmark_measures(s1, t1)
+    g1_seconds = float(np.mean([w["seconds"] for w in warp.values()]))
+    seconds = report.get("seconds", {})
+    wall = float(sum(v for v in seconds.values() if isinstance(v, (int, float))))
+    obj0, obj1 = float(report["parent"]["objective"]), float(report["achieved"]["objective"])
+    data = {
+        "run": folder.name, "level": level, "nodes": l2sea.NODES[level], "froude": FROUDE, "scale": k,
+        "warp": warp,
+        "rt_own_parent_N": warp["own_parent"]["rt_N"],
+        "delta_r_warp": warp["optimum"]["rt_N"] / warp["parent"]["rt_N"] - 1.0,
+        "delta_r_warp_vs_own": warp["optimum"]["rt_N"] / warp["own_parent"]["rt_N"] - 1.0,
+        "delta_cw_warp": warp["optimum"]["cw"] / warp["parent"]["cw"] - 1.0,
+        "hullopt_objective_N": [obj0, obj1],
+        "delta_r_hullopt": obj1 / obj0 - 1.0,
+        "measures": {"parent": m0, "optimum": m1, "ratio": {q: m1[q] / m0[q] for q in m0}},
+        "met": bool(report.get("met")),
+        "hullopt": {"seconds": seconds, "wall_s": wall, "iterations": report.get("iterations"),
+                    "params": report.get("params")},
+        "g1_seconds": g1_seconds,
+        "g1_equivalents": wall / g1_seconds,
+        "published": PUBLISHED,
+        "lines": sorted(p.name for p in folder.glob("*.png")),
+    }
+    return data
+
+
+def optimum_main(folder: str, level: int) -> None:
+    """``--optimum RUN_FOLDER [--level N]``: :func:`optimum`, its goals, saved to results/l2sea_optimum.json."""
+    if l2sea.binary() is None:
+        print(f"bench_l2sea: L2-Sea is not built (looked in {l2sea.l2sea_dir()}); run benchmarks/l2sea/build.sh. "
+              "Skipped.")
+        return
+    d = optimum(folder, level)
+    pub = PUBLISHED
+    r = d["measures"]["ratio"]
+    d["goals"] = [
+        goal(f"L2-Sea's own DTMB 5415 grid, R_T at level {level} (the benchmark's R0 41.50 N at G1)",
+             d["rt_own_parent_N"], "N", "41.50 ± 0.05" if level == 1 else "—",
+             abs(d["rt_own_parent_N"] - 41.50) <= 0.05 if level == 1 else None),
+        goal(f"hullopt's optimum: ΔR/R0 by WARP level {level} (written optimum / written parent − 1)",
+             d["delta_r_warp"], "rel.", f"≤ {pub['delta_r']}", bool(d["delta_r_warp"] <= pub["delta_r"]),
+             f"{pub['delta_r']} ({pub['source']}); {pub['delta_r_small_budget']} at "
+             f"{pub['g1_equivalents_small_budget']} G1-eq."),
+        goal("hullopt's optimum: ΔR/R0 by hullopt's own objective (Dawson R_W + (1 + k1)·ITTC-57)",
+             d["delta_r_hullopt"], "rel.", "—", None),
+        goal("compute spent: hullopt's wall time in WARP G1-equivalents (same machine)", d["g1_equivalents"],
+             "G1-eq.", f"< {pub['g1_equivalents_small_budget']}",
+             bool(d["g1_equivalents"] < pub["g1_equivalents_small_budget"]), f"{pub['g1_equivalents']} (best)"),
+        goal("benchmark constraints: Lpp held, ∇ within 0.5 %, B and T within ±5 %, dome volume ≥ parent's",
+             {q: r[q] for q in ("lpp", "volume", "beam", "draft", "dome_volume")}, "ratio", "—",
+             bool(abs(r["lpp"] - 1) < 1e-9 and abs(r["volume"] - 1) <= 5e-3 and abs(r["beam"] - 1) <= 0.05 + 1e-6
+                  and abs(r["draft"] - 1) <= 0.05 + 1e-6 and r["dome_volume"] >= 1 - 1e-3)),
+    ]
+    print(f"ΔR/R0: WARP {d['delta_r_warp']:+.2%} (vs L2-Sea's own parent {d['delta_r_warp_vs_own']:+.2%}), "
+          f"hullopt {d['delta_r_hullopt']:+.2%}; {d['hullopt']['wall_s']:.0f} s = {d['g1_equivalents']:.2f} "
+          f"G1-equivalents; published {pub['delta_r']:+.1%}")
+    print("wrote", save("l2sea_optimum", d))
+
+
 if __name__ == "__main__":
     t0 = time.perf_counter()
-    rescore() if "--rescore" in sys.argv[1:] else main()
+    argv = sys.argv[1:]
+    if "--optimum" in argv:
+        lv = int(argv[argv.index("--level") + 1]) if "--level" in argv else 1
+        optimum_main(argv[argv.index("--optimum") + 1], lv)
+    else:
+        rescore() if "--rescore" in argv else main()
     print(f"{time.perf_counter() - t0:.0f} s")

@@ -113,6 +113,13 @@ def _staging(out: Path) -> Path:
     return work
 
 
+def _has_fronts(rescored: dict) -> bool:
+    """Whether a re-scoring has a front to draw: a calm-water and an added-resistance method (a calm-water
+    minimum is re-scored by calm-water methods alone)."""
+    kinds = {m["kind"] for m in rescored["methods"].values()}
+    return {"calm", "waves"} <= kinds
+
+
 def _exchange(a: Path, b: Path) -> bool:
     """Swap the directories ``a`` and ``b`` in one step (Linux renameat2 RENAME_EXCHANGE); False where the system
     cannot."""
@@ -181,7 +188,8 @@ def _solve_and_write(cfg: RunConfig, raw: dict, study: Study, out: Path, name: s
             report["rescored"], report["rescored_warnings"] = rescored, doubts
             report["warnings"] += doubts
             met = [d["met"] for d in report["designs"]] if not solution.final else None
-            plot_rescored_fronts(rescored, out / FRONTS_NAME, met)
+            if _has_fronts(rescored):  # a calm-water run is re-scored by calm-water methods only: no front
+                plot_rescored_fronts(rescored, out / FRONTS_NAME, met)
         if "history" in report:
             h = report["history"]
             # the PNG: the first series (a fit's cost, a minimum's objective), the violation below
