@@ -180,3 +180,55 @@ def test_bad_meshes(tmp_path):
         read_mesh(tmp_path / "a.xyz1")
     with pytest.raises(HullError, match="axes"):
         MeshTransform(axes="x,x,z").matrix()
+
+
+CARGO = """\
+    # a hand-written 120 m cargo ship (issue 62): a flat side and a parallel middle body at the widest offset
+    # 10.000 m, no bulb, no transom (the AP row zero), a stem starting above the keel
+    # lpp = 120
+    x,0,1,2,4,6,8,10
+    0,0,0,0,0,0,0,0
+    6,0,0.4,1.2,3.0,4.8,6.0,6.8
+    12,0.6,2.2,3.6,6.0,7.6,8.4,8.9
+    18,2.8,5.0,6.6,8.4,9.3,9.7,9.9
+    24,5.6,7.8,8.9,9.6,9.9,10.0,10.0
+    30,7.6,9.2,9.7,10.0,10.0,10.0,10.0
+    36,8.5,9.7,10.0,10.0,10.0,10.0,10.0
+    54,8.5,9.7,10.0,10.0,10.0,10.0,10.0
+    72,8.5,9.7,10.0,10.0,10.0,10.0,10.0
+    78,8.3,9.6,9.9,10.0,10.0,10.0,10.0
+    84,7.4,8.9,9.5,9.8,9.9,10.0,10.0
+    90,5.8,7.6,8.5,9.2,9.5,9.7,9.8
+    96,3.9,5.8,6.9,7.9,8.5,8.9,9.2
+    102,2.0,3.7,4.8,6.0,6.8,7.4,7.9
+    108,0.7,1.8,2.7,3.8,4.7,5.4,6.0
+    114,0.1,0.6,1.1,1.8,2.5,3.1,3.7
+    120,0,0,0,0,0,0.3,0.8
+"""
+
+
+def test_offsets_never_exceed_the_tables_extremes(tmp_path):
+    """Where the natural spline overshoots (a flat side bulging past the widest offset, a zero row dipping
+    below zero) the reader takes the shape-preserving PCHIP (issue 62): no offset outside [0, the widest], Bwl
+    never above twice the widest offset, no immersed transom at a zero AP row, Lwl growing with the draft;
+    every offset of the table still on the surface. A table the natural spline does not overshoot is read as
+    before."""
+    t = read_offsets(write(tmp_path, CARGO))
+    natural = np.asarray(offset_surface(t, 61, 41)(jnp.asarray(t.y)).yz[..., 0])
+    assert natural.max() > 10.0 + 1e-3  # what the natural spline alone does on this table
+    s = offsets_to_sections(t, 61, 41)
+    y = np.asarray(s.yz[..., 0])
+    assert y.max() <= 10.0 + 1e-12 and y.min() >= 0.0
+    on = np.isin(np.asarray(s.x), t.x)
+    rows = np.isin(np.asarray(s.yz[0, 1:, 1]), t.z)
+    np.testing.assert_allclose(y[on][:, 1:][:, rows], t.y, atol=1e-12)  # through every offset
+    h = [hydro(s, jnp.asarray(d)) for d in (2.0, 4.0, 6.0, 7.0, 8.0)]
+    assert max(float(v.bwl) for v in h) <= 20.0 + 1e-12
+    assert all(float(v.a_transom) == 0.0 for v in h)
+    lwl = [float(v.lwl) for v in h]
+    assert all(b >= a - 1e-9 for a, b in zip(lwl, lwl[1:])), lwl
+    # a table without overshoot: the natural spline, unchanged
+    w = read_offsets(write(tmp_path, WIDE.replace("0,0,1,2,2\n", "0,0.5,1,1.5,2\n").replace("10,1,2,2,2", "10,1,1.5,2,2.5")
+                           .replace("20,0,1,2,2", "20,0.5,1,1.5,2"), "w.csv"))
+    np.testing.assert_array_equal(np.asarray(offsets_to_sections(w, 21, 31).yz),
+                                  np.asarray(offset_surface(w, 21, 31)(jnp.asarray(w.y)).yz))

@@ -24,10 +24,12 @@ def series60():
 def test_the_offsets_have_todds_coefficients(series60):
     """C_P, C_W and the LCB to Todd's three decimals; C_M and with it C_B 0.004 low: the natural splines
     through the table's waterlines at 0, 0.075 and 0.25 T cut inside the bilge's circle. The LWL ends where
-    Todd's does, 406.7 ft, and nothing is left of a transom at the AP."""
+    Todd's does, 406.7 ft, and nothing is left of a transom at the AP. C_W 0.7080: the waterlines whose natural
+    spline would bulge past the widest offset (8.145 m for 8.128, the parallel middle body) or dip below zero
+    are read by PCHIP (issue 62), which gives 0.0008 more than the natural splines' 0.7072."""
     hs = hydrostatics(series60, T)
     assert float(hs.cp) == pytest.approx(0.614, abs=1e-3)
-    assert float(hs.cwp) == pytest.approx(0.706, abs=2e-3)
+    assert float(hs.cwp) == pytest.approx(0.706, abs=2.5e-3)
     assert float(hs.lcb_pct) == pytest.approx(-1.5, abs=0.05)  # per cent of Lpp, aft of amidships
     assert -0.006 < float(hs.cm) - 0.977 < -0.002
     assert -0.005 < float(hs.cb) - 0.600 < -0.001
@@ -61,7 +63,7 @@ def test_stability_warns_that_the_hull_has_no_topsides(cli):
     its GZ is a submerged body's, (KB − KG) sin φ. The numbers are right for that body; the warning says why
     they are not the ship's."""
     code, out, err = cli("stability", f"{HULLS}/series60_cb060_todd1963.csv", "--kg", "6.0",
-                         "--displacement", "7898", "--heels", "0:40:5", "--json")
+                         "--displacement", "7894.5", "--heels", "0:40:5", "--json")
     assert code == 4 and "reserve buoyancy is 0.01%" in err and "without topsides" in err, err
     r = json.loads(out)
     kb = 3.493  # hullopt hydro at the DWL

@@ -15,6 +15,13 @@ Either layout may give ``knuckles = <station>@<z>; …``: the spline along that 
 waterline ``z`` (a transom edge or chine), so the section keeps its corner.
 Zero half-breadths mark where a section has not started yet (seed 003: "set to 0 and used as control
 points"); the splines pass through them and the surface is clipped at y = 0.
+
+A table read as a hull (:func:`offsets_to_sections`) keeps the natural spline of each curve — a station, or a
+waterline along the length — that stays within its own offsets' range, and takes the shape-preserving PCHIP
+(:func:`hullopt.geometry.pchip`, monotone between monotone offsets) for one that would overshoot: a flat
+parallel middle body or a flat side bulges, a zero row dips below zero. So no offset of the hull exceeds the
+table's extremes (Bwl is never wider than twice the widest offset, a zero AP row gives no immersed transom,
+Lwl grows with the draft). The fairing's surface (:func:`offset_surface`) stays the linear natural-spline map.
 """
 
 from __future__ import annotations
@@ -32,7 +39,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..errors import HullError
-from ..geometry import Sections, spline_matrix
+from ..geometry import Sections, pchip, spline_matrix
 
 
 @dataclass(frozen=True)
@@ -299,7 +306,9 @@ def _split_spline_matrix(knots: np.ndarray, at: np.ndarray, j: int) -> np.ndarra
 
 
 def offsets_to_sections(table: OffsetTable, n_stations: int = 121, n_points: int = 81) -> Sections:
-    """Sections of the spline surface through ``table`` (see :class:`OffsetSurface`).
+    """Sections of the surface through ``table``: each station's and each waterline's natural spline (see
+    :class:`OffsetSurface`), or PCHIP where the natural spline would leave the range of that curve's offsets
+    (the module's docstring), so that no offset exceeds the table's extremes.
 
     Parameters
     ----------
@@ -313,4 +322,40 @@ def offsets_to_sections(table: OffsetTable, n_stations: int = 121, n_points: int
     Sections
         ``x (n,)`` [m from the AP], ``yz (n, m+1, 2)`` [m], ``lpp`` [m] from the table.
     """
-    return offset_surface(table, n_stations, n_points)(jnp.asarray(table.y))
+    surface = offset_surface(table, n_stations, n_points)
+    y = np.asarray(table.y, dtype=float)
+    x_fine, z_fine = np.asarray(surface.x_fine), np.asarray(surface.z_fine)
+    # along each table station: the natural spline, or PCHIP (split at its knuckle as the spline is)
+    fine_z = np.einsum("smw,sw->sm", np.asarray(surface.along_z), y)
+    for i in np.flatnonzero(_overshoots(fine_z, y, axis=1)):
+        fine_z[i] = _pchip_split(table.z, y[i], z_fine, table.knuckles.get(i))
+    # along each fine waterline: the natural spline through the stations, or PCHIP
+    yy = np.asarray(surface.along_x) @ fine_z
+    bad = _overshoots(yy, fine_z, axis=0)
+    if bad.any():
+        yy[:, bad] = pchip(np.asarray(table.x, dtype=float), fine_z[:, bad], x_fine)
+    yy = np.maximum(yy, 0.0)
+    yz = np.stack([yy, np.broadcast_to(z_fine, yy.shape)], axis=-1)
+    keel = np.stack([np.zeros_like(x_fine), np.full_like(x_fine, z_fine[0])], -1)
+    return Sections(x=jnp.asarray(x_fine), yz=jnp.asarray(np.concatenate([keel[:, None], yz], axis=1)),
+                    lpp=jnp.asarray(table.lpp))
+
+
+def _overshoots(fine: np.ndarray, knots: np.ndarray, axis: int) -> np.ndarray:
+    """Which curves (along ``axis``) of the interpolated ``fine`` leave the range of their ``knots`` (beyond
+    round-off)."""
+    lo, hi = knots.min(axis=axis), knots.max(axis=axis)
+    tol = 1e-9 * max(float(np.abs(knots).max(initial=0.0)), 1.0)
+    return (fine.min(axis=axis) < lo - tol) | (fine.max(axis=axis) > hi + tol)
+
+
+def _pchip_split(knots: np.ndarray, y: np.ndarray, at: np.ndarray, j: int | None) -> np.ndarray:
+    """PCHIP through ``(knots, y)`` at ``at``, split into two at knot ``j`` (a knuckle) when given."""
+    knots = np.asarray(knots, dtype=float)
+    if j is None:
+        return pchip(knots, y, at)
+    lower = at <= knots[j]
+    out = np.empty(at.shape)
+    out[lower] = pchip(knots[: j + 1], y[: j + 1], at[lower])
+    out[~lower] = pchip(knots[j:], y[j:], at[~lower])
+    return out
