@@ -127,3 +127,33 @@ def test_run_report_warns_when_calm_methods_disagree():
     assert "by michell is 2.2×" in msg and "michell is outside its validity (Cb 0.6" in msg and "22–26 kn" in msg
     objectives["calm_resistance_michell"]["parent"] = 2500e3
     assert calm_disagreement(cfg, objectives, holtrop_hull(kcs, 10.8)) == []
+
+
+def test_validity_warnings_are_true_once_and_at_their_speed():
+    """Issue 62: a full hull without a bulb (a box: its FP section is all area, none of it a bulb) is not said
+    to have one; a method outside its validity is said so once, at the speeds where it is, each with its own
+    Froude number (Dawson's below Fn 0.20 at 12 kn, not at 14 kn); a disagreement names the method without
+    repeating why."""
+    import jax.numpy as jnp
+
+    from hullopt.app.commands.resistance import disagreements, validity_warnings
+    from hullopt.models import box, wigley
+    from hullopt.resistance import holtrop_hull, outside_validity
+
+    full = holtrop_hull(box(120.0, 20.0, 10.0, n=21), jnp.asarray(7.5))
+    assert float(full.A_BT) > 0 and float(full.bulb) == 0.0
+    fn = {12.0: 0.18, 14.0: 0.21}
+    records = [{"speed_kn": kn, "fn": f, "r_wave_michell": 300e3, "r_total_michell": 900e3,
+                "r_wave_dawson": 50e3, "r_total_dawson": 650e3} for kn, f in fn.items()]
+    invalid = [outside_validity(full, r["fn"], r["fn"]) for r in records]
+    msgs = validity_warnings(records, ("michell", "dawson"), invalid)
+    assert len(msgs) == 2 and not any("bulb" in m for m in msgs), msgs
+    assert msgs[0].startswith("michell is outside its validity (Cb 1.00: linear Kelvin waves")
+    assert msgs[1].startswith("dawson is outside its validity at 12 kn (Fn 0.18: below Fn 0.20") and "14 kn" not in msgs[1]
+    (msg,) = disagreements(records, ("michell", "dawson"), invalid)
+    assert msg.startswith("R_W by michell is 6.0× the other's (michell vs dawson) at 12 kn (Fn 0.18)")
+    assert "michell and dawson are outside their validity there" in msg and "Kelvin" not in msg
+    # inside every method's validity: nothing to say
+    slender = holtrop_hull(wigley(100.0, 10.0, 6.25, 10.0, n=21, m=9), jnp.asarray(6.25))
+    assert float(slender.bulb) == 0.0
+    assert validity_warnings(records, ("michell",), [outside_validity(slender, 0.25)] * 2) == []

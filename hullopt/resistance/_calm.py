@@ -173,7 +173,8 @@ def transom_caveat(hull: HoltropHull) -> str | None:
 
 def outside_validity(hull: HoltropHull, fn: float, fn_min: float | None = None) -> dict[str, str]:
     """Each method of :data:`METHODS` that is outside its validity on ``hull`` at Froude number ``fn``, with
-    why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb:
+    why (numpy; for warnings): Michell and the panel method on a full or bulbous hull (Cb > 0.55 or a bulb,
+    ``hull.bulb`` where :func:`~hullopt.resistance.holtrop_hull` measured it, else an area at the FP:
     uniform-stream Kelvin waves overpredict its waves several-fold — KCS 5–10×; Dawson's method is the one for
     it), Holtrop–Mennen outside its data (Cp 0.55–0.85, Fn ≤ 0.45), Dawson's method below
     :data:`._dawson.FN_MIN` when ``fn_min`` is given.
@@ -194,7 +195,8 @@ def outside_validity(hull: HoltropHull, fn: float, fn_min: float | None = None) 
     """
     cb = float(hull.volume) / (float(hull.L) * float(hull.B) * float(hull.T))
     cp = cb / float(hull.cm)
-    bulb = float(hull.A_BT) > 0.0
+    # a bulb seen on the sections (holtrop_hull's); a hull given by its particulars alone: any area at the FP
+    bulb = float(hull.bulb) > 0.0 if hull.bulb is not None else float(hull.A_BT) > 0.0
     out = {}
     if cb > 0.55 or bulb:
         why = (f"Cb {cb:.2f}{' with a bulb' if bulb else ''}: linear Kelvin waves overpredict a full hull's; "

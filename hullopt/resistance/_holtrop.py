@@ -12,6 +12,7 @@ total is differentiable almost everywhere in the hull's parameters.
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
@@ -43,6 +44,38 @@ class HoltropHull(eqx.Module):
     c_stern: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: jnp.asarray(0.0))
     S_app: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: jnp.asarray(0.0))
     k2_app: Float[ArrayLike, ""] = eqx.field(default_factory=lambda: jnp.asarray(1.5))
+    bulb: Float[ArrayLike, ""] | None = None  # 1.0: a bulbous bow seen on the sections (has_bulb), 0.0: none
+
+
+#: A bulbous bow (:func:`has_bulb`): a section within this fraction of the stations' span from the forward end
+#: whose outline under the waterline narrows above a wider part by more than ``BULB_NECK`` of the largest
+#: half-breadth (as :func:`hullopt.optimise.bulb_stations` finds a bulb to freeze).
+BULB_FORE, BULB_NECK = 0.15, 0.02
+
+
+def has_bulb(sections: Sections, draft: Draft) -> Float[Array, ""]:
+    """Whether ``sections`` have a bulbous bow: 1.0 where a forward section (within :data:`BULB_FORE` of the
+    span) has a neck under the waterline — a point narrower than one below it by more than :data:`BULB_NECK`
+    of the largest half-breadth — else 0.0 (no gradient). A section that only widens from the keel up (a
+    plain stem, a full bow) has none, whatever its area at the FP.
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m, keel to deck].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, scalar
+        1.0 or 0.0.
+    """
+    yz, x = jax.lax.stop_gradient(sections.yz), jax.lax.stop_gradient(sections.x)
+    y, z = yz[..., 0], yz[..., 1]
+    neck = jnp.where(z < jnp.asarray(draft, dtype=y.dtype), jax.lax.cummax(y, axis=1) - y, 0.0)
+    fore = (x - x[0]) >= (1.0 - BULB_FORE) * (x[-1] - x[0])
+    return jnp.any(fore & (jnp.max(neck, axis=1) > BULB_NECK * jnp.max(y))).astype(y.dtype)
 
 
 class HoltropResult(eqx.Module):
@@ -163,7 +196,8 @@ def holtrop_hull(sections: Sections, draft: Draft, entrance_fraction: float = 0.
     -------
     HoltropHull
         Scalars ``L``, ``B``, ``T``, ``T_F``, ``h_B`` [m], ``volume`` [m³], ``S``, ``A_BT``, ``A_T`` [m²],
-        ``cm``, ``cwp``, ``lcb`` [% L fwd of 0.5 L], ``ie`` [deg], ``c_stern``; no appendages.
+        ``cm``, ``cwp``, ``lcb`` [% L fwd of 0.5 L], ``ie`` [deg], ``c_stern``, ``bulb`` (1.0 where the FP area ``A_BT``
+        is a bulb's: :func:`has_bulb` and ``A_BT`` > 0; for the warnings); no appendages.
     """
     t = jnp.asarray(draft, dtype=sections.yz.dtype)
     li = longitudinal_integrals(sections, t)
@@ -179,4 +213,5 @@ def holtrop_hull(sections: Sections, draft: Draft, entrance_fraction: float = 0.
     return HoltropHull(
         L=li.lwl, B=li.bwl, T=t, T_F=t, volume=li.volume, cm=cm, cwp=li.awp / (li.lwl * li.bwl), lcb=lcb,
         ie=ie, S=wetted_surface(sections, t), A_BT=area_fp, h_B=h_b, A_T=li.a_transom, c_stern=jnp.asarray(c_stern),
+        bulb=jnp.where(area_fp > 0.0, has_bulb(sections, t), 0.0),  # a bulb reaching the FP (A_BT)
     )

@@ -102,24 +102,45 @@ def above_the_sides(sections, draft: float, records: list[dict]) -> list[str]:
     return msgs
 
 
-def disagreements(records: list[dict], methods, invalid: dict[str, str]) -> list[str]:
+def validity_warnings(records: list[dict], methods, invalid: list[dict[str, str]]) -> list[str]:
+    """One warning per method of ``methods`` outside its validity at some speed, with why: once for a reason
+    that holds at every speed (Michell's on a full hull), else with each speed and its own Froude number
+    (Holtrop–Mennen above Fn 0.45, Dawson's method below its grid's least Fn); ``invalid``: each record's
+    :func:`~hullopt.resistance.outside_validity` at its own Froude number."""
+    msgs = []
+    for m in methods:
+        at = [(r["speed_kn"], bad[m]) for r, bad in zip(records, invalid) if m in bad]
+        if not at:
+            continue
+        reasons = dict.fromkeys(why for _, why in at)
+        if len(reasons) == 1 and len(at) == len(records):
+            msgs.append(f"{m} is outside its validity ({next(iter(reasons))})")
+        else:
+            msgs.append(f"{m} is outside its validity at " + "; ".join(f"{kn:g} kn ({why})" for kn, why in at))
+    return msgs
+
+
+def disagreements(records: list[dict], methods, invalid: list[dict[str, str]]) -> list[str]:
     """Warnings where two methods' R_W differ by more than :data:`DISAGREE` at a speed whose wave part matters
-    (≥ 5 % of R_T by either), naming the method outside its validity."""
+    (≥ 5 % of R_T by either), naming the method outside its validity at that speed (``invalid``: each record's
+    :func:`~hullopt.resistance.outside_validity`; why is said once, by :func:`validity_warnings`)."""
     msgs = []
     for i, a in enumerate(methods):
         for b in methods[i + 1:]:
             worst = None
-            for r in records:
+            for k, r in enumerate(records):
                 wa, wb = r[f"r_wave_{a}"], r[f"r_wave_{b}"]
                 big = max(wa / r[f"r_total_{a}"], wb / r[f"r_total_{b}"]) >= 0.05
                 ratio = max(wa, wb) / max(min(wa, wb), 1e-300)
                 if big and ratio > DISAGREE and (worst is None or ratio > worst[0]):
-                    worst = (ratio, r["speed_kn"], a if wa > wb else b)
+                    worst = (ratio, k, a if wa > wb else b)
             if worst:
-                ratio, kn, high = worst
-                why = "; ".join(f"{m} is outside its validity ({invalid[m]})" for m in (a, b) if m in invalid)
-                msgs.append(f"R_W by {high} is {ratio:.1f}× the other's ({a} vs {b}) at {kn:g} kn"
-                            + (f": {why}" if why else ""))
+                ratio, k, high = worst
+                out = [m for m in (a, b) if m in invalid[k]]
+                why = (f": {' and '.join(out)} {'is' if len(out) == 1 else 'are'} outside "
+                       f"{'its' if len(out) == 1 else 'their'} validity there" if out else "")
+                msgs.append(f"R_W by {high} is {ratio:.1f}× the other's ({a} vs {b}) at {records[k]['speed_kn']:g} kn "
+                            f"(Fn {records[k]['fn']:.2f}){why}")
     return msgs
 
 
@@ -183,9 +204,9 @@ def resistance(
         if "dawson" in out:
             rec["dawson_free"] = free  # its hull sunk and trimmed (--free), else fixed at the draft
         records.append(rec)
-    invalid = outside_validity(particulars, max(r["fn"] for r in records), min(r["fn"] for r in records))
-    if "dawson" in methods and "dawson" in invalid:
-        warn(f"dawson is outside its validity ({invalid['dawson']})")
+    invalid = [outside_validity(particulars, r["fn"], r["fn"]) for r in records]  # each at its own speed
+    for msg in validity_warnings(records, methods, invalid):
+        warn(msg)
     if "dawson" in methods and (caveat := transom_caveat(particulars)):
         warn(caveat)
     for msg in disagreements(records, methods, invalid) + (above_the_sides(h.sections, t, records)
