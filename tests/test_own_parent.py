@@ -6,6 +6,7 @@ import json
 
 import jax
 import pytest
+from conftest import REPO
 
 from hullopt.study import _hulls as parents
 from hullopt.hydro import hydrostatics
@@ -142,3 +143,43 @@ def test_an_unknown_parent_names_what_is_accepted(cli, tmp_path, own_config):
     cfg.write_text(cfg.read_text().replace("nosuch.stl?scale=2", "nosuch"))
     code, _, err = cli("run", cfg, "--out", tmp_path / "o")
     assert code == 2 and "unknown parent 'nosuch'" in err and "hull spec" in err, err
+
+
+def test_a_parent_that_misses_its_source_warns_in_the_run(tmp_path, monkeypatch):
+    """Issue 62: a parent whose feature curves miss the hull they were extracted from (``fidelity.met``
+    false, here by asking the impossible of the extraction) is warned of as it is read, again when its kept
+    features are read back, with the misses against their tolerances and its wetted surface against the
+    file's; a run puts it first among its report's warnings."""
+    import warnings
+
+    from hullopt.app import run as app
+    from hullopt.errors import FidelityWarning
+    from hullopt.models import _feature_library
+    from hullopt.study import load_config
+
+    monkeypatch.setenv("HULLOPT_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setitem(_feature_library.FAITHFUL, "tol_volume", 1e-12)
+    monkeypatch.setitem(_feature_library.FAITHFUL, "levels", (2,))
+    spec = "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=9"
+    for _ in range(2):  # extracted, then read back from the cache
+        with pytest.warns(FidelityWarning) as seen:
+            parents.run_parent(spec, 6.25)
+        (text,) = [str(w.message) for w in seen if w.category is FidelityWarning]
+        assert f"miss the hull read from {spec}: ∇ off by up to" in text and "(tolerance 0.000 %)" in text
+        assert "wetted surface" in text and "the feature model's, not the file's" in text
+    cfg, raw = load_config(REPO / "configs" / "fit_cb_lcb.toml")
+
+    def read(cfg):
+        warnings.warn("the parent's feature curves miss …", FidelityWarning)
+
+    written = {}
+
+    def solve_and_write(*args):
+        written["notes"] = args[-1]
+        return {}
+
+    monkeypatch.setattr(app, "load_study", read)
+    monkeypatch.setattr(app, "_solve_and_write", solve_and_write)
+    with pytest.warns(FidelityWarning):  # still shown as it is issued
+        app.run(cfg, raw, tmp_path / "run")
+    assert written["notes"] == ["parent: the parent's feature curves miss …"]

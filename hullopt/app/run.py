@@ -17,6 +17,7 @@ import os
 import shutil
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -32,6 +33,7 @@ from rich.progress import (
 
 from ..drawing import write_offsets_stations, write_offsets_wide
 from ..constants import KNOT, G
+from ..errors import FidelityWarning
 from ..geometry import Sections
 from ..models import plausibility_warnings, save_features
 from ..report import (
@@ -69,7 +71,8 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     ``iterations``, ``targets`` (target, achieved, error, tolerance, met per particular), ``achieved`` and
     ``parent`` (the ``hullopt hydro --json`` keys of the final and the parent hull), ``objective``
     (value, parent value, name), ``params``, ``objectives`` (every measure, parent and design), ``warnings`` (the
-    parent's plausibility first: :func:`~hullopt.models.plausibility_warnings`);
+    parent's first: its feature curves missing the hull they were extracted from,
+    :class:`~hullopt.errors.FidelityWarning`, then its plausibility, :func:`~hullopt.models.plausibility_warnings`);
     for sweeps ``designs`` (one per sweep value, with its objectives, particulars, parameters and whether it is
     Pareto-optimal); ``seconds``: the wall time of each phase (``setup``: the config's hull and study;
     ``solve``; ``assess``: every measure of parent and design; ``rescore``: the second opinions; ``files``:
@@ -84,10 +87,14 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     """
     clock = _Clock()
     _warm_up_in_background()
-    study: Study = load_study(cfg)  # a bad design or draft is refused before anything is written
+    with warnings.catch_warnings(record=True) as seen:  # the parent's warnings, issued as it is read
+        study: Study = load_study(cfg)  # a bad design or draft is refused before anything is written
+    for w in seen:  # shown as they would have been; a parent that misses its source is in the report too
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    notes = [f"parent: {w.message}" for w in seen if issubclass(w.category, FidelityWarning)]
     final = out.resolve()
     work = _staging(final)  # built beside it, then put in its place: one run in a folder, always
-    report = _solve_and_write(cfg, raw, study, work, final.name, clock, quiet, options)
+    report = _solve_and_write(cfg, raw, study, work, final.name, clock, quiet, options, notes)
     _replace(work, final)
     return report
 
@@ -150,9 +157,9 @@ def _replace(work: Path, out: Path) -> None:
 
 
 def _solve_and_write(cfg: RunConfig, raw: dict, study: Study, out: Path, name: str, clock: _Clock, quiet: bool,
-                     options: dict) -> dict:
+                     options: dict, notes: list[str] = ()) -> dict:
     """:func:`run`'s solve and files, written to ``out`` (the staging folder); ``name``: the run folder's final
-    name, as its page shows it."""
+    name, as its page shows it; ``notes``: warnings of the parent, first in the report's."""
     write_json(out / "config.json", raw)
     d = study.problem.design
     save_features(d.model.hull, out / "parent.json")  # the run folder rebuilds its designs from it
@@ -180,7 +187,7 @@ def _solve_and_write(cfg: RunConfig, raw: dict, study: Study, out: Path, name: s
         report["objectives"], report["limits"], assessed = study.assess(solution)
         # the parent's plausibility (a mesh in mm, in the wrong axes…), judged at the run's draft, comes first
         doubtful = plausibility_warnings(m.before, float(m.parent.draft), cfg.hull.parent)
-        report["warnings"] = [f"parent: {w}" for w in doubtful] + assessed
+        report["warnings"] = [*notes, *(f"parent: {w}" for w in doubtful), *assessed]
         clock("assess")
         rescored, doubts = study.rescore(solution.designs)
         clock("rescore")

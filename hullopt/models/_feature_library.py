@@ -34,7 +34,7 @@ import numpy as np
 from jaxtyping import Array
 
 from ..errors import HullError
-from ..geometry import Sections, longitudinal_integrals
+from ..geometry import Sections, longitudinal_integrals, wetted_surface
 from ._feature_extract import extract_features
 from ._features import PARENTS_DIR, FeatureHull, feature_hull, save_features
 
@@ -88,6 +88,11 @@ def _rebuild(hull: FeatureHull) -> Sections:
 
 
 @eqx.filter_jit
+def _wetted(s: Sections, draft) -> Array:
+    return wetted_surface(s, jnp.asarray(draft, dtype=s.yz.dtype))
+
+
+@eqx.filter_jit
 def _volume_lcb(s: Sections, zs) -> tuple[Array, Array]:
     """∇ [m³, both sides] and LCB [m from the AP] of ``s`` at the drafts ``zs (k,)``: the kernel's
     :func:`~hullopt.geometry.longitudinal_integrals` (one program per hull shape)."""
@@ -117,7 +122,10 @@ def extract_faithful(sections: Sections, name: str = "hull", design_draft: float
     -------
     tuple of (FeatureHull, dict)
         The hull and a report: ``level``, ``drafts`` [m], ``volume_error`` (relative) and ``lcb_error``
-        (fraction of Lpp), the worst over the drafts, and ``met``.
+        (fraction of Lpp), the worst over the drafts, ``met``, the tolerances ``tol_volume`` and ``tol_lcb``,
+        and with ``design_draft`` the rebuilt hull's wetted surface against the source's there,
+        ``wetted_surface_error`` (relative, signed: how far a run's particulars, the model's, are from the
+        file's).
     """
     cfg = {**FAITHFUL, **settings}
     yz = np.asarray(sections.yz)
@@ -135,8 +143,12 @@ def extract_faithful(sections: Sections, name: str = "hull", design_draft: float
         if score <= 1.0:
             break
     score, hull, level, err = best
-    return hull, {"level": level, "drafts": drafts, "volume_error": float(err[0]), "lcb_error": float(err[1]),
-                  "met": bool(score <= 1.0)}
+    report = {"level": level, "drafts": drafts, "volume_error": float(err[0]), "lcb_error": float(err[1]),
+              "met": bool(score <= 1.0), "tol_volume": float(cfg["tol_volume"]), "tol_lcb": float(cfg["tol_lcb"])}
+    if design_draft is not None and z_lo < design_draft < z_hi:
+        s0, s1 = float(_wetted(sections, design_draft)), float(_wetted(_rebuild(hull), design_draft))
+        report["wetted_surface_error"] = s1 / s0 - 1.0 if s0 > 0 else 0.0
+    return hull, report
 
 
 def generate_hull(lpp: float, breadth: float, depth: float, draft: float, parallel: tuple[float, float] = (0.3, 0.65),

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
-from ..errors import HullError, HullWarning
+from ..errors import FidelityWarning, HullError, HullWarning
 from ..geometry import Sections, atomic_write_bytes
 from ..models import (
     FAITHFUL,
@@ -326,7 +326,7 @@ def parent_digest(spec: str, draft: float | None = None) -> str | None:
     return _key_digest(parent_key(spec, draft))
 
 
-def _read_kept(path: Path, key: dict) -> tuple[FeatureHull, list[str]] | None:
+def _read_kept(path: Path, key: dict) -> tuple[FeatureHull, list[str], dict] | None:
     """The kept parent at ``path`` and the warnings of the hull it was extracted from, if it is one for ``key``,
     else None (absent, corrupt or another key's)."""
     try:
@@ -335,11 +335,12 @@ def _read_kept(path: Path, key: dict) -> tuple[FeatureHull, list[str]] | None:
             return None
         hull = read_features(path)
         found = [str(w) for w in data.get("warnings", [])]
+        fidelity = dict(data.get("fidelity") or {})
     except (OSError, ValueError, AttributeError, TypeError, HullError):
         return None
     with contextlib.suppress(OSError):
         path.touch()  # in use: keep it (see _keep)
-    return hull, found
+    return hull, found, fidelity
 
 
 def extract_spec(spec: str, draft: float | None = None) -> tuple[FeatureHull, dict]:
@@ -353,6 +354,34 @@ def extract_spec(spec: str, draft: float | None = None) -> tuple[FeatureHull, di
         raise HullError(_no_draft(spec))
     hull, report = extract_faithful(loaded.sections, loaded.name, loaded.design_draft or draft)
     return hull, {**report, "warnings": list(loaded.warnings)}
+
+
+def fidelity_warning(spec: str, fidelity: dict) -> str | None:
+    """The warning of a run's parent whose feature curves miss their source hull (``fidelity["met"]`` false,
+    :func:`~hullopt.models._feature_library.extract_faithful`'s report), else None.
+
+    Parameters
+    ----------
+    spec : str
+        The hull spec the parent was extracted from.
+    fidelity : dict
+        The extraction's report: ``met``, ``volume_error``, ``lcb_error`` (the worst over its ``drafts``),
+        their tolerances ``tol_volume``, ``tol_lcb`` and, where measured, ``wetted_surface_error``.
+
+    Returns
+    -------
+    str or None
+        One line naming the misses against their tolerances and what they mean for the run.
+    """
+    if fidelity.get("met", True):
+        return None
+    tv, tl = fidelity.get("tol_volume", 5e-4), fidelity.get("tol_lcb", 1e-4)
+    parts = [f"∇ off by up to {100 * fidelity.get('volume_error', 0.0):.3f} % (tolerance {100 * tv:.3f} %)",
+             f"LCB by up to {100 * fidelity.get('lcb_error', 0.0):.4f} % Lpp (tolerance {100 * tl:.4f} %)"]
+    if "wetted_surface_error" in fidelity:
+        parts.append(f"wetted surface {100 * fidelity['wetted_surface_error']:+.2f} % at the design draft")
+    return (f"the parent's feature curves miss the hull read from {spec}: {', '.join(parts)}; the run's parent and "
+            "its particulars are the feature model's, not the file's (hullopt hydro on the file gives the file's)")
 
 
 def _no_draft(spec: str) -> str:
@@ -392,10 +421,14 @@ def run_parent(spec: str, draft: float | None = None) -> FeatureHull:
     if kept is None:
         hull, report = extract_spec(spec, draft)  # load_hull issues the hull's warnings
         _keep(path, hull, key, spec, report)
+        missed = fidelity_warning(spec, report)
     else:
-        hull, found = kept
+        hull, found, fidelity = kept
         for text in found:
             warnings.warn(text, HullWarning, stacklevel=2)
+        missed = fidelity_warning(spec, fidelity)
+    if missed:
+        warnings.warn(missed, FidelityWarning, stacklevel=2)
     if draft is None and hull.design_draft is None:
         raise HullError(_no_draft(spec))
     return hull
