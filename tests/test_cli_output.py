@@ -225,3 +225,25 @@ def test_pareto_summary_names_a_calm_water_profile(capsys, wide):
     text = " ".join(capsys.readouterr().out.split())
     assert "operating profile calm-water R_T (Michell)" in text and "R_T (profile, Michell) [kN]" in text
     assert "R_T + R_AW" not in text
+
+
+def test_every_file_written_is_said_in_one_format(capsys, tmp_path, monkeypatch):
+    """``wrote PATH`` or ``wrote PATH (detail)``, one line a file, on stdout — on stderr beside a command's JSON
+    (issue 62: only ``stability`` said so); ``resistance --plot`` says it too."""
+    from hullopt.app.output import wrote
+
+    wrote(tmp_path / "a.png")
+    wrote(tmp_path / "b.csv", "stations layout")
+    wrote(tmp_path / "c.png", json=True)
+    out, err = capsys.readouterr()
+    assert out.splitlines() == [f"wrote {tmp_path / 'a.png'}", f"wrote {tmp_path / 'b.csv'} (stations layout)"]
+    assert err.splitlines() == [f"wrote {tmp_path / 'c.png'}"]
+    import hullopt.app.cli as cli
+    import hullopt.report
+
+    monkeypatch.setattr(cli, "configure_jax", lambda: None)
+    monkeypatch.setattr(hullopt.report, "plot_resistance", lambda records, methods, path, title="": path)
+    code = cli.main(["resistance", "builtin:wigley?L=100&B=10&T=6.25&D=10&n=21&m=9", "--speed", "15", "--levels", "5",
+                     "--method", "holtrop", "--json", "--plot", str(tmp_path / "r.png")])
+    out, err = capsys.readouterr()
+    assert code == 0 and f"wrote {tmp_path / 'r.png'}" in err and "wrote" not in out

@@ -101,10 +101,15 @@ def test_waterlines_buttocks_and_diagonals_follow_the_closed_form(hull):
     for (_, label, pts), z in zip(wl, (2.0, 4.0)):
         np.testing.assert_allclose(pts[:, 1], wigley_y(pts[:, 0], z), atol=2e-4)
     (bt,) = [c for c in plan.sheer if c[0] == "buttock"]
-    x, z = bt[2][:, 0], bt[2][:, 1]
+    x, z = bt[2][1:-1, 0], bt[2][1:-1, 1]
     # buttock y = 1.5: invert y(x, z) = 1.5 for the depth below the waterline
     beam = (Bw / 2) * (1 - (2 * (x - Lw / 2) / Lw) ** 2)
     np.testing.assert_allclose(z, Tw - Tw * np.sqrt(1 - 1.5 / beam), atol=2e-3)
+    # its ends, between the sections, where it leaves the hull: at the waterline, where the beam is 1.5 m
+    # (issue 62: it stopped at the last section that crosses it, 2.5 m short of the hull's end)
+    ends = Lw / 2 + np.array([-1.0, 1.0]) * (Lw / 2) * np.sqrt(1 - 1.5 / (Bw / 2))
+    np.testing.assert_allclose(bt[2][[0, -1], 0], ends, atol=0.05)
+    np.testing.assert_allclose(bt[2][[0, -1], 1], Tw, atol=1e-9)
     stations = [c for c in plan.body if c[0] == "station"]
     assert len(stations) == 22  # 0…20, midship (10) on both sides
     assert all(np.all(c[2][:, 0] <= 1e-12) for c in stations if int(c[1]) < 10)
@@ -348,6 +353,7 @@ def test_cli_stability_json_and_plot(capsys, tmp_path):
     assert [c["key"] for c in d["criteria"]] == ["area_0_30", "area_0_40", "area_30_40", "gz_30", "angle_gz_max", "gm0"]
     assert all(c["pass"] for c in d["criteria"])
     assert (tmp_path / "gz.png").stat().st_size > 10_000
+    assert f"wrote {tmp_path / 'gz.png'}" in err  # said, on stderr beside the JSON (issue 62)
     # heels off the criteria's 1° grid are solved apart (the kept program is built for that way)
     code, out, err = run(capsys, "stability", "builtin:box?L=100&B=20&D=10", "--displacement", "8200", "--kg", "6",
                          "--heels", "0:25:3", "--json")
@@ -458,3 +464,27 @@ def test_save_figure_is_atomic_and_closes_the_figure(tmp_path):
         save_figure(fig, tmp_path / "b.nosuchformat")
     assert not plt.fignum_exists(fig.number)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png"]
+
+
+def test_dxf_labels_do_not_collide(plan, tmp_path):
+    """The DXF keeps the sheet's rule (issue 62): the body plan's station numbers and the buttocks' names only
+    where each clears those kept before it, so no two labels' boxes overlap (they read as one, "1310–11"); the
+    stations 0, 5, 10, 15, 20 are kept first."""
+    from hullopt.drawing._lines import CHAR_WIDTH
+
+    doc = ezdxf.readfile(save_lines(plan, tmp_path / "lines.dxf"))
+    shift = {0: 0.0, 1: 0.5, 2: 1.0, 4: 0.5}  # DXF halign → the box's share left of the anchor
+    rise = {0: 0.0, 1: 0.0, 2: 0.5, 3: 1.0}  # valign (baseline, bottom, middle, top) → below it
+    boxes = []
+    for e in doc.modelspace().query("TEXT[layer=='TEXT']"):
+        h, w = e.dxf.height, CHAR_WIDTH * e.dxf.height * len(e.dxf.text)
+        at = e.dxf.align_point if (e.dxf.halign or e.dxf.valign) else e.dxf.insert
+        x, y = at.x, at.y
+        x0, y0 = x - shift[e.dxf.halign] * w, y - rise[e.dxf.valign] * h
+        boxes.append((e.dxf.text, x0, y0, x0 + w, y0 + h))
+    clash = [(a[0], b[0]) for i, a in enumerate(boxes) for b in boxes[i + 1:]
+             if not (a[3] <= b[1] or b[3] <= a[1] or a[4] <= b[2] or b[4] <= a[2])]
+    assert clash == []
+    texts = [b[0] for b in boxes]
+    assert all(any(t == n or t.startswith(f"{n}–") or t.endswith(f"–{n}") or f"{n}, " in t or t.endswith(f", {n}")
+                   for t in texts) for n in ("0", "5", "15", "20"))

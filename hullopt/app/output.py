@@ -147,6 +147,13 @@ def say(text: str, style: str | None = None) -> None:
     console.print(Text(text, style=style or ""), soft_wrap=True)
 
 
+def wrote(path: Path | str, detail: str = "", json: bool = False) -> None:
+    """The one line every command prints for each file it wrote: ``wrote PATH`` or ``wrote PATH (detail)``; on
+    stderr when stdout is the JSON a script reads (``json``)."""
+    text = Text(f"wrote {path}" + (f" ({detail})" if detail else ""))
+    (errors if json else console).print(text, soft_wrap=True)
+
+
 def warn(text: str) -> None:
     """``warning: text`` on stderr (stdout stays the table or the JSON a script reads), on one logical line as
     :func:`say` prints (the terminal wraps it)."""

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..geometry import atomic_write_bytes
-from ._lines import KINDS, LinesPlan, arrange, plan_labels, thin_labels, view_bounds
+from ._lines import KINDS, LinesPlan, arrange, legible_labels, plan_labels, thin_labels, view_bounds
 
 #: AutoCAD colour index of each layer.
 COLOURS = {"grid": 8, "station": 5, "waterline": 3, "buttock": 1, "diagonal": 30, "dwl": 6, "outline": 7}
@@ -61,8 +61,10 @@ def write_lines_dxf(plan: LinesPlan, path: str | os.PathLike, fields: list[tuple
             msp.add_lwpolyline([tuple(map(float, q)) for q in pts + d], dxfattribs={"layer": kind.upper()})
     labels = plan_labels(plan)
     labels = [lab for view in shift for lab in thin_labels([b for b in labels if b.view == view], plan, 1.0, height)]
-    for lab in labels:
-        at = np.asarray(lab.at) + np.asarray(shift[lab.view]) + np.asarray(lab.offset) * height
+    # the body plan's station numbers and the buttocks' names where each clears those kept before it
+    kept = legible_labels(labels, lambda lab: np.asarray(lab.at) + np.asarray(shift[lab.view])
+                          + np.asarray(lab.offset) * height, height)
+    for lab, at in kept:
         text = msp.add_text(lab.text, height=height, dxfattribs={"layer": "TEXT"})
         align = TextEntityAlignment[_ALIGN.get((lab.ha, lab.va), "MIDDLE_CENTER")]
         text.set_placement(tuple(map(float, at)), align=align)

@@ -16,6 +16,7 @@ which the sheet (:mod:`._sheet`) and the DXF (:mod:`._dxf`) draw:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -119,6 +120,34 @@ def _nan_runs(x: np.ndarray, v: np.ndarray) -> list[np.ndarray]:
     ok = np.append(np.isfinite(v), False)
     edges = np.flatnonzero(np.diff(np.concatenate([[False], ok])))
     return [np.column_stack([x[a:b], v[a:b]]) for a, b in zip(edges[::2], edges[1::2]) if b - a >= 2]
+
+
+def _buttock_runs(x: np.ndarray, yz: np.ndarray, yb: float) -> list[np.ndarray]:
+    """The buttock ``y = yb`` in profile, ``(k, 2)`` runs of ``(x, z)`` [m]: its lowest crossing of each section,
+    split where it misses one, and each run carried on past its last section to where the buttock plane leaves
+    the hull before the next (which is narrower than ``yb``): where the sections' widest half-breadth falls to
+    ``yb``, at the height of their widest point there (the deck at side, a waterline), both interpolated — not
+    stopped a station short of the stem, the stern or the deck."""
+    z = _outermost(yz, 0, yb, lowest=True)
+    y = yz[..., 0]
+    wide = y.max(axis=1)
+    top = yz[np.arange(len(x)), np.argmax(y, axis=1), 1]  # the height of each section's widest point
+    ok = np.append(np.isfinite(z), False)
+    edges = np.flatnonzero(np.diff(np.concatenate([[False], ok])))
+    runs = []
+    for a, b in zip(edges[::2], edges[1::2]):  # sections a … b − 1 cross the buttock
+        ends = []
+        for i, j in ((a, a - 1), (b - 1, b)):  # the run's aft end, then its forward end
+            if 0 <= j < len(x) and wide[j] < yb <= wide[i]:
+                t = (wide[i] - yb) / (wide[i] - wide[j])
+                zt = top[i] + t * (top[j] - top[i]) if wide[j] > 0.0 else top[i]  # a stem's section: no widest point
+                ends.append(np.array([[x[i] + t * (x[j] - x[i]), zt]]))
+            else:
+                ends.append(np.empty((0, 2)))
+        run = np.concatenate([ends[0], np.column_stack([x[a:b], z[a:b]]), ends[1]])
+        if len(run) >= 2:
+            runs.append(run)
+    return runs
 
 
 def developed_diagonal(yz: np.ndarray, diagonal: Diagonal) -> np.ndarray:
@@ -287,7 +316,7 @@ def lines_plan(sections: Sections, name: str = "", draft: float | None = None, s
         for run in _nan_runs(x, _outermost(yz, 1, z)):
             plan.half_breadth.append(("waterline", f"WL {z:g}", run))
     for yb in buttocks:
-        for run in _nan_runs(x, _outermost(yz, 0, yb, lowest=True)):
+        for run in _buttock_runs(x, yz, yb):
             plan.sheer.append(("buttock", f"Butt {yb:g}", run))
     for d in diags:
         end = d.end(half)
@@ -425,7 +454,7 @@ def plan_labels(plan: LinesPlan) -> list[Label]:
         if kind == "grid" and label.startswith("WL "):
             out.append(Label("sheer", "waterline", label, (x1, float(pts[0, 1])), "left", "center", (0.4, 0.0)))
         elif kind == "grid" and label == "BL":
-            out.append(Label("sheer", "base", "BL", (x1, 0.0), "left", "center", (0.4, 0.0)))
+            out.append(Label("sheer", "base", "BL", (x1, 0.0), "left", "center", (0.4, 0.35)))  # clear of "20"
     if plan.draft is not None:
         text = f"DWL T = {plan.draft:.2f} m"
         out.append(Label("sheer", "dwl", text, (0.5 * plan.lpp, plan.draft), "center", "bottom", (0.0, 0.2)))
@@ -496,6 +525,73 @@ def thin_labels(labels: list[Label], plan: LinesPlan, scale: float, height: floa
         return abs(value / rules[lab.kind] - round(value / rules[lab.kind])) < 1e-6
 
     return [lab for lab in labels if keep(lab)]
+
+
+#: A label's text width per character [text heights] (DejaVu Sans digits 0.64 em, capitals up to 0.77) and the
+#: gap kept between two labels' boxes [text heights]
+CHAR_WIDTH, LABEL_GAP = 0.68, 0.25
+
+
+def text_box(lab: Label, p: np.ndarray, height: float) -> np.ndarray:
+    """The box a label's text takes at ``p``, by its alignment.
+
+    Parameters
+    ----------
+    lab : Label
+        The label (its text and alignment).
+    p : numpy.ndarray, (2,)
+        Where it is placed, in the drawing's units.
+    height : float
+        The text height in the drawing's units.
+
+    Returns
+    -------
+    numpy.ndarray, (4,)
+        ``(x0, y0, x1, y1)``, a character :data:`CHAR_WIDTH` text heights wide.
+    """
+    w = CHAR_WIDTH * height * len(lab.text)
+    x0 = p[0] - {"left": 0.0, "center": 0.5, "right": 1.0}[lab.ha] * w
+    y0 = p[1] - {"bottom": 0.0, "center": 0.5, "top": 1.0}[lab.va] * height
+    return np.array([x0, y0, x0 + w, y0 + height])
+
+
+def legible_labels(labels: list[Label], place: Callable[[Label], np.ndarray], height: float) -> list[tuple]:
+    """The labels that do not collide, each with its place: every label but the body plan's station numbers
+    and the buttocks' names, which are kept in order of rank (0, 5, 10 … first, then the even ones) where each
+    clears the boxes of those kept before it by :data:`LABEL_GAP` — so no two read as one ("1310–11").
+
+    Parameters
+    ----------
+    labels : list of Label
+        The labels (thinned: :func:`thin_labels`).
+    place : callable
+        A label → where its anchor lies in the drawing, ``(2,)`` (its view's offset and scale, its ``offset``).
+    height : float
+        The text height in the drawing's units (mm on a sheet, m in a DXF).
+
+    Returns
+    -------
+    list of tuple of (Label, numpy.ndarray)
+        Those kept, with their places.
+    """
+    def rank(lab):
+        if lab.kind not in ("section", "buttock"):
+            return (0, 0, 0, 0.0)
+        first = float(lab.text.replace("–", " ").replace(",", " ").split()[-1 if lab.kind == "buttock" else 0])
+        return (1, first % 5 != 0, first % 2 != 0, first)
+
+    gap = LABEL_GAP * height
+    placed: list[tuple] = []
+    boxes: list[np.ndarray] = []
+    for lab in sorted(labels, key=rank):
+        p = np.asarray(place(lab), float)
+        box = text_box(lab, p, height)
+        clear = all(box[2] + gap <= b[0] or b[2] + gap <= box[0] or box[3] + gap <= b[1] or b[3] + gap <= box[1]
+                    for b in boxes)
+        if clear or rank(lab)[0] == 0:
+            placed.append((lab, p))
+            boxes.append(box)
+    return placed
 
 
 def arrange(plan: LinesPlan, gap: float) -> dict[str, tuple[float, float]]:

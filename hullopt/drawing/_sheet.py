@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import HullError
 from ._dxf import write_lines_dxf
 from ._grid import round_step
-from ._lines import LinesPlan, plan_labels, thin_labels, view_bounds
+from ._lines import LinesPlan, legible_labels, plan_labels, text_box, thin_labels, view_bounds
 from ._save import save_figure
 
 #: The formats of a lines plan.
@@ -210,43 +210,23 @@ def title_block(plan: LinesPlan, layout: SheetLayout | None = None, date: dateti
 
 
 def _text_box(lab, p: np.ndarray) -> np.ndarray:
-    """The box ``(x0, y0, x1, y1)`` [mm] a label's text takes at ``p`` [mm] (by its alignment; a character about
-    0.6 of its height wide)."""
-    h = TEXT_PT * MM_PER_PT
-    w = 0.62 * h * len(lab.text)
-    x0 = p[0] - {"left": 0.0, "center": 0.5, "right": 1.0}[lab.ha] * w
-    y0 = p[1] - {"bottom": 0.0, "center": 0.5, "top": 1.0}[lab.va] * h
-    return np.array([x0, y0, x0 + w, y0 + h])
+    """The box ``(x0, y0, x1, y1)`` [mm] a label's text takes at ``p`` [mm] (:func:`~._lines.text_box`)."""
+    return text_box(lab, p, TEXT_PT * MM_PER_PT)
 
 
 def _legible(plan: LinesPlan, layout: SheetLayout) -> list[tuple]:
     """The labels (:func:`~._lines.plan_labels`) that stay legible on the sheet, each with its place [mm]: the
     waterlines' and stations' every k-th where they lie closer than a label (:func:`~._lines.thin_labels`); then
     the body plan's station numbers (0, 5, 10 … first, then the even ones) and the buttocks' names, each where it
-    clears the labels kept before it."""
+    clears the labels kept before it (:func:`~._lines.legible_labels`)."""
     text_mm = TEXT_PT * MM_PER_PT
     kept: list = []
     for view in VIEWS:
         f = layout.factor(view)
         mine = [lab for lab in plan_labels(plan) if lab.view == view]
         kept += thin_labels(mine, plan, f, text_mm)
-
-    def rank(lab):
-        if lab.kind not in ("section", "buttock"):
-            return (0, 0, 0, 0.0)
-        first = float(lab.text.replace("–", " ").replace(",", " ").split()[-1 if lab.kind == "buttock" else 0])
-        return (1, first % 5 != 0, first % 2 != 0, first)
-
-    placed: list[tuple] = []
-    boxes: list[np.ndarray] = []
-    for lab in sorted(kept, key=rank):
-        p = layout.place(lab.view, np.array([lab.at]))[0] + np.asarray(lab.offset) * text_mm
-        box = _text_box(lab, p)
-        clear = all(box[2] <= b[0] or b[2] <= box[0] or box[3] <= b[1] or b[3] <= box[1] for b in boxes)
-        if clear or rank(lab)[0] == 0:
-            placed.append((lab, p))
-            boxes.append(box)
-    return placed
+    return legible_labels(kept, lambda lab: layout.place(lab.view, np.array([lab.at]))[0]
+                          + np.asarray(lab.offset) * text_mm, text_mm)
 
 
 def _draw_block(ax, plan: LinesPlan, layout: SheetLayout) -> None:

@@ -26,7 +26,7 @@ from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
 from ...report import fmt, quantity, write_json
 from ...study import cached_call, load_hull
 from .._app import Strict, app
-from ..output import EXIT_NOT_CONVERGED, busy, print_json, say, table, warn
+from ..output import EXIT_NOT_CONVERGED, busy, print_json, say, table, warn, wrote
 
 HOLD_PCT = 0.5  # displacement and Bwl of a faired table within this [%] of the given
 
@@ -299,4 +299,5 @@ def _print_fair(report: dict) -> None:
             f"(rms {quantity(report['noise_rms'], 'm', ref=1)} → "
             f"{quantity(report['residual_error_rms'], 'm', ref=1)})")
     if "files" in report:
-        say("wrote " + ", ".join(report["files"]))
+        for f in report["files"]:
+            wrote(f)

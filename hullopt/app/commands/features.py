@@ -17,7 +17,7 @@ from ...models import check_design, extract_parent, load_parent, parent_names
 from ...report import write_json
 from ...study import load_hull
 from .._app import Strict, app
-from ..output import console, write_hull_file
+from ..output import console, write_hull_file, wrote
 
 
 def read_design(path: Path, parent: str | None = None, draft: float | None = None):
@@ -96,8 +96,9 @@ def features(
     write_json(out / "contours.json", {k: v for k, v in fh.contour_lines().items()})
     plot_features(fh, out / "features.png")
     console.print(f"{fh.name}: {fh.x.shape[0]} stations, {fh.n_segments} segments per frame, "
-                  f"{int(np.asarray(fh.real).sum())} real segments; wrote features.json, contours.json, features.png "
-                  f"to {out}")
+                  f"{int(np.asarray(fh.real).sum())} real segments", soft_wrap=True)
+    for name in ("features.json", "contours.json", "features.png"):
+        wrote(out / name)
 
 
 @app.command()
@@ -125,4 +126,4 @@ def deform(
             console.print(f"{label:28s} {float(getattr(before, key)):12.4f} → {float(getattr(after, key)):12.4f}",
                           markup=False)  # "[m³]" is no style tag
     written = write_hull_file(sec, out, t)
-    console.print(f"wrote {out} ({written.summary()}; read back)", soft_wrap=True)
+    wrote(out, f"{written.summary()}; read back")

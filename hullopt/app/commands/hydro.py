@@ -21,7 +21,7 @@ from ...geometry import EXPORT_FORMATS
 from ...report import PARTICULARS, unit_places
 from ...study import cached_call, load_hull, prepare_call, sections_like
 from .._app import Strict, app
-from ..output import parse_range, print_json, say, table, write_hull_file
+from ..output import parse_range, print_json, say, table, write_hull_file, wrote
 
 HULL_HELP = ("builtin:wigley?L=..&B=..&T=..&D=.., parent:NAME (dtc, tanker, wigley, seed003 or a parent .json), "
              "a run folder, offsets .csv, a mesh (stl, stl.gz, obj, ply…; ?scale=&lpp=&axes=&shift=&half=) "
@@ -132,4 +132,4 @@ def export(
         raise HullError(f"{out}: unknown mesh format {out.suffix!r}; expected one of .{', .'.join(EXPORT_FORMATS)}")
     h = load_hull(hull)
     written = write_hull_file(h.sections, out, h.design_draft)
-    say(f"wrote {out} ({written.summary()}; read back)")
+    wrote(out, f"{written.summary()}; read back")

@@ -14,7 +14,7 @@ from ...constants import RHO_SEA
 from ...errors import HullError
 from ...study import load_hull
 from .._app import Strict, app
-from ..output import check_out, say
+from ..output import check_out, wrote
 from .hydro import HULL_HELP, hydro_table
 from .stability import PLOT_FORMATS
 
@@ -89,15 +89,15 @@ def lines(
                       cb=particulars["cb"][0])
     for p in out:
         save_lines(plan, p, sheet, dpi)
-        say(f"wrote {p}")
+        wrote(p)
     if curves is not None:
         table = SimpleNamespace(**{k: np.asarray(v[1:]) for k, v in particulars.items()})  # a HydrostaticTable
         plot_hydrostatic_curves(table, curves, h.name, depth=float(h.sections.depth), design_draft=draft)
-        say(f"wrote {curves}")
+        wrote(curves)
     if offsets is not None:
         if layout == "wide":
             x, z, _, _ = offset_table(h.sections, draft, stations, spacing)
             write_offsets_wide(h.sections, offsets, x=x, z=z, name=h.name)
         else:
             write_offsets_stations(h.sections, offsets, draft, stations, spacing, name=h.name)
-        say(f"wrote {offsets} ({layout} layout)")
+        wrote(offsets, f"{layout} layout")

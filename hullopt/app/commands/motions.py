@@ -20,7 +20,7 @@ from ...waves import (
 )
 from ...waves import motions as strip_motions
 from .._app import Strict, app
-from ..output import parse_range, print_json, table, warn
+from ..output import parse_range, print_json, table, warn, wrote
 from .hydro import HULL_HELP
 
 
@@ -97,6 +97,7 @@ def motions(
     }
     if plot is not None:
         _plot(plot, out)
+        wrote(plot, json=json)
     note = motion_validity_warning(out["fn"], lpp / beam)
     if note is not None:
         warn(note)

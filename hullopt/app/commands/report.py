@@ -9,7 +9,7 @@ import typer
 
 from ...errors import HullError
 from .._app import app
-from ..output import busy, print_json, say, table, warn
+from ..output import busy, print_json, say, table, warn, wrote
 
 
 @app.command("report")
@@ -24,7 +24,7 @@ def report_command(
 
     with busy(f"writing {run_dir}/report.html"):
         path = write_report(run_dir)
-    say(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB; open it in a browser)")
+    wrote(path, f"{path.stat().st_size / 1e6:.1f} MB; open it in a browser")
 
 
 @app.command("rescore")
@@ -64,6 +64,8 @@ def rescore_command(
         print_json(rescored)
     else:
         _print_rescored(rescored)
+    for name in (*((FRONTS_NAME,) if _has_fronts(rescored) else ()), "report.json", "report.html"):
+        wrote(run_dir / name, json=json)
     for w in doubts:  # on stderr, beside the JSON too
         warn(w)
 

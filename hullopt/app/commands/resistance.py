@@ -27,7 +27,7 @@ from ...resistance import (
 )
 from ...study import cached_call, load_hull
 from .._app import Strict, app
-from ..output import parse_range, print_json, table, warn
+from ..output import parse_range, print_json, table, warn, wrote
 from .hydro import HULL_HELP
 
 FREE_STEPS = 2  # Dawson's sinkage-and-trim iterations for --free: C_W within 0.3 % of 4 on the Wigley at Fn 0.45
@@ -216,6 +216,7 @@ def resistance(
         from ...report import plot_resistance
 
         plot_resistance(records, methods, plot, title=f"{h.name} — T {t:g} m")
+        wrote(plot, json=json)
     if pattern is not None:
         from ...report import plot_wave_pattern
 
@@ -233,6 +234,7 @@ def resistance(
             zeta, by = np.asarray(wave_pattern(h.sections, t, float(u[0]), x, y)), "Kelvin waves by the panel method"
         plot_wave_pattern(x, y, zeta, lpp, pattern, title=f"{h.name} — {by}, {knots[0]:g} kn "
                           f"(Fn {records[0]['fn']:.3f}), T {t:g} m", wake=wake)
+        wrote(pattern, json=json)
     if json:
         print_json(records)
         return

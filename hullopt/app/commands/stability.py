@@ -32,6 +32,7 @@ from ..output import (
     styled,
     table,
     warn,
+    wrote,
 )
 from .hydro import HULL_HELP, parse_displacement
 
@@ -157,6 +158,7 @@ def stability_cmd(
             raise HullError("--kn-plot needs --cross START:STOP:COUNT (displacements in t)")
     volume = parse_displacement(displacement) / rho
     theta_f = None if flooding_angle is None else np.deg2rad(flooding_angle)
+    written: list[Path] = []  # the plots, said once at the end (wrote)
     with busy("reading the hull", quiet=json) as stage:
         like = sections_like(hull) if sheer.strip().lower() == "none" else None
         if like is not None:  # a mesh: the GZ program is built while it is read
@@ -207,11 +209,13 @@ def stability_cmd(
 
                 stage("plotting the cross curves")
                 plot_cross_curves(disp_t, np.deg2rad(deg), kn, kn_plot, h.name)
+                written.append(kn_plot)
         if plot is not None:
             from ...drawing import plot_gz
 
             stage("plotting the GZ curve")
             plot_gz(c, plot, crit, h.name, rho=rho, flooding_angle=theta_f, weather=wx)
+            written.insert(0, plot)
     if not bool(np.all(np.asarray(solved.converged))):
         bad = solve_deg[~np.asarray(solved.converged)]
         warn(f"no equilibrium found at heels {', '.join(f'{b:g}' for b in bad)}°")
@@ -228,7 +232,9 @@ def stability_cmd(
     if json:
         print_json(out)
     else:
-        _print_stability(out, h.name, rho, plot, kn_plot)
+        _print_stability(out, h.name, rho)
+    for p in written:
+        wrote(p, json=json)
     if failed:
         if not json:
             say(f"{len(failed)} of {len(records)} criteria fail: {'; '.join(failed)} (exit code "
@@ -331,7 +337,7 @@ def _weather(sections, curve, displacement: float, kg: float, rho: float, theta_
     return w, record
 
 
-def _print_stability(out: dict, name: str, rho: float, plot: Path | None, kn_plot: Path | None) -> None:
+def _print_stability(out: dict, name: str, rho: float) -> None:
     """The GZ table, the IS Code criteria with their units and the cross curves of ``hullopt stability``."""
     deg = np.asarray(out["heel_deg"])
     rows = [[f"{a:g}", float(g), float(k), float(t)] for a, g, k, t in zip(deg, out["gz"], out["kn"], out["trim_deg"])]
@@ -357,9 +363,6 @@ def _print_stability(out: dict, name: str, rho: float, plot: Path | None, kn_plo
         table("Cross curves KN [m]", ["Δ [t] \\ heel", *(f"{a:g}°" for a in cc["heel_deg"])],
               [[fmt(d / 1e3), *map(float, row)] for d, row in zip(cc["displacement"], kn)],
               scale=[None] + [float(np.abs(kn).max())] * kn.shape[1], places=[None] + [3] * kn.shape[1])
-    for p in (plot, kn_plot):
-        if p is not None:
-            say(f"wrote {p}")
 
 def parse_scale(text: str) -> float:
     """``'1:200'`` (or ``'200'``, ``'0.005'``) → the model scale factor (0.005)."""
@@ -415,6 +418,9 @@ def print_cmd(
     whole = mesh.volume * (1000.0 * s) ** 3 / 1e3
     table(f"{h.name} at 1:{1 / s:g} in {out} (mm)", ["piece", "x from [mm]", "x to [mm]", "volume [cm³]", "watertight"],
           rows + [["whole", float(mesh.bounds[0, 0] * 1000 * s), float(mesh.bounds[1, 0] * 1000 * s), float(whole), ""]])
+    for i in range(1, len(parts) + 1):
+        for f in fmts:
+            wrote(out / f"{stem}_{i}of{pieces}.{f}")
 
 
 def _print_weather(w: dict) -> None:

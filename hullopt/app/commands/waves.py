@@ -27,7 +27,7 @@ from ...waves import (
     select_lower_k_aw,
 )
 from .._app import Strict, app
-from ..output import busy, console, parse_range, print_json, table, warn
+from ..output import busy, console, parse_range, print_json, table, warn, wrote
 from .hydro import HULL_HELP
 
 
@@ -184,6 +184,7 @@ def waves(
             }
         if plot is not None:
             _plot(plot, out)
+            wrote(plot, json=json)
     for m in METHODS if method == "all" else (method,):
         wm = WAVE_METHODS[m]()
         if not bool(np.all(np.asarray(wm.valid(jnp.asarray(alpha))))):

@@ -21,7 +21,7 @@ from ...wind import (
     wind_variables,
 )
 from .._app import Strict, app
-from ..output import print_json, say, table
+from ..output import print_json, say, table, wrote
 from ...study import DrawingsConfig, config_parts, read_wind_config
 
 ROWS = [("L", "m"), ("B", "m"), ("A_T", "m²"), ("A_L", "m²"), ("A_OD", "m²"), ("A_SS", "m²"), ("C", "m"),
@@ -125,6 +125,7 @@ def wind(
         if not plot.parent.is_dir():
             raise HullError(f"--plot {plot}: the folder {str(plot.parent)!r} does not exist")
         _plot(plot, psi_deg, by_model, f"{'every model' if model == 'all' else model} — {name}")
+        wrote(plot, json=json)
     variables = v.to_dict() | extra
     if json:
         out = {"variables": variables, "references": REFERENCES}
@@ -142,5 +143,3 @@ def wind(
               ["ψ [deg]", "C_X", "C_Y", "C_N", "C_K"],
               [[f"{p:g}", *(float(coeffs[k][i]) for k in ("cx", "cy", "cn", "ck"))] for i, p in enumerate(psi_deg)])
     say(REFERENCES)
-    if plot is not None:
-        say(f"wrote {plot}")
