@@ -167,6 +167,9 @@ def test_a_parent_that_misses_its_source_warns_in_the_run(tmp_path, monkeypatch)
         (text,) = [str(w.message) for w in seen if w.category is FidelityWarning]
         assert f"miss the hull read from {spec}: ∇ off by up to" in text and "(tolerance 0.000 %)" in text
         assert "wetted surface" in text and "the feature model's, not the file's" in text
+    (kept,) = (tmp_path / "cache" / "parents").glob("*.json")
+    fidelity = json.loads(kept.read_text())["fidelity"]
+    assert fidelity["met"] is False and abs(fidelity["wetted_surface_error"]) < 2e-3  # one hull, one S
     cfg, raw = load_config(REPO / "configs" / "fit_cb_lcb.toml")
 
     def read(cfg):
