@@ -56,15 +56,17 @@ def rescore_command(
         report["warnings"] = [w for w in report.get("warnings", []) if w not in old] + doubts
         report["rescored"], report["rescored_warnings"] = rescored, doubts
         met = [d.get("met", True) for d in report["designs"]] if report.get("designs") else None
+        written = ["report.json", "report.html"]
         if _has_fronts(rescored):
             plot_rescored_fronts(rescored, run_dir / FRONTS_NAME, met)
+            written.insert(0, FRONTS_NAME)
         write_json(run_dir / "report.json", report)
         write_report(run_dir, report)
     if json:
         print_json(rescored)
     else:
         _print_rescored(rescored)
-    for name in (*((FRONTS_NAME,) if _has_fronts(rescored) else ()), "report.json", "report.html"):
+    for name in written:
         wrote(run_dir / name, json=json)
     for w in doubts:  # on stderr, beside the JSON too
         warn(w)
