@@ -397,7 +397,7 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "", measu
             ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **(style | (dict(ls=":") if dry[k] else {})))
     for k, zk in enumerate(z):
         ax_wl.plot([], [], color=f"C{k}", ls=":" if dry[k] else "-",
-                   label=f"z = {zk:.2f} m" + (" (DWL)" if abs(zk - float(draft)) < 1e-6 else " (above)" * dry[k]))
+                   label=f"z = {zk:.2f} m" + (" (DWL)" if abs(zk - float(draft)) < 1e-6 else " (above)" * bool(dry[k])))
     ax_wl.plot([], [], color="0.4", ls="--", label="parent (dashed)")
     ax_wl.set_ylabel("half-breadth y [m]")
     ax_wl.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0)
