@@ -28,7 +28,9 @@ full scale) written to WARP's grid at level N (default 1, the benchmark's G1), r
 L2-Sea's own parent grid; ΔR/R0 by WARP and by hullopt, the benchmark's constraints (Lpp, ∇, B and T within ±5 %,
 the sonar dome's volume), hullopt's wall time and iterations, and that time in G1-equivalents (WARP's G1 run
 time measured in the same call), against the published best (:data:`PUBLISHED`); results in
-results/l2sea_optimum.json.
+results/l2sea_optimum.json. ``bench_l2sea.py --ranking [RUN_FOLDER] [--level N]`` (default level 3): hullopt's Dawson
+C_W ranking of the eleven variants, four principal-dimension changes and (given a run) its optimum against WARP's
+(:func:`ranking_main`); results/l2sea_ranking.json.
 """
 
 from __future__ import annotations
@@ -303,7 +305,7 @@ def benchmark_measures(s: Sections, draft: float) -> dict:
             "dome_volume": float(region_volume(s, draft, DOME["x_a"], jnp.inf, DOME["z_top"]))}
 
 
-def optimum(folder: str | Path, level: int = 1) -> dict:
+def optimum(folder: str | Path, level: int = 1, reuse: bool = False) -> dict:
     """Judge a hullopt run on the L2-Sea benchmark by WARP: the run's optimum and its parent written to WARP's
     grid at ``level`` and run at Fr 0.28 (even keel), beside L2-Sea's own parent grid.
 
@@ -313,6 +315,9 @@ def optimum(folder: str | Path, level: int = 1) -> dict:
         A ``hullopt run`` folder of a minimise run on the DTMB 5415 (``configs/l2sea_5415.toml``).
     level : int
         L2-Sea's grid level (1: the benchmark's G1).
+    reuse : bool
+        Take a WARP run kept in the run folder by an earlier call (``l2sea_g<level>_<hull>/warp.json``: its
+        results and wall time) instead of running it again.
 
     Returns
     -------
@@ -332,24 +337,30 @@ def optimum(folder: str | Path, level: int = 1) -> dict:
     config = json.loads((folder / "config.json").read_text())
     design = load_run(str(folder))
     par = load_run(config["hull"]["parent"])
-    t0, t1 = float(config["hull"]["draft"]), float(design.draft)
+    t0, t1 = float(config["hull"]["draft"]), float(design.design_draft)
     s0, s1 = par.sections, design.sections
     k = LPP / float(s0.lpp)
     ni, nj = l2sea.NODES[level]
     warp = {}
     with tempfile.TemporaryDirectory(prefix="bench-l2sea-opt-") as tmp:
-        warp["own_parent"] = l2sea.run_warp(l2sea.parent_grid(), FROUDE, level)
-        for name, s, t in (("parent", s0, t0), ("optimum", s1, t1)):
-            path = l2sea.write_grid(_scaled(s, k), t * k, Path(tmp) / f"{name}.x", ni, nj)
-            warp[name] = l2sea.run_warp(path, FROUDE, level, lpp=LPP, draft=t * k,
-                                        keep=folder / f"l2sea_g{level}_{name}")
+        for name, s, t in (("own_parent", None, None), ("parent", s0, t0), ("optimum", s1, t1)):
+            keep = folder / f"l2sea_g{level}_{name}"
+            if reuse and (keep / "warp.json").is_file():  # a run kept by an earlier call: its results and time
+                warp[name] = json.loads((keep / "warp.json").read_text()) | {"reused": True}
+            else:
+                if s is None:
+                    warp[name] = l2sea.run_warp(l2sea.parent_grid(), FROUDE, level, keep=keep)
+                else:
+                    path = l2sea.write_grid(_scaled(s, k), t * k, Path(tmp) / f"{name}.x", ni, nj)
+                    warp[name] = l2sea.run_warp(path, FROUDE, level, lpp=LPP, draft=t * k, keep=keep)
+                (keep / "warp.json").write_text(json.dumps(warp[name], indent=1))
             print(f"WARP level {level} {name}: R_T {warp[name]['rt_N']:.3f} N, C_W {warp[name]['cw']:.4e} "
                   f"({warp[name]['seconds']:.0f} s)")
     m0, m1 = benchmark_measures(s0, t0), benchmark_measures(s1, t1)
     g1_seconds = float(np.mean([w["seconds"] for w in warp.values()]))
     seconds = report.get("seconds", {})
     wall = float(sum(v for v in seconds.values() if isinstance(v, (int, float))))
-    obj0, obj1 = float(report["parent"]["objective"]), float(report["achieved"]["objective"])
+    obj0, obj1 = float(report["objective"]["parent"]), float(report["objective"]["value"])
     data = {
         "run": folder.name, "level": level, "nodes": l2sea.NODES[level], "froude": FROUDE, "scale": k,
         "warp": warp,
@@ -371,13 +382,14 @@ def optimum(folder: str | Path, level: int = 1) -> dict:
     return data
 
 
-def optimum_main(folder: str, level: int) -> None:
-    """``--optimum RUN_FOLDER [--level N]``: :func:`optimum`, its goals, saved to results/l2sea_optimum.json."""
+def optimum_main(folder: str, level: int, reuse: bool = False) -> None:
+    """``--optimum RUN_FOLDER [--level N] [--reuse]``: :func:`optimum`, its goals, saved to
+    results/l2sea_optimum.json."""
     if l2sea.binary() is None:
         print(f"bench_l2sea: L2-Sea is not built (looked in {l2sea.l2sea_dir()}); run benchmarks/l2sea/build.sh. "
               "Skipped.")
         return
-    d = optimum(folder, level)
+    d = optimum(folder, level, reuse)
     pub = PUBLISHED
     r = d["measures"]["ratio"]
     d["goals"] = [
@@ -404,12 +416,107 @@ def optimum_main(folder: str, level: int) -> None:
     print("wrote", save("l2sea_optimum", d))
 
 
+def _dims(s: Sections, draft: float, beam: float, height: float) -> tuple[Sections, float]:
+    """``s`` with every half-breadth × ``beam`` and every height (and the draft) × ``height`` from the baseline."""
+    yz = s.yz * jnp.array([beam, height])
+    return Sections(x=s.x, yz=yz, lpp=s.lpp), draft * height
+
+
+def ranking_specs(folder: str | Path | None = None) -> list[dict]:
+    """The ranking study's hulls beyond :func:`variant_specs`' eleven, full scale: principal-dimension changes of
+    the parent (beam ±5 % with the draft the other way, ∇ held; beam or draft +5 % alone) and, given a run folder
+    of ``configs/l2sea_5415.toml``, its optimum and the parent with only the optimum's beam and draft.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path, optional
+        A minimise run's folder on the DTMB 5415 model.
+
+    Returns
+    -------
+    list of dict
+        As :func:`variant_specs`: ``name``, ``description``, ``modification``, ``params``, ``sections`` and
+        ``draft`` (full scale, Lpp 142 m).
+    """
+    import json
+
+    s0 = parent()
+    out = []
+    for name, desc, b, h in (("beam+5_draft-5", "beam × 1.05, heights and draft ÷ 1.05 (∇ held)", 1.05, 1 / 1.05),
+                             ("beam-5_draft+5", "beam ÷ 1.05, heights and draft × 1.05 (∇ held)", 1 / 1.05, 1.05),
+                             ("beam+5", "beam × 1.05 (∇ + 5 %)", 1.05, 1.0),
+                             ("draft+5", "heights and draft × 1.05 (∇ + 5 %)", 1.0, 1.05)):
+        s, t = _dims(s0, DRAFT, b, h)
+        out.append({"name": name, "description": desc, "modification": "dims", "params": {"beam": b, "height": h},
+                    "sections": s, "draft": t})
+    if folder is not None:
+        from hullopt.study import load_hull as load_run
+
+        folder = Path(folder)
+        report = json.loads((folder / "report.json").read_text())
+        design = load_run(str(folder))
+        k = LPP / float(design.sections.lpp)
+        out.append({"name": "optimum", "description": f"the optimum of {folder.name}", "modification": "run",
+                    "params": report.get("params"), "sections": _scaled(design.sections, k),
+                    "draft": float(design.design_draft) * k})
+        b = 1.0 + float(np.ravel(report["params"].get("beam_s", [0.0]))[0])
+        h = 1.0 + float(np.ravel(report["params"].get("draft_s", [0.0]))[0])
+        s, t = _dims(s0, DRAFT, b, h)
+        out.append({"name": "optimum_dims_only", "description": f"the parent at the optimum's beam × {b:.4f} and "
+                    f"draft × {h:.4f}", "modification": "dims", "params": {"beam": b, "height": h},
+                    "sections": s, "draft": t})
+    return out
+
+
+def ranking_main(folder: str | None, level: int) -> None:
+    """``--ranking [RUN_FOLDER] [--level N]``: WARP at ``level`` on :func:`ranking_specs`' hulls (the eleven
+    variants' WARP C_W at that level taken from results/l2sea.json where it has them, else run), hullopt's
+    Dawson C_W of all, their Spearman rank correlation; saved to results/l2sea_ranking.json."""
+    import json
+
+    from _common import RESULTS
+
+    if l2sea.binary() is None:
+        print(f"bench_l2sea: L2-Sea is not built (looked in {l2sea.l2sea_dir()}). Skipped.")
+        return
+    stored = json.loads((RESULTS / "l2sea.json").read_text())
+    specs = variant_specs() + ranking_specs(folder)
+    ni, nj = l2sea.NODES[level]
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="bench-l2sea-rank-") as tmp:
+        for v in specs:
+            old = next((r for r in stored["variants"] if r["name"] == v["name"]), None)
+            if old is not None and str(level) in old["l2sea"]:
+                cw, sec, src = old["l2sea"][str(level)]["cw"], None, "results/l2sea.json"
+            else:
+                path = l2sea.write_grid(v["sections"], v["draft"], Path(tmp) / "h.x", ni, nj)
+                r = l2sea.run_warp(path, FROUDE, level, draft=v["draft"])
+                cw, sec, src = r["cw"], r["seconds"], "run"
+            rows.append({k: v[k] for k in ("name", "description", "modification", "draft")} |
+                        {"warp_cw": cw, "warp_seconds": sec, "warp_source": src})
+            print(f"{v['name']:22s} WARP level {level} C_W {cw:.4e} ({src})")
+    dawson = hullopt_cw(specs, "dawson")
+    for r, c in zip(rows, dawson):
+        r["hullopt_dawson_cw"] = c
+    rho = spearman(dawson, [r["warp_cw"] for r in rows])
+    data = {"level": level, "froude": FROUDE, "hulls": rows, "spearman_dawson": rho,
+            "goals": [goal(f"C_W ranking of {len(rows)} DTMB 5415 hulls (shape, principal dimensions, the optimum), "
+                           f"hullopt Dawson vs WARP level {level} (Spearman)", rho, "", "≥ 0.9", bool(rho >= 0.9),
+                           "L2-Sea WARP")]}
+    print(f"Spearman (hullopt Dawson vs WARP level {level}, {len(rows)} hulls): {rho:.3f}")
+    print("wrote", save("l2sea_ranking", data))
+
+
 if __name__ == "__main__":
     t0 = time.perf_counter()
     argv = sys.argv[1:]
-    if "--optimum" in argv:
+    if "--ranking" in argv:
+        i = argv.index("--ranking")
+        run_folder = argv[i + 1] if i + 1 < len(argv) and not argv[i + 1].startswith("--") else None
+        ranking_main(run_folder, int(argv[argv.index("--level") + 1]) if "--level" in argv else 3)
+    elif "--optimum" in argv:
         lv = int(argv[argv.index("--level") + 1]) if "--level" in argv else 1
-        optimum_main(argv[argv.index("--optimum") + 1], lv)
+        optimum_main(argv[argv.index("--optimum") + 1], lv, "--reuse" in argv)
     else:
         rescore() if "--rescore" in argv else main()
     print(f"{time.perf_counter() - t0:.0f} s")

@@ -423,15 +423,36 @@ def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB54
         stat = cpu / "coef-stat.out"
         if proc.returncode != 0 or not stat.is_file() or "unfeasible physic" in proc.stdout:
             raise RuntimeError(f"L2-Sea failed (rc {proc.returncode}):\n{proc.stdout[-3000:]}\n{proc.stderr[-2000:]}")
-        def table(name):
-            return [list(map(float, ln.split())) for ln in (cpu / name).read_text().splitlines()[1:] if ln.strip()]
+        out = read_run(cpu, one=np.isscalar(froude))
+    return out | {"seconds": seconds, "grid_level": int(grid_level),
+                  "nodes": list(NODES.get(int(grid_level), (ni, nj)))}
 
-        rows, dyn, ct_rows = table("coef-stat.out"), table("force-dyn.out"), table("Ct.out")
-        aux = (cpu / "panca.aux").read_text().split()
+
+def read_run(cpu, one: bool = True) -> dict:
+    """The results of an L2-Sea run from its output folder (``CPU000``, or a copy kept by :func:`run_warp`).
+
+    Parameters
+    ----------
+    cpu : path
+        The folder holding ``coef-stat.out``, ``force-dyn.out``, ``Ct.out`` and ``panca.aux``.
+    one : bool
+        One Froude number: each value a float (else a list, one per Froude number).
+
+    Returns
+    -------
+    dict
+        As :func:`run_warp`, without ``seconds``, ``grid_level`` and ``nodes``.
+    """
+    cpu = Path(cpu)
+
+    def table(name):
+        return [list(map(float, ln.split())) for ln in (cpu / name).read_text().splitlines()[1:] if ln.strip()]
+
+    rows, dyn, ct_rows = table("coef-stat.out"), table("force-dyn.out"), table("Ct.out")
+    aux = (cpu / "panca.aux").read_text().split()
     # coef-stat.out: Fr Cw_pi Cw_wc Ch Cf Cf_ittc Ct_pi Ct_wc Ct_ittc SinkG Trim WSurf_s WSurf_d
     # force-dyn.out: Fr Rw_pi Rw_wc Rh Rf Rf_ittc Rt_pi Rt_wc Rt_ittc
     # Ct.out: Fr Cw Ch Cf Cf_ittc Ct Ct_ittc Sink Trim WSurf
-    one = np.isscalar(froude)
     pick = (lambda v: v[0]) if one else (lambda v: v)
     return {
         "froude": pick([r[0] for r in rows]),
@@ -446,9 +467,6 @@ def run_warp(grid_path, froude=0.28, grid_level: int = 5, *, lpp: float = DTMB54
         "trim": pick([r[8] for r in ct_rows]),
         "wetted_surface_over_L2": float(aux[3]),
         "displacement_over_L3": float(aux[1]),
-        "seconds": seconds,
-        "grid_level": int(grid_level),
-        "nodes": list(NODES.get(int(grid_level), (ni, nj))),
     }
 
 
