@@ -1,4 +1,5 @@
-"""Design-objective benchmarks (issue [8/8]) on the Wigley library parent of configs/min_added_resistance.toml.
+"""Design-objective benchmarks (issue [8/8]) on the Wigley library parent of tests/data/min_added_resistance_wigley.toml (the shipped
+configs/min_added_resistance.toml until 2026-12-02).
 
 1. Value-and-gradient over value of the full objective: hydrostatics (∇, KB, BM_T) + K_AW + sea-state mean
    added resistance + wind added resistance + Holtrop–Mennen, as a function of the P design parameters.
@@ -38,7 +39,7 @@ from hullopt.models import wigley  # noqa: E402
 from hullopt.optimise import CalmResistance, KAw, MeanAddedResistance, WindAddedResistance  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-CONFIG = ROOT / "configs" / "min_added_resistance.toml"
+CONFIG = ROOT / "tests" / "data" / "min_added_resistance_wigley.toml"
 V = jnp.asarray(15.0 * KNOT)
 OBJECTIVES = (
     KAw(speed=V),

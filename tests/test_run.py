@@ -11,6 +11,7 @@ import pytest
 
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
+DATA = Path(__file__).resolve().parent / "data"
 
 
 @pytest.fixture(scope="module")
@@ -157,7 +158,7 @@ def test_a_station_shift_fit_keeps_every_section_and_reads_back(cli, tmp_path):
 def test_min_added_resistance_config_lowers_it_with_particulars_held(cli, tmp_path):
     # the reflection part only: with the strip-theory motions in the objective the run takes far longer than a
     # test may (the motions and their gradients are tested in test_motions.py)
-    code, stdout, err = cli("run", str(CONFIGS / "min_added_resistance.toml"), "--out", str(tmp_path / "m"),
+    code, stdout, err = cli("run", str(DATA / "min_added_resistance_wigley.toml"), "--out", str(tmp_path / "m"),
                             "--set", "objective.motion=false", "--json")
     assert code == 0, err
     r = json.loads(stdout)
@@ -232,7 +233,7 @@ def test_a_fit_by_lbfgsb_from_the_config(cli, tmp_path):
     assert code == 0 and report["met"], err
     assert abs(report["achieved"]["cb"] - 0.48) <= 1e-4 and abs(report["achieved"]["lcb_pct"] + 1.5) <= 0.01
     assert report["history"]["iteration"] == "L-BFGS-B step"
-    code, _, err = cli("run", CONFIGS / "min_added_resistance.toml", "--set", 'solver.method="lbfgsb"',
+    code, _, err = cli("run", DATA / "min_added_resistance_wigley.toml", "--set", 'solver.method="lbfgsb"',
                        "--out", tmp_path / "m")
     assert code == 2 and "solver.method = 'lbfgsb' applies to fits" in err, err
 

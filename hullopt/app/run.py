@@ -120,7 +120,7 @@ def _staging(out: Path) -> Path:
     return work
 
 
-def _has_fronts(rescored: dict) -> bool:
+def has_fronts(rescored: dict) -> bool:
     """Whether a re-scoring has a front to draw: a calm-water and an added-resistance method (a calm-water
     minimum is re-scored by calm-water methods alone)."""
     kinds = {m["kind"] for m in rescored["methods"].values()}
@@ -195,7 +195,7 @@ def _solve_and_write(cfg: RunConfig, raw: dict, study: Study, out: Path, name: s
             report["rescored"], report["rescored_warnings"] = rescored, doubts
             report["warnings"] += doubts
             met = [d["met"] for d in report["designs"]] if not solution.final else None
-            if _has_fronts(rescored):  # a calm-water run is re-scored by calm-water methods only: no front
+            if has_fronts(rescored):  # a calm-water run is re-scored by calm-water methods only: no front
                 plot_rescored_fronts(rescored, out / FRONTS_NAME, met)
         if "history" in report:
             h = report["history"]

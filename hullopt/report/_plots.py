@@ -394,7 +394,7 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "", measu
     dry = z > float(draft) + 1e-9  # above the DWL: dotted, so that the wetted lines read first
     for s, y, style in ((before, widths[0], dict(ls="--", lw=0.9)), (after, widths[1], dict(lw=1.1))):
         for k in range(len(z)):
-            ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **(style | (dict(ls=":") if dry[k] else {})))
+            ax_wl.plot(np.asarray(s.x), y[:, k], color=f"C{k}", **(style | (dict(ls=":") if dry[k] and s is after else {})))
     for k, zk in enumerate(z):
         ax_wl.plot([], [], color=f"C{k}", ls=":" if dry[k] else "-",
                    label=f"z = {zk:.2f} m" + (" (DWL)" if abs(zk - float(draft)) < 1e-6 else " (above)" * bool(dry[k])))

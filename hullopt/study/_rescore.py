@@ -67,12 +67,16 @@ def _combined(cfg: RunConfig) -> bool:
     return o is not None and o.kind in ("profile_resistance", "profile_power") and o.build().waves
 
 
-def _confirmed(methods: dict, kind: str, k: int, claimed: bool) -> tuple[bool, str | None]:
-    """Whether design ``k`` holds in ``kind`` under a method other than the run's own and inside its validity
-    (``claimed``: the run claims a gain there, which such a method must find; else it must find no loss), and
-    the warning where it does not."""
+def _confirmed(methods: dict, kind: str, k: int) -> tuple[bool | None, str | None]:
+    """Whether design ``k`` holds in ``kind`` under a method other than the run's own and inside its validity,
+    and the warning where it does not. Where the run's own method finds a gain (lower than the parent's by more
+    than :data:`HOLDS`) such a method must find one too; else it must find no loss. ``None`` (and no warning)
+    where no method can judge it: every other one outside its validity or blind to the mechanism."""
     others = [m for m in methods.values() if m["kind"] == kind and not m["own"]]
     independent = [m for m in others if not m.get("outside_validity") and not m.get("blind")]
+    if not independent:
+        return None, None
+    claimed = any(m["own"] and m["change_pct"][k] < -100.0 * HOLDS for m in methods.values() if m["kind"] == kind)
     what = "calm-water resistance" if kind == "calm" else "added resistance in waves"
     worst = ", ".join(f"{m['method']} {m['change_pct'][k]:+.2f} % (worst {m['worst_pct'][k]:+.2f} %)"
                       for m in independent)
@@ -239,7 +243,7 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
         ``parent`` and ``designs`` [N] at the nominal condition, ``change_pct`` per design at the nominal
         condition and ``worst_pct`` over every condition, and ``holds`` per design; ``verdict``: per design and
         kind (or ``total``, for an objective that is the sum) whether the gain holds under at least one
-        independent method. The warnings name each design and kind where it does not.
+        independent method (None: no method can judge it). The warnings name each design and kind where it does not.
     """
     cond = conditions(cfg)
     call, invalid = rescore_program(cfg, prob, stack_params(designs), key)
@@ -279,10 +283,17 @@ def rescore(cfg: RunConfig, prob: Problem, designs: list[FeatureParams], key) ->
             continue
         for kind in ("calm", "waves"):
             if any(m["kind"] == kind and not m["own"] for m in methods.values()):
-                row[kind], warning = _confirmed(methods, kind, k, own[kind] is not None)
+                row[kind], warning = _confirmed(methods, kind, k)
                 if warning:
                     warnings.append(warning)
         verdict.append(row)
+    for kind, what in (("calm", "calm-water resistance"), ("waves", "added resistance in waves")):
+        unjudged = [k for k, row in enumerate(verdict) if kind in row and row[kind] is None]
+        if unjudged and not (kind == "waves" and mechanism):  # the mechanism note says why for the waves
+            why = "; ".join(f"{m['method']}: {m.get('outside_validity') or m.get('blind')}" for m in methods.values()
+                            if m["kind"] == kind and not m["own"])
+            warnings.append(f"no independent method judges the {what} of design(s) "
+                            f"{', '.join(map(str, unjudged))}: {why}")
     rescored = {"conditions": {**cond, "speed_factors": list(SPEED_FACTORS), "tp_shifts_s": list(TP_SHIFTS)},
                 "methods": methods, "verdict": verdict}
     if not waves:

@@ -39,7 +39,7 @@ def rescore_command(
     rescored_fronts.png, and rebuilds report.html."""
     from ...report import FRONTS_NAME, plot_rescored_fronts, read_run, write_json, write_report
     from ...study import folder_study, read_run_config
-    from ..run import _has_fronts
+    from ..run import has_fronts
 
     cfg = read_run_config(run_dir)
     _, report = read_run(run_dir)
@@ -57,7 +57,7 @@ def rescore_command(
         report["rescored"], report["rescored_warnings"] = rescored, doubts
         met = [d.get("met", True) for d in report["designs"]] if report.get("designs") else None
         written = ["report.json", "report.html"]
-        if _has_fronts(rescored):
+        if has_fronts(rescored):
             plot_rescored_fronts(rescored, run_dir / FRONTS_NAME, met)
             written.insert(0, FRONTS_NAME)
         write_json(run_dir / "report.json", report)
