@@ -33,6 +33,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array
 
+from .._types import Draft
 from ..errors import HullError
 from ..geometry import Sections, longitudinal_integrals, wetted_surface
 from ._feature_extract import extract_features
@@ -88,7 +89,7 @@ def _rebuild(hull: FeatureHull) -> Sections:
 
 
 @eqx.filter_jit
-def _wetted(s: Sections, draft) -> Array:
+def _wetted(s: Sections, draft: Draft) -> Array:
     return wetted_surface(s, jnp.asarray(draft, dtype=s.yz.dtype))
 
 
