@@ -242,3 +242,18 @@ def test_safe_div_and_sqrt_have_finite_gradients_where_guarded():
     g = jax.grad(lambda v: safe_norm(v))(jnp.zeros(3))
     np.testing.assert_array_equal(np.asarray(g), np.zeros(3))
     assert float(safe_norm(jnp.asarray([3.0, 4.0]))) == 5.0
+
+
+def test_section_necks_by_hand():
+    """A section that widens to 3 m at z 1, narrows to 1 m at z 2 and widens again: a neck of 2 m under a
+    waterline above the waist, none under one below it; a Wigley (only widening from the keel) has none."""
+    from hullopt.geometry import Sections, section_necks
+    from hullopt.models import wigley
+
+    bulb = jnp.array([[0.0, 0.0], [3.0, 1.0], [1.0, 2.0], [5.0, 4.0], [5.0, 8.0]])
+    plain = jnp.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [4.0, 4.0], [5.0, 8.0]])
+    s = Sections(jnp.array([0.0, 10.0]), jnp.stack([plain, bulb]), jnp.asarray(10.0))
+    np.testing.assert_allclose(section_necks(s, 6.0), [0.0, 2.0], atol=1e-15)
+    np.testing.assert_allclose(section_necks(s, 1.5), [0.0, 0.0], atol=1e-15)
+    w = jax.tree.map(jnp.asarray, wigley(100.0, 10.0, 6.25, 10.0, n=21, m=41))
+    assert float(jnp.max(section_necks(w, 6.25))) < 1e-12

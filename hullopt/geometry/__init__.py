@@ -28,6 +28,7 @@ from ._sections import Sections as Sections
 from ._sections import clipped_edge_integrals as clipped_edge_integrals
 from ._sections import closed_half_polygon as closed_half_polygon
 from ._sections import level_widths as level_widths
+from ._sections import section_necks as section_necks
 from ._sections import polygon_integrals as polygon_integrals
 from ._sections import section_integrals as section_integrals
 from ._splines import CubicSpline as CubicSpline

@@ -17,6 +17,7 @@ exact for the polyline and differentiable in the vertices and in T.
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
@@ -215,3 +216,27 @@ def section_integrals(sections: Sections, draft: Draft) -> EdgeIntegrals:
         ``area``, ``moment_z``, ``moment_y``, ``width``, each ``(n,)``, units as above.
     """
     return polygon_integrals(closed_half_polygon(sections.yz), draft)
+
+
+def section_necks(sections: Sections, draft: Draft) -> Float[Array, " n"]:
+    """Each station's neck under the waterline [m]: how much narrower its outline gets above a wider part of it
+    below ``draft`` (max over its points of the running maximum half-breadth from the keel minus the
+    half-breadth). 0 for a section that only widens from the keel up; a bulb's neck is its width less the
+    section's at its waist. No gradient (a shape class, not a measure to optimise).
+
+    Parameters
+    ----------
+    sections : Sections
+        The hull: ``x (n,)`` [m from the AP], ``yz (n, m, 2)`` [m, keel to deck].
+    draft : float or Array, scalar
+        Waterline height [m above the baseline].
+
+    Returns
+    -------
+    Array, (n,)
+        The necks [m], ≥ 0.
+    """
+    yz = jax.lax.stop_gradient(sections.yz)
+    y, z = yz[..., 0], yz[..., 1]
+    narrowing = jnp.where(z < jnp.asarray(draft, dtype=y.dtype), jax.lax.cummax(y, axis=1) - y, 0.0)
+    return jnp.max(narrowing, axis=1)

@@ -37,7 +37,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array, ArrayLike, Float, PyTree
 
-from ..geometry import Sections, region_volume, safe_div, section_integrals
+from ..geometry import Sections, region_volume, safe_div, section_integrals, section_necks
 from ..hydro import Hydrostatics, hydrostatics
 from ..waves import bluntness
 from ._jaxopt import minimise_lbfgsb_traced
@@ -312,9 +312,7 @@ def bulb_stations(sections: Sections, draft) -> Array:
         1.0 at a bulb's stations, 0.0 elsewhere (no gradient).
     """
     s = jax.lax.stop_gradient(sections)
-    y = s.yz[..., 0]  # points from the keel up
-    neck = jnp.where(s.yz[..., 1] < draft, jax.lax.cummax(y, axis=1) - y, 0.0)
-    excess = jnp.max(neck, axis=1) > BULB_EXCESS * jnp.max(y)
+    excess = section_necks(s, draft) > BULB_EXCESS * jnp.max(s.yz[..., 0])
     t = (s.x - s.x[0]) / (s.x[-1] - s.x[0])
     n, idx = s.x.shape[0], jnp.arange(s.x.shape[0])
     fore = jnp.min(jnp.where(excess & (t >= 1.0 - BULB_END), idx, n))  # n: none

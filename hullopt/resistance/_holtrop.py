@@ -18,7 +18,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from .._types import Draft, Speeds
 from ..constants import G, NU_SEA, RHO_SEA  # NU_SEA: sea water at 15 °C (ITTC), as the paper's example
-from ..geometry import Sections, longitudinal_integrals, safe_div, wetted_surface
+from ..geometry import Sections, longitudinal_integrals, safe_div, section_necks, wetted_surface
 
 #: m (of √A_BT) and dimensionless (of √c3): added under a square root that may be 0 (no bulb), so its derivative
 #: stays finite there; far below any real bulb area.
@@ -71,11 +71,9 @@ def has_bulb(sections: Sections, draft: Draft) -> Float[Array, ""]:
     Array, scalar
         1.0 or 0.0.
     """
-    yz, x = jax.lax.stop_gradient(sections.yz), jax.lax.stop_gradient(sections.x)
-    y, z = yz[..., 0], yz[..., 1]
-    neck = jnp.where(z < jnp.asarray(draft, dtype=y.dtype), jax.lax.cummax(y, axis=1) - y, 0.0)
+    x, y = jax.lax.stop_gradient(sections.x), jax.lax.stop_gradient(sections.yz[..., 0])
     fore = (x - x[0]) >= (1.0 - BULB_FORE) * (x[-1] - x[0])
-    return jnp.any(fore & (jnp.max(neck, axis=1) > BULB_NECK * jnp.max(y))).astype(y.dtype)
+    return jnp.any(fore & (section_necks(sections, draft) > BULB_NECK * jnp.max(y))).astype(y.dtype)
 
 
 class HoltropResult(eqx.Module):
