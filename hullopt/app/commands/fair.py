@@ -19,9 +19,9 @@ import typer
 from ...drawing import save_figure, write_offset_grid
 from ...errors import HullError
 from ...fairing import RESIDUALS, curve_curvature, graph_curvatures, measure
-from ...geometry import coons_surface
+from ...geometry import Sections, coons_surface
 from ...hydro import hydrostatics
-from ...models import OffsetSurface, OffsetTable, offset_surface, read_offsets
+from ...models import OffsetTable, offsets_to_sections, read_offsets
 from ...optimise import aft_body_noise, fair_offsets, fixed_offsets
 from ...report import fmt, quantity, write_json
 from ...study import cached_call, load_hull
@@ -70,18 +70,18 @@ def _fields(x, z, y, n=161, m=81):
     return xf, zf, s(xx, zz), h, k, s(xs, zz), kappa
 
 
-def _measured(x, z, tables, surface: OffsetSurface, draft):
+def _measured(x, z, tables, read: Sections, yz, draft):
     """What the report and the plots show of each table ``(k, s, w)``: ``particulars`` ``(k, 3)`` (∇ [m³],
-    LCB [m from the AP], Bwl [m] of the table's spline surface, as ``hullopt hydro`` reads the written table),
-    every unfairness ``measures`` ``(k,)`` and the curvature ``fields`` (:func:`_fields`, each with a leading
-    ``k``). One kept program (:func:`~hullopt.study.cached_call`)."""
-    def one(y):
-        h = hydrostatics(surface(y), draft)
+    LCB [m from the AP], Bwl [m] of the sections ``yz`` ``(k, n, m, 2)`` at ``read``'s stations: each table's
+    surface as ``hullopt hydro`` reads the written table), every unfairness ``measures`` ``(k,)`` and the curvature ``fields``
+    (:func:`_fields`, each with a leading ``k``). One kept program (:func:`~hullopt.study.cached_call`)."""
+    def one(y, yz):
+        h = hydrostatics(Sections(x=read.x, yz=yz, lpp=read.lpp), draft)
         s = coons_surface(x, z, y)
         return {"particulars": jnp.stack([h.volume, h.lcb, h.bwl]),
                 "measures": {name: measure(s, name) for name in RESIDUALS}, "fields": _fields(x, z, y)}
 
-    return jax.vmap(one)(tables)
+    return jax.vmap(one)(tables, yz)
 
 
 def _plots(out: Path, fields, x, before, lpp, title) -> list[str]:
@@ -209,13 +209,15 @@ def _fair(stage, hull, measure_name, draft, max_move, region, proximity, noise, 
         raise HullError("no offset is free to move (all are fixed: zero, contour, flat of side, or outside --region)")
     given = aft_body_noise(x, y, noise, seed, lpp=lpp, free=free) if noise > 0 else y
     stage(f"fairing {int(free.sum())} offsets ({measure_name}; BFGS in augmented-Lagrangian rounds)")
-    call = partial(cached_call, key={"v": 1})  # kept programs: a warm call traces nothing
+    call = partial(cached_call, key={"v": 2})  # kept programs: a warm call traces nothing
     res = fair_offsets(x, z, given, lpp, t, measure_name, free=free, max_move=max_move, proximity=proximity,
                        call=call)
     stage("measuring the faired surface")
-    surface = offset_surface(OffsetTable(x=x, z=z, y=y, lpp=lpp))
+    # the particulars of each table as `hullopt hydro` reads it back (natural splines, PCHIP where they overshoot)
+    read = [offsets_to_sections(OffsetTable(x=x, z=z, y=v, lpp=lpp)) for v in (given, res.y)]
     got = jax.device_get(call("fair-measures", _measured, (jnp.asarray(x), jnp.asarray(z),
-                                                           jnp.asarray(np.stack([given, res.y])), surface,
+                                                           jnp.asarray(np.stack([given, res.y])), read[0],
+                                                           jnp.stack([r.yz for r in read]),
                                                            jnp.asarray(float(t))), ()))
     (v0, lcb0, b0), (v1, lcb1, b1) = got["particulars"].tolist()
     all_measures = {m: {"before": float(v[0]), "after": float(v[1])} for m, v in got["measures"].items()}
