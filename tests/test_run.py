@@ -4,6 +4,7 @@ configs failing fast with a message naming the field."""
 import contextlib
 import io
 import json
+import re
 import tomllib
 from pathlib import Path
 
@@ -101,6 +102,18 @@ def test_a_warm_run_reuses_the_kept_program_and_reports_the_same(cli, fit_run, t
     untimed = [{k: v for k, v in r.items() if k != "seconds"} for r in (json.loads(again), first)]
     assert untimed[0] == untimed[1]  # the same report, but for the phases' wall times
     assert (tmp_path / "b" / "hull.stl").read_bytes() == (first_out / "hull.stl").read_bytes()
+
+
+@pytest.mark.slow
+def test_a_run_says_each_phase_as_it_ends(cli, fit_run, tmp_path):
+    """Without --json a run names each phase on stderr as it ends, with the wall time report.json keeps."""
+    code, _, err = cli("run", str(CONFIGS / "fit_cb_lcb.toml"), "--out", str(tmp_path / "said"))
+    assert code == 0, err
+    said = dict(re.findall(r"^(\w+) done in ([\d.]+) s$", err, re.M))
+    seconds = json.loads((tmp_path / "said" / "report.json").read_text())["seconds"]
+    assert {"solve", "files"} <= set(said) <= set(seconds)
+    assert all(abs(float(v) - seconds[k]) <= 0.05 for k, v in said.items())
+    assert [k for k in seconds if k in said] == list(said)  # in the order they ran
 
 
 @pytest.mark.slow

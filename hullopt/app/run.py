@@ -29,7 +29,9 @@ from rich.progress import (
     SpinnerColumn,
     TextColumn,
     TimeElapsedColumn,
+    TimeRemainingColumn,
 )
+from rich.text import Text
 
 from ..drawing import write_offsets_stations, write_offsets_wide
 from ..constants import KNOT, G
@@ -61,7 +63,7 @@ from ..study import (
     conditions_text,
     load_study,
 )
-from .output import console, write_hull_file
+from .output import console, errors, write_hull_file
 
 
 def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) -> dict:
@@ -85,7 +87,7 @@ def run(cfg: RunConfig, raw: dict, out: Path, quiet: bool = False, **options) ->
     (an earlier run's folder stays whole, with no new ``config.json`` beside its old ``report.json``), and a
     re-run resumes from the staging folder's chunks.
     """
-    clock = _Clock()
+    clock = _Clock(quiet)
     _warm_up_in_background()
     with warnings.catch_warnings(record=True) as seen:  # the parent's warnings, issued as it is read
         study: Study = load_study(cfg)  # a bad design or draft is refused before anything is written
@@ -249,16 +251,20 @@ def _warm_up_in_background() -> None:
 
 
 class _Clock:
-    """Wall time [s] of consecutive phases: ``clock("name")`` ends the phase begun at the previous call."""
+    """Wall time [s] of consecutive phases: ``clock("name")`` ends the phase begun at the previous call and,
+    unless ``quiet``, says so on stderr (a long run tells where it is and where its time went as it goes)."""
 
-    def __init__(self):
+    def __init__(self, quiet: bool = True):
         self.seconds: dict[str, float] = {}
         self._t = time.perf_counter()
+        self._quiet = quiet
 
     def __call__(self, phase: str) -> None:
         t = time.perf_counter()
         self.seconds[phase] = round(t - self._t, 3)
         self._t = t
+        if not self._quiet and self.seconds[phase] >= 0.05:  # a phase with nothing to do is not news
+            errors.print(Text(f"{phase} done in {self.seconds[phase]:.1f} s", style="dim"), soft_wrap=True)
 
 
 def _write_hull(m: Outcome, out: Path) -> None:
@@ -336,9 +342,9 @@ def write_offsets(sections: Sections, draft: float, out: Path, name: str) -> Non
 
 @contextlib.contextmanager
 def _progress(quiet: bool, total: int | None, title: str):
-    """A transient progress display: a spinner with the elapsed time, plus a bar and "k/N" when ``total`` is
-    given; yields ``(progress, task)``."""
-    counts = [BarColumn(), MofNCompleteColumn()] if total is not None else []
+    """A transient progress display: a spinner with the elapsed time, plus a bar, "k/N" and an estimate of the
+    time left (from the rate so far) when ``total`` is given; yields ``(progress, task)``."""
+    counts = [BarColumn(), MofNCompleteColumn(), TextColumn("left"), TimeRemainingColumn()] if total is not None else []
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), *counts, TimeElapsedColumn(),
                   console=console, disable=quiet or not console.is_terminal, transient=True) as bar:
         yield bar, bar.add_task(title, total=total)
