@@ -268,3 +268,21 @@ def test_pareto_axes_name_a_calm_water_profile_as_calm_water(tmp_path, drawn):
         "operating profile R_T (Michell) + R_AW (NMRI) [kN]"
     assert label("profile_resistance", short=True, about=about["name"]) == "R_T (profile, Michell) [kN]"
     assert label("profile_resistance") == "operating profile R_T + R_AW [kN]"  # an old report: by its key
+
+
+def test_overlay_legends_hide_no_station_number(hull, tmp_path, drawn):
+    """The overlay's body-plan legend sits below the plot: inside it, it covered the aft stations' numbers
+    along the top (issue 62); no legend of the figure overlaps a station number."""
+    from hullopt.report import plot_overlay
+
+    fuller = Sections(hull.x, hull.yz * jnp.array([1.1, 1.0]), hull.lpp)
+    plot_overlay(hull, fuller, T, tmp_path / "o.png")
+    fig = drawn[-1]
+    r = fig.test_renderer
+    numbers = [t for ax in fig.axes for t in ax.texts if t.get_text().isdigit()]
+    assert len(numbers) >= 10
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    assert len(legends) == 3
+    for legend in legends:
+        box = legend.get_window_extent(r)
+        assert not any(box.overlaps(t.get_window_extent(r)) for t in numbers)

@@ -388,7 +388,8 @@ def plot_overlay(before, after, draft: float, path: Path, title: str = "", measu
     grid = fig.add_gridspec(2, 2, width_ratios=(1.0, 1.35), hspace=0.32, wspace=0.12)
     ax_bp, ax_wl, ax_a = fig.add_subplot(grid[:, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, 1])
     _draw_body_plan(ax_bp, before, after, None, draft)
-    ax_bp.legend(loc="upper left", fontsize=8)
+    # below the plot: inside it the legend hid the aft stations' numbers along the top
+    ax_bp.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3, fontsize=8, frameon=False)
     ax_bp.set_title("Body plan", loc="left", fontsize=10)
     areas, z, widths = jax.tree.map(np.asarray, measures or _overlay_measures(before, after, float(draft)))
     dry = z > float(draft) + 1e-9  # above the DWL: dotted, so that the wetted lines read first
