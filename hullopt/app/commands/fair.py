@@ -73,8 +73,9 @@ def _fields(x, z, y, n=161, m=81):
 def _measured(x, z, tables, read: Sections, yz, draft):
     """What the report and the plots show of each table ``(k, s, w)``: ``particulars`` ``(k, 3)`` (∇ [m³],
     LCB [m from the AP], Bwl [m] of the sections ``yz`` ``(k, n, m, 2)`` at ``read``'s stations: each table's
-    surface as ``hullopt hydro`` reads the written table), every unfairness ``measures`` ``(k,)`` and the curvature ``fields``
-    (:func:`_fields`, each with a leading ``k``). One kept program (:func:`~hullopt.study.cached_call`)."""
+    surface as ``hullopt hydro`` reads the written table), every unfairness ``measures`` ``(k,)`` and the
+    curvature ``fields`` (:func:`_fields`, each with a leading ``k``). One kept program
+    (:func:`~hullopt.study.cached_call`)."""
     def one(y, yz):
         h = hydrostatics(Sections(x=read.x, yz=yz, lpp=read.lpp), draft)
         s = coons_surface(x, z, y)
